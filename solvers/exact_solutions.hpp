@@ -1,0 +1,22 @@
+#pragma once
+// Exact solutions of pure aggregation (λ = 0) from the monodisperse start n_k(0) = δ_k1
+// (DESIGN.md "Exact references"; e.g. Leyvraz, Phys. Rep. 383 (2003) 95, Sec. 2):
+//   constant K = 1:  n_k = 4/(t+2)^2 (t/(t+2))^{k-1}
+//   sum K = i + j:   n_k = (1-τ)(kτ)^{k-1} e^{-kτ}/k!,  τ = 1 - e^{-t}
+//   product K = ij:  n_k = (kt)^{k-1} e^{-kt}/(k k!),   t < 1 (gelation at t = 1)
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace aggkit {
+
+// True if `kernel_name` has an exact solution here.
+bool has_exact_solution(const std::string& kernel_name);
+// n_k(t) of the untruncated system.
+double exact_density(const std::string& kernel_name, std::size_t k, double t);
+// M_p(t) = Σ_{k≥1} k^p n_k of the untruncated system: closed forms for p = 0, 1, 2, otherwise the series
+// summed until its terms are below 1e-17 of the sum. Throws std::domain_error past gelation.
+double exact_moment(const std::string& kernel_name, double p, double t);
+std::vector<double> exact_distribution(const std::string& kernel_name, std::size_t N, double t);
+
+}  // namespace aggkit

@@ -1,0 +1,64 @@
+#pragma once
+// Aggregation kernels K_ij (collision rate of sizes i and j) and their separable (low-rank) forms.
+// Kernels and factorisations: DESIGN.md "Kinetic model"; ballistic kernel from Kalinov et al. (DSMC
+// with shattering), Eq. for K_ij = (i^{1/3}+j^{1/3})^2 sqrt(1/i+1/j).
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace aggkit {
+
+// K_ij ≈ Σ_{p,q} coupling[p][q] φ_p(i) φ_q(j) for sizes 1..N, coupling symmetric.
+// The aggregation gain term then needs one FFT per feature φ_p (DESIGN.md "Deterministic numerics").
+struct SeparableForm {
+  std::vector<std::vector<double>> features;  // features[p][k-1] = φ_p(k)
+  std::vector<std::vector<double>> coupling;  // P × P, symmetric
+  bool exact = true;                          // an exact factorisation, not an approximation
+  double tolerance = 0.0;                     // requested relative error (approximations only)
+  double max_relative_error = 0.0;            // measured max_ij |K̃_ij - K_ij| / K_ij
+  std::size_t checked_entries = 0;            // how many entries that maximum was taken over
+  std::size_t rank() const { return features.size(); }
+};
+
+class Kernel {
+ public:
+  using Function = std::function<double(double i, double j)>;
+
+  static Kernel constant();                          // K = 1
+  static Kernel sum();                               // K = i + j
+  static Kernel product();                           // K = i j
+  static Kernel linear(double A, double B);          // K = 1 + A(i+j) + B i j
+  static Kernel generalized_product(double mu);      // K = (i j)^mu
+  static Kernel ballistic();                         // K = (i^{1/3}+j^{1/3})^2 sqrt(1/i + 1/j)
+  static Kernel brownian(double a);                  // K = (i/j)^a + (j/i)^a, 0 <= a <= 1
+  // A user kernel (symmetric, positive); it has no exact factorisation and is approximated like ballistic.
+  static Kernel user(std::string name, Function k);
+
+  // Builds a kernel from its scene name and parameters; throws InputError naming the bad key.
+  // Names: constant, sum, product, linear (A, B), genproduct (mu), ballistic, brownian (a).
+  static Kernel from_name(const std::string& name, const std::map<std::string, double>& parameters);
+  static std::vector<std::string> names();
+
+  double operator()(std::size_t i, std::size_t j) const { return function_(double(i), double(j)); }
+  const std::string& name() const { return name_; }
+  const std::map<std::string, double>& parameters() const { return parameters_; }
+  std::string describe() const;  // e.g. "brownian(a=0.95)"
+  bool has_exact_factorisation() const { return static_cast<bool>(exact_form_); }
+
+  // The separable form on sizes 1..N: exact where one exists, else a low-rank approximation
+  // (adaptive cross approximation, never forming the N×N matrix for large N) whose maximum relative
+  // entry error is about `tolerance`; the measured error is reported in the result.
+  SeparableForm separable_form(std::size_t N, double tolerance = 1e-12) const;
+
+ private:
+  Kernel(std::string name, std::map<std::string, double> parameters, Function f);
+  std::string name_;
+  std::map<std::string, double> parameters_;
+  Function function_;
+  // Exact factorisation builder: fills features/coupling for sizes 1..N.
+  std::function<SeparableForm(std::size_t N)> exact_form_;
+};
+
+}  // namespace aggkit

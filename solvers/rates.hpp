@@ -1,0 +1,53 @@
+#pragma once
+// Right-hand side of the aggregation-shattering equations (solvers/model.hpp) and its Jacobian.
+// Two implementations: DirectRates, the O(N^2) oracle, and FastRates, O(N R log N) with FFT
+// convolutions of the kernel's separable form.
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "solvers/model.hpp"
+
+namespace aggkit {
+
+class Rates {
+ public:
+  virtual ~Rates() = default;
+  std::size_t size() const { return size_; }
+
+  // dn/dt at time t.
+  virtual void evaluate(double t, std::span<const double> n, std::span<double> dndt) = 0;
+  // Rate at which mass leaves through the truncation, ½ Σ_{i+j>N} (i+j) K_ij n_i n_j (0 for cutoff).
+  virtual double leak_rate(double t, std::span<const double> n) = 0;
+  // Jv = (∂f/∂n)(n) v. The RHS is quadratic in n, so this is exact (no differencing).
+  virtual void jacobian_times(double t, std::span<const double> n, std::span<const double> v,
+                              std::span<double> Jv) = 0;
+  // diag(∂f/∂n)(n), for the Jacobi preconditioner; O(N R).
+  virtual void jacobian_diagonal(double t, std::span<const double> n, std::span<double> diagonal) = 0;
+  virtual std::string describe() const = 0;
+  // Rank of the separable kernel form used (0 for the direct path) and its measured max relative error.
+  virtual std::size_t kernel_rank() const { return 0; }
+  virtual double kernel_relative_error() const { return 0.0; }
+
+ protected:
+  explicit Rates(std::size_t N) : size_(N) {}
+  std::size_t size_;
+};
+
+enum class RatesPath { fast, direct };
+RatesPath rates_path_from_name(const std::string& name);  // throws InputError
+std::string to_string(RatesPath p);
+
+// The direct O(N^2) evaluation; stores the kernel matrix when N is small enough (≤ 8192).
+std::unique_ptr<Rates> make_direct_rates(const AggregationModel& model);
+// The fast path; `lowrank_tolerance` applies to kernels without an exact factorisation.
+std::unique_ptr<Rates> make_fast_rates(const AggregationModel& model, double lowrank_tolerance = 1e-12);
+std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path,
+                                  double lowrank_tolerance = 1e-12);
+
+// Dense Jacobian (row-major N×N) by the direct formulas; for small N only.
+void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
+                    std::span<double> jacobian);
+
+}  // namespace aggkit

@@ -1,0 +1,152 @@
+// Direct O(N^2) evaluation of the aggregation-shattering right-hand side, written term by term as in
+// DESIGN.md "Kinetic model" (the mass-conserving form of Kalinov et al. with the factor 1/2 on the
+// monomer double sum). It is the oracle the fast path is tested against, so it deliberately shares no
+// algebra with rates_fast.cpp.
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "analysis/input_error.hpp"
+#include "solvers/rates.hpp"
+
+namespace aggkit {
+
+RatesPath rates_path_from_name(const std::string& name) {
+  if (name == "fast") return RatesPath::fast;
+  if (name == "direct") return RatesPath::direct;
+  throw InputError("engine.rhs", "\"" + name + "\"", "one of fast, direct");
+}
+
+std::string to_string(RatesPath p) { return p == RatesPath::fast ? "fast" : "direct"; }
+
+namespace {
+
+constexpr std::size_t stored_matrix_limit = 6144;  // N above which K_ij is recomputed on the fly
+
+class DirectRates final : public Rates {
+ public:
+  explicit DirectRates(const AggregationModel& model)
+      : Rates(model.size), model_(model), cutoff_(model.truncation == Truncation::cutoff) {
+    if (size_ <= stored_matrix_limit) {
+      matrix_.resize(size_ * size_);
+      for (std::size_t i = 1; i <= size_; ++i)
+        for (std::size_t j = 1; j <= size_; ++j) matrix_[(i - 1) * size_ + (j - 1)] = model_.kernel(i, j);
+    }
+  }
+
+  void evaluate(double t, std::span<const double> n, std::span<double> dndt) override {
+    std::fill(dndt.begin(), dndt.end(), 0.0);
+    bilinear(t, n, n, dndt);
+  }
+
+  double leak_rate(double, std::span<const double> n) override {
+    if (cutoff_) return 0.0;
+    double leak = 0.0;  // ½ Σ_{i,j ≤ N, i+j > N} (i+j) K_ij n_i n_j
+    for (std::size_t i = 1; i <= size_; ++i)
+      for (std::size_t j = size_ - i + 1; j <= size_; ++j)
+        leak += 0.5 * double(i + j) * K(i, j) * n[i - 1] * n[j - 1];
+    return leak;
+  }
+
+  void jacobian_times(double t, std::span<const double> n, std::span<const double> v,
+                      std::span<double> Jv) override {
+    std::fill(Jv.begin(), Jv.end(), 0.0);
+    bilinear(t, n, v, Jv);  // f(n) = B(n, n)  ⇒  J v = B(n, v) + B(v, n)
+    bilinear(t, v, n, Jv);
+  }
+
+  void jacobian_diagonal(double t, std::span<const double> n, std::span<double> diagonal) override {
+    // ∂f_k/∂n_k = -(1+λ)(Σ_j K_kj n_j + K_kk n_k) for k ≥ 2 (the gain term has no n_k);
+    // for monomers also + λ Σ_{j≥2} j K_1j n_j.
+    const double lambda = model_.lambda(t);
+    for (std::size_t k = 1; k <= size_; ++k) {
+      double rate = 0.0;
+      for (std::size_t j = 1; j <= size_; ++j) rate += K(k, j) * n[j - 1];
+      diagonal[k - 1] = -(k == 1 ? 1.0 : 1.0 + lambda) * (rate + K(k, k) * n[k - 1]);
+    }
+    for (std::size_t j = 2; j <= size_; ++j) diagonal[0] += lambda * double(j) * K(1, j) * n[j - 1];
+  }
+
+  std::string describe() const override { return "direct O(N^2)"; }
+
+ private:
+  double K(std::size_t i, std::size_t j) const {
+    if (cutoff_ && i + j > size_) return 0.0;  // cutoff truncation: no collisions that would exceed N
+    return matrix_.empty() ? model_.kernel(i, j) : matrix_[(i - 1) * size_ + (j - 1)];
+  }
+
+  // out += B(x, y), the bilinear form with B(n, n) = dn/dt.
+  void bilinear(double t, std::span<const double> x, std::span<const double> y, std::span<double> out) const {
+    const double lambda = model_.lambda(t);
+    const std::size_t N = size_;
+    // Aggregation gain, k ≥ 2: (1/2) Σ_{i+j=k} K_ij x_i y_j.
+    for (std::size_t k = 2; k <= N; ++k) {
+      double gain = 0.0;
+      for (std::size_t i = 1; i < k; ++i) gain += K(i, k - i) * x[i - 1] * y[k - i - 1];
+      out[k - 1] += 0.5 * gain;
+    }
+    // Loss by aggregation and shattering: -(1+λ) x_k Σ_j K_kj y_j (k ≥ 2), -x_1 Σ_j K_1j y_j.
+    for (std::size_t k = 1; k <= N; ++k) {
+      double rate = 0.0;
+      for (std::size_t j = 1; j <= N; ++j) rate += K(k, j) * y[j - 1];
+      out[k - 1] -= (k == 1 ? 1.0 : 1.0 + lambda) * x[k - 1] * rate;
+    }
+    if (lambda == 0.0) return;
+    // Monomers from shattering: λ x_1 Σ_{j≥2} j K_1j y_j + (λ/2) Σ_{i,j≥2} (i+j) K_ij x_i y_j.
+    double with_monomer = 0.0, between_aggregates = 0.0;
+    for (std::size_t j = 2; j <= N; ++j) with_monomer += double(j) * K(1, j) * y[j - 1];
+    for (std::size_t i = 2; i <= N; ++i)
+      for (std::size_t j = 2; j <= N; ++j) between_aggregates += double(i + j) * K(i, j) * x[i - 1] * y[j - 1];
+    out[0] += lambda * x[0] * with_monomer + 0.5 * lambda * between_aggregates;
+  }
+
+  const AggregationModel& model_;
+  bool cutoff_;
+  std::vector<double> matrix_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rates> make_direct_rates(const AggregationModel& model) {
+  return std::make_unique<DirectRates>(model);
+}
+
+std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path, double lowrank_tolerance) {
+  return path == RatesPath::direct ? make_direct_rates(model) : make_fast_rates(model, lowrank_tolerance);
+}
+
+void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
+                    std::span<double> jacobian) {
+  // J_kl = ∂f_k/∂n_l from differentiating the equations of DESIGN.md term by term.
+  const std::size_t N = model.size;
+  const bool cutoff = model.truncation == Truncation::cutoff;
+  const double lambda = model.lambda(t);
+  std::vector<double> rate(N + 1, 0.0);
+  auto K = [&](std::size_t i, std::size_t j) { return cutoff && i + j > N ? 0.0 : model.kernel(i, j); };
+  std::vector<double> matrix(N * N);
+  for (std::size_t i = 1; i <= N; ++i)
+    for (std::size_t j = 1; j <= N; ++j) matrix[(i - 1) * N + j - 1] = K(i, j);
+  auto Km = [&](std::size_t i, std::size_t j) { return matrix[(i - 1) * N + j - 1]; };
+  for (std::size_t k = 1; k <= N; ++k)
+    for (std::size_t j = 1; j <= N; ++j) rate[k] += Km(k, j) * n[j - 1];
+  std::fill(jacobian.begin(), jacobian.end(), 0.0);
+  auto J = [&](std::size_t k, std::size_t l) -> double& { return jacobian[(k - 1) * N + (l - 1)]; };
+  for (std::size_t k = 1; k <= N; ++k) {
+    const double loss_factor = k == 1 ? 1.0 : 1.0 + lambda;
+    for (std::size_t l = 1; l < k; ++l) J(k, l) += Km(l, k - l) * n[k - l - 1];  // gain
+    J(k, k) -= loss_factor * rate[k];
+    for (std::size_t l = 1; l <= N; ++l) J(k, l) -= loss_factor * n[k - 1] * Km(k, l);
+  }
+  if (lambda == 0.0) return;
+  // Monomer row: λ n_1 Σ_{j≥2} j K_1j n_j + (λ/2) Σ_{i,j≥2} (i+j) K_ij n_i n_j.
+  double with_monomer = 0.0;
+  for (std::size_t j = 2; j <= N; ++j) with_monomer += double(j) * Km(1, j) * n[j - 1];
+  J(1, 1) += lambda * with_monomer;
+  for (std::size_t l = 2; l <= N; ++l) {
+    double d = double(l) * Km(1, l) * n[0];
+    for (std::size_t i = 2; i <= N; ++i) d += double(i + l) * Km(i, l) * n[i - 1];
+    J(1, l) += lambda * d;
+  }
+}
+
+}  // namespace aggkit

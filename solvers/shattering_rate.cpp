@@ -1,0 +1,79 @@
+#include "solvers/shattering_rate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+ShatteringRate ShatteringRate::constant(double lambda) { return table({0.0}, {lambda}); }
+
+ShatteringRate ShatteringRate::linear(double initial, double slope) {
+  ShatteringRate r;
+  r.times_ = {0.0, 1.0};
+  r.values_ = {initial, initial + slope};
+  r.extrapolate_ = true;
+  return r;
+}
+
+ShatteringRate ShatteringRate::table(std::vector<double> times, std::vector<double> values) {
+  if (times.empty() || times.size() != values.size())
+    throw InputError("model.lambda.times", std::to_string(times.size()) + " entries",
+                     "needs as many times as values (" + std::to_string(values.size()) + "), at least one");
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (!std::isfinite(times[i]))
+      throw InputError("model.lambda.times[" + std::to_string(i) + "]", format_value(times[i]), "must be finite");
+    if (i > 0 && !(times[i] > times[i - 1]))
+      throw InputError("model.lambda.times[" + std::to_string(i) + "]", format_value(times[i]),
+                       "times must be strictly increasing");
+  }
+  ShatteringRate r;
+  r.times_ = std::move(times);
+  r.values_ = std::move(values);
+  return r;
+}
+
+double ShatteringRate::operator()(double t) const {
+  if (times_.size() == 1) return values_[0];
+  if (extrapolate_ || (t > times_.front() && t < times_.back())) {
+    // Linear interpolation (extrapolation for the linear law) on the bracketing segment.
+    std::size_t seg = std::size_t(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
+    seg = std::clamp<std::size_t>(seg, 1, times_.size() - 1);
+    const double w = (t - times_[seg - 1]) / (times_[seg] - times_[seg - 1]);
+    return values_[seg - 1] + w * (values_[seg] - values_[seg - 1]);
+  }
+  return t <= times_.front() ? values_.front() : values_.back();
+}
+
+void ShatteringRate::validate(double t_end, const std::string& key) const {
+  // λ(t) is piecewise linear, so its extremes on [0, t_end] are at 0, t_end and the table's knots.
+  std::vector<double> probes{0.0, t_end};
+  for (double t : times_)
+    if (t > 0.0 && t < t_end) probes.push_back(t);
+  for (double t : probes) {
+    const double value = (*this)(t);
+    if (!std::isfinite(value)) throw InputError(key, format_value(value), "the shattering rate must be finite");
+    if (value < 0.0)
+      throw InputError(key, describe(),
+                       "the shattering rate must be >= 0 on [0, end]; it is " + format_value(value) +
+                           " at t = " + format_value(t));
+  }
+}
+
+std::string ShatteringRate::describe() const {
+  std::ostringstream out;
+  if (times_.size() == 1) {
+    out << values_[0];
+  } else if (extrapolate_) {
+    out << values_[0] << " + " << (values_[1] - values_[0]) << " t";
+  } else {
+    out << "table(";
+    for (std::size_t i = 0; i < times_.size(); ++i) out << (i ? ", " : "") << times_[i] << ":" << values_[i];
+    out << ")";
+  }
+  return out.str();
+}
+
+}  // namespace aggkit

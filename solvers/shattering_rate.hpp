@@ -1,0 +1,29 @@
+#pragma once
+// Shattering rate λ(t): constant, linear in t, or piecewise linear through tabulated points
+// (Kalinov et al. use λ(t) = 0.01 (1 - t/400) to drive a damped oscillation into a sustained one).
+#include <string>
+#include <vector>
+
+namespace aggkit {
+
+class ShatteringRate {
+ public:
+  ShatteringRate() = default;  // λ = 0: pure aggregation
+  static ShatteringRate constant(double lambda);
+  static ShatteringRate linear(double initial, double slope);  // λ(t) = initial + slope t
+  static ShatteringRate table(std::vector<double> times, std::vector<double> values);  // held flat outside
+
+  double operator()(double t) const;
+  bool is_constant() const { return times_.size() == 1; }
+  bool is_zero() const { return is_constant() && values_[0] == 0.0; }
+  // Throws InputError (key `key`) unless λ(t) is finite and >= 0 on [0, t_end].
+  void validate(double t_end, const std::string& key = "model.lambda") const;
+  std::string describe() const;
+
+ private:
+  std::vector<double> times_{0.0};
+  std::vector<double> values_{0.0};
+  bool extrapolate_ = false;  // the linear law continues beyond its two defining points
+};
+
+}  // namespace aggkit

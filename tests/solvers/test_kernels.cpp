@@ -1,0 +1,90 @@
+// Kernels: values, exact separable forms reproduce K_ij, the low-rank ballistic approximation meets its
+// tolerance (measured on every entry here, independently of the error the approximation reports).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "analysis/input_error.hpp"
+#include "solvers/kernels.hpp"
+#include "solvers/low_rank.hpp"
+
+using namespace aggkit;
+
+namespace {
+double max_relative_error_all_entries(const Kernel& kernel, const SeparableForm& form, std::size_t N) {
+  double worst = 0.0;
+  for (std::size_t i = 1; i <= N; ++i)
+    for (std::size_t j = 1; j <= N; ++j) {
+      const double exact = kernel(i, j);
+      worst = std::max(worst, std::abs(separable_entry(form, i, j) - exact) / exact);
+    }
+  return worst;
+}
+}  // namespace
+
+TEST_CASE("kernel values follow their formulas", "[kernels]") {
+  CHECK(Kernel::constant()(3, 7) == 1.0);
+  CHECK(Kernel::sum()(3, 7) == 10.0);
+  CHECK(Kernel::product()(3, 7) == 21.0);
+  CHECK(Kernel::linear(0.5, 2.0)(3, 7) == Approx(1.0 + 0.5 * 10 + 2.0 * 21));
+  CHECK(Kernel::generalized_product(0.5)(4, 9) == Approx(6.0));
+  CHECK(Kernel::brownian(0.0)(5, 11) == 2.0);
+  CHECK(Kernel::brownian(1.0)(2, 4) == Approx(2.5));
+  // Ballistic K_11 = (1+1)^2 sqrt(2) and K_{8,1} = (2+1)^2 sqrt(1 + 1/8).
+  CHECK(Kernel::ballistic()(1, 1) == Approx(4.0 * std::sqrt(2.0)));
+  CHECK(Kernel::ballistic()(8, 1) == Approx(9.0 * std::sqrt(1.125)));
+}
+
+TEST_CASE("exact separable forms reproduce every kernel entry", "[kernels]") {
+  const std::size_t N = 300;
+  for (const Kernel& kernel : {Kernel::constant(), Kernel::sum(), Kernel::product(), Kernel::linear(0.3, 0.7),
+                               Kernel::generalized_product(0.4), Kernel::brownian(0.95), Kernel::brownian(0.0)}) {
+    INFO(kernel.describe());
+    const SeparableForm form = kernel.separable_form(N);
+    CHECK(form.exact);
+    CHECK(form.rank() <= 2);
+    // Round-off only: the features are sums of at most 4 products of O(N^2) numbers.
+    CHECK(max_relative_error_all_entries(kernel, form, N) < 1e-13);
+  }
+}
+
+TEST_CASE("ballistic low-rank approximation meets the requested tolerance", "[kernels][lowrank]") {
+  const Kernel kernel = Kernel::ballistic();
+  const std::size_t N = 1500;
+  std::size_t previous_rank = 0;
+  for (double tol : {1e-4, 1e-8, 1e-11}) {
+    const SeparableForm form = kernel.separable_form(N, tol);
+    INFO("tolerance " << tol << " rank " << form.rank());
+    CHECK_FALSE(form.exact);
+    const double measured = max_relative_error_all_entries(kernel, form, N);
+    CHECK(measured <= tol);
+    CHECK(form.max_relative_error == Approx(measured).margin(1e-15));  // reported = measured on all entries
+    CHECK(form.rank() >= previous_rank);  // tighter tolerance never needs fewer terms
+    CHECK(form.rank() < 80);              // and stays low rank
+    previous_rank = form.rank();
+  }
+}
+
+TEST_CASE("low-rank approximation never forms the matrix and still holds at large N", "[kernels][lowrank]") {
+  const Kernel kernel = Kernel::ballistic();
+  const std::size_t N = 1 << 15;
+  const SeparableForm form = kernel.separable_form(N, 1e-10);
+  INFO("rank " << form.rank() << " reported error " << form.max_relative_error);
+  CHECK(form.max_relative_error <= 1e-10);
+  CHECK(form.checked_entries > 100 * N);
+  // An independent spot check on entries the reported error may not have covered.
+  for (std::size_t i : {70, 777, 4321, 20000, 32767})
+    for (std::size_t j : {3, 99, 1000, 16385, 32768})
+      CHECK(std::abs(separable_entry(form, i, j) / kernel(i, j) - 1.0) < 1e-9);
+}
+
+TEST_CASE("bad kernel input names the key", "[kernels][input]") {
+  CHECK_THROWS_WITH(Kernel::from_name("gravity", {}), Catch::Contains("model.kernel.name") && Catch::Contains("gravity"));
+  CHECK_THROWS_WITH(Kernel::from_name("brownian", {{"a", -0.1}}), Catch::Contains("model.kernel.a"));
+  CHECK_THROWS_WITH(Kernel::from_name("brownian", {{"a", 1.5}}), Catch::Contains("[0, 1]"));
+  CHECK_THROWS_WITH(Kernel::from_name("brownian", {{"a", NAN}}), Catch::Contains("nan"));
+  CHECK_THROWS_WITH(Kernel::from_name("brownian", {}), Catch::Contains("model.kernel.a"));
+  CHECK_THROWS_WITH(Kernel::from_name("constant", {{"a", 1.0}}), Catch::Contains("model.kernel.a"));
+  CHECK_THROWS_AS(Kernel::from_name("linear", {{"A", -1.0}}), InputError);
+  CHECK(Kernel::from_name("brownian", {{"a", 0.0}})(2, 3) == 2.0);  // a = 0 is valid: K = 2
+}
