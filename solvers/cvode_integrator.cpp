@@ -45,6 +45,8 @@ void IntegratorOptions::validate() const {
   positive("engine.rtol", rtol);
   positive("engine.atol", atol);
   positive("engine.lowrank_tolerance", lowrank_tolerance);
+  if (!std::isfinite(jacobian_tolerance) || jacobian_tolerance < 0.0 || jacobian_tolerance >= 0.1)
+    throw InputError("engine.jacobian_tolerance", format_value(jacobian_tolerance), "must be in [0, 0.1)");
   if (rtol >= 1.0) throw InputError("engine.rtol", format_value(rtol), "must be < 1");
   if (lowrank_tolerance >= 0.1)
     throw InputError("engine.lowrank_tolerance", format_value(lowrank_tolerance), "must be < 0.1");
@@ -211,7 +213,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
                          " (N = " + std::to_string(N) + "); use bdf-gmres");
 
   const auto started = std::chrono::steady_clock::now();
-  auto rates = make_rates(model, options.rates, options.lowrank_tolerance);
+  auto rates = make_rates(model, options.rates, options.lowrank_tolerance, options.jacobian_tolerance);
   Problem problem;
   problem.model = &model;
   problem.rates = rates.get();
@@ -239,7 +241,6 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   check(CVodeInit(s.cvode, rhs, 0.0, s.y), "CVodeInit", problem);
   check(CVodeSetUserData(s.cvode, &problem), "CVodeSetUserData", problem);
   check(CVodeSVtolerances(s.cvode, options.rtol, s.abstol), "CVodeSVtolerances", problem);
-  check(CVodeSetMaxNumSteps(s.cvode, options.max_steps), "CVodeSetMaxNumSteps", problem);
   check(CVodeQuadInit(s.cvode, leak, s.quadrature), "CVodeQuadInit", problem);
 
   switch (options.method) {
@@ -280,6 +281,13 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
       continue;
     }
     while (t < t_out) {
+      // One internal step at a time (for progress); CVodeSetMaxNumSteps counts per call, so the step
+      // limit is enforced here.
+      long taken = 0;
+      CVodeGetNumSteps(s.cvode, &taken);
+      if (taken >= options.max_steps)
+        throw std::runtime_error("CVODE: reached max_steps = " + std::to_string(options.max_steps) +
+                                 " at t = " + std::to_string(t) + " before t = " + std::to_string(t_out));
       const int flag = CVode(s.cvode, t_out, s.y, &t, CV_ONE_STEP);
       check(flag, ("CVode (t = " + std::to_string(t) + ")").c_str(), problem);
       if (options.progress) options.progress(std::min(t, t_out));

@@ -41,10 +41,13 @@ std::string to_string(RatesPath p);
 
 // The direct O(N^2) evaluation; stores the kernel matrix when N is small enough (≤ 8192).
 std::unique_ptr<Rates> make_direct_rates(const AggregationModel& model);
-// The fast path; `lowrank_tolerance` applies to kernels without an exact factorisation.
-std::unique_ptr<Rates> make_fast_rates(const AggregationModel& model, double lowrank_tolerance = 1e-12);
+// The fast path. For kernels without an exact factorisation, `lowrank_tolerance` is the relative
+// entry error of the form used by the right-hand side, and `jacobian_tolerance` (if larger) that of a
+// cheaper lower-rank form used for J·v, which only steers Newton's method.
+std::unique_ptr<Rates> make_fast_rates(const AggregationModel& model, double lowrank_tolerance = 1e-12,
+                                       double jacobian_tolerance = 0.0);
 std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path,
-                                  double lowrank_tolerance = 1e-12);
+                                  double lowrank_tolerance = 1e-12, double jacobian_tolerance = 0.0);
 
 // Dense Jacobian (row-major N×N) by the direct formulas; for small N only.
 void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,

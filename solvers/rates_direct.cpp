@@ -111,8 +111,10 @@ std::unique_ptr<Rates> make_direct_rates(const AggregationModel& model) {
   return std::make_unique<DirectRates>(model);
 }
 
-std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path, double lowrank_tolerance) {
-  return path == RatesPath::direct ? make_direct_rates(model) : make_fast_rates(model, lowrank_tolerance);
+std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path, double lowrank_tolerance,
+                                  double jacobian_tolerance) {
+  return path == RatesPath::direct ? make_direct_rates(model)
+                                   : make_fast_rates(model, lowrank_tolerance, jacobian_tolerance);
 }
 
 void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,

@@ -65,12 +65,13 @@ void ShatteringRate::validate(double t_end, const std::string& key) const {
 std::string ShatteringRate::describe() const {
   std::ostringstream out;
   if (times_.size() == 1) {
-    out << values_[0];
+    out << format_value(values_[0]);
   } else if (extrapolate_) {
-    out << values_[0] << " + " << (values_[1] - values_[0]) << " t";
+    out << format_value(values_[0]) << " + " << format_value(values_[1] - values_[0]) << " t";
   } else {
     out << "table(";
-    for (std::size_t i = 0; i < times_.size(); ++i) out << (i ? ", " : "") << times_[i] << ":" << values_[i];
+    for (std::size_t i = 0; i < times_.size(); ++i)
+      out << (i ? ", " : "") << format_value(times_[i]) << ":" << format_value(values_[i]);
     out << ")";
   }
   return out.str();

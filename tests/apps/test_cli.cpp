@@ -1,0 +1,160 @@
+// The `aggkit` binary end to end: exit codes, messages on stderr, and the files a run leaves.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/validation/scene_fixture.hpp"
+
+using aggkit::testing::SceneText;
+using Catch::Matchers::Contains;
+
+namespace {
+
+struct Outcome {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+std::string quoted(const std::string& word) {
+  std::string q = "'";
+  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Runs `aggkit <arguments>` with stdout and stderr captured in `folder`; `environment` is prefixed.
+Outcome aggkit_cli(const std::vector<std::string>& arguments, const std::filesystem::path& folder,
+                   const std::string& environment = "") {
+  std::string command = environment + " " + quoted(AGGKIT_CLI);
+  for (const auto& a : arguments) command.append(" ").append(quoted(a));
+  const auto out = folder / "stdout.txt", err = folder / "stderr.txt";
+  command.append(" >").append(quoted(out.string())).append(" 2>").append(quoted(err.string()));
+  const int status = std::system(command.c_str());
+  REQUIRE(WIFEXITED(status));
+  return {WEXITSTATUS(status), aggkit::testing::read_text(out), aggkit::testing::read_text(err)};
+}
+
+nlohmann::json summary_of(const std::filesystem::path& out) {
+  return nlohmann::json::parse(aggkit::testing::read_text(out / "summary.json"));
+}
+
+}  // namespace
+
+TEST_CASE("cli: bad input exits 2 naming the key and value, and leaves no outputs") {
+  int checked = 0;
+  for (const auto& bad : aggkit::testing::bad_scenes()) {
+    if (!bad.through_cli) continue;
+    INFO(bad.description << "\n" << bad.text);
+    const auto folder = aggkit::testing::scratch_folder("cli-bad-" + std::to_string(checked++));
+    const auto scene = aggkit::testing::write_text(folder / "scene.toml", bad.text);
+    const auto out = folder / "out";
+    const Outcome run = aggkit_cli({"run", scene.string(), "--out", out.string(), "--quiet", "--no-plot"}, folder);
+    CHECK(run.exit_code == 2);
+    CHECK_THAT(run.err, Contains("aggkit: error: ") && Contains(bad.key) && Contains(bad.value));
+    CHECK(aggkit::testing::count_files_named(out, "summary.json") == 0);
+    CHECK(aggkit::testing::count_files_named(out, "series.csv") == 0);
+    CHECK(run.out.empty());
+  }
+  CHECK(checked >= 12);
+}
+
+TEST_CASE("cli: a missing or unreadable scene exits 2 naming the path") {
+  const auto folder = aggkit::testing::scratch_folder("cli-missing");
+  const auto missing = folder / "no-such-scene.toml";
+  Outcome run = aggkit_cli({"run", missing.string(), "--out", (folder / "out").string()}, folder);
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("aggkit: error: scene = " + missing.string()) && Contains("No such file"));
+  CHECK_FALSE(std::filesystem::exists(folder / "out"));
+
+  // Tests run as root, whom permissions do not stop: a folder is the unreadable scene.
+  run = aggkit_cli({"run", folder.string(), "--out", (folder / "out").string()}, folder);
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains(folder.string()) && Contains("not a folder"));
+}
+
+TEST_CASE("cli: an output folder that cannot be created exits 2 before running") {
+  const auto folder = aggkit::testing::scratch_folder("cli-unwritable");
+  const auto scene = aggkit::testing::write_text(folder / "scene.toml", SceneText{}.text());
+  const auto file = aggkit::testing::write_text(folder / "a-file", "a regular file\n");
+  const auto out = file / "out";
+  const Outcome run = aggkit_cli({"run", scene.string(), "--out", out.string(), "--no-plot"}, folder);
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("aggkit: error: --out = " + out.string()));
+  CHECK(run.out.empty());  // nothing ran
+}
+
+TEST_CASE("cli: the shipped constant-kernel scene passes against the exact solution") {
+  const auto folder = aggkit::testing::scratch_folder("cli-constant-exact");
+  const auto out = folder / "out";
+  const Outcome run = aggkit_cli(
+      {"run", aggkit::testing::shipped_scene("constant-exact.toml").string(), "--out", out.string(), "--quiet"}, folder);
+  CHECK(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("PASS") && Contains("M3"));
+  CHECK(aggkit::testing::first_line(out / "cvode" / "series.csv") == "t,M0,M1,M2,M3");
+  CHECK(aggkit::testing::first_line(out / "exact" / "series.csv") == "t,M0,M1,M2,M3");
+  const auto summary = summary_of(out);
+  CHECK(summary["pass"] == true);
+  CHECK(summary["exit_code"] == 0);
+  CHECK(summary["comparisons"].size() == 4);
+  for (const auto& c : summary["comparisons"]) CHECK(c["pass"] == true);
+  // The plot is drawn where matplotlib is available; a plot failure is recorded and never fails the run.
+  const std::string plot = summary["plot"]["status"];
+  CHECK((plot == "written" || plot == "failed"));
+  if (plot == "written") {
+    CHECK(aggkit::testing::read_text(out / "report.png").substr(1, 3) == "PNG");
+  } else {
+    CHECK_THAT(run.err, Contains("warning: no plot"));
+  }
+}
+
+TEST_CASE("cli: an impossible tolerance exits 1 and says FAIL") {
+  const auto folder = aggkit::testing::scratch_folder("cli-impossible");
+  SceneText text;
+  text.compare = "reference = \"exact\"\ntolerance = { M0 = 1e-6, M2 = 0.0 }\n";
+  const auto scene = aggkit::testing::write_text(folder / "scene.toml", text.text());
+  const Outcome run = aggkit_cli({"run", scene.string(), "--out", (folder / "out").string(), "--no-plot"}, folder);
+  CHECK(run.exit_code == 1);
+  CHECK_THAT(run.out, Contains("FAIL"));
+  const auto summary = summary_of(folder / "out");
+  CHECK(summary["pass"] == false);
+  CHECK(summary["exit_code"] == 1);
+}
+
+TEST_CASE("cli: a plotter that cannot run is a warning, not a failure") {
+  const auto folder = aggkit::testing::scratch_folder("cli-no-python");
+  const auto scene = aggkit::testing::write_text(folder / "scene.toml", SceneText{}.text());
+  const Outcome run = aggkit_cli({"run", scene.string(), "--out", (folder / "out").string(), "--quiet"}, folder,
+                                 "AGGKIT_PYTHON=/nonexistent/python3");
+  CHECK(run.exit_code == 0);
+  CHECK_THAT(run.err, Contains("warning: no plot") && Contains("/nonexistent/python3"));
+  const auto summary = summary_of(folder / "out");
+  CHECK(summary["plot"]["status"] == "failed");
+  CHECK_THAT(summary["plot"]["message"].get<std::string>(), Contains("/nonexistent/python3"));
+  CHECK_FALSE(std::filesystem::exists(folder / "out" / "report.png"));
+  CHECK_FALSE(std::filesystem::exists(folder / "out" / "report.png.partial"));
+}
+
+TEST_CASE("cli: --version, kernels and command-line errors") {
+  const auto folder = aggkit::testing::scratch_folder("cli-commands");
+  Outcome run = aggkit_cli({"--version"}, folder);
+  CHECK(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("aggkit 0."));
+
+  run = aggkit_cli({"kernels"}, folder);
+  CHECK(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("brownian") && Contains("0 <= a <= 1") && Contains("ballistic") && Contains("genproduct"));
+
+  run = aggkit_cli({}, folder);  // no command
+  CHECK(run.exit_code == 2);
+  run = aggkit_cli({"run", "scene.toml"}, folder);  // no --out
+  CHECK(run.exit_code == 2);
+  CHECK_THAT(run.err, Contains("--out"));
+  run = aggkit_cli({"run", "scene.toml", "--out", "x", "--fast"}, folder);
+  CHECK(run.exit_code == 2);
+  run = aggkit_cli({"--help"}, folder);
+  CHECK(run.exit_code == 0);
+  CHECK_THAT(run.out, Contains("Exit status"));
+}

@@ -1,0 +1,122 @@
+#!/usr/bin/env python3
+"""Plots the series of an `aggkit run` (one panel per observable, every engine overlaid) and, if any were
+written, the size distributions n_k (log-log). Called by the harness (validation/plot.cpp):
+
+  plot_series.py --output FILE.png --title NAME [--reference LABEL]
+                 --series LABEL series.csv [--series ...] [--distribution LABEL distribution.csv ...]
+
+Values are drawn on a log axis where they are positive and span more than a factor 30; times too, unless
+the output times are (nearly) evenly spaced, as from `every`, where a linear axis keeps oscillations legible.
+"""
+import argparse
+import csv
+import math
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_csv(path):
+    with open(path, newline="") as handle:
+        rows = list(csv.reader(handle))
+    if not rows:
+        raise ValueError(f"{path} is empty")
+    header, body = rows[0], rows[1:]
+    columns = {name: [float(row[i]) for row in body] for i, name in enumerate(header)}
+    return header, columns
+
+
+def wide_positive(values):
+    """True if all values are finite and positive and span more than a factor 30 (log scale helps)."""
+    finite = [v for v in values if math.isfinite(v)]
+    if not finite or min(finite) <= 0:
+        return False
+    return max(finite) / min(finite) > 30.0
+
+
+def geometric(times):
+    """True if the times are spaced roughly geometrically (median ratio of neighbours above 1.1)."""
+    ratios = sorted(b / a for a, b in zip(times, times[1:]) if a > 0)
+    return bool(ratios) and ratios[len(ratios) // 2] > 1.1
+
+
+def style(label, reference, points):
+    if label == reference:
+        return dict(color="black", linewidth=2.5, alpha=0.5, label=f"{label} (reference)")
+    markers = dict(marker=".", markersize=3) if points <= 200 else {}
+    return dict(linewidth=1.2, label=label, **markers)
+
+
+def plot_series(axes, observable, engines, reference):
+    everything_t, everything_y = [], []
+    for label, (_, columns) in engines.items():
+        t, y = columns["t"], columns[observable]
+        axes.plot(t, y, **style(label, reference, len(t)))
+        everything_t += t
+        everything_y += y
+    times = sorted(set(everything_t))
+    if wide_positive(times) and geometric(times):
+        axes.set_xscale("log")
+    if wide_positive(everything_y):
+        axes.set_yscale("log")
+    axes.set_title(observable)
+    axes.set_xlabel("t")
+    axes.grid(True, which="major", alpha=0.3)
+    axes.legend(fontsize="small")
+
+
+def plot_distributions(axes, distributions, reference):
+    times = sorted({t for _, columns in distributions.values() for t in columns["t"]})
+    colours = plt.cm.viridis([i / max(1, len(times) - 1) for i in range(len(times))])
+    dashes = ["-", "--", ":", "-."]
+    for e, (label, (_, columns)) in enumerate(distributions.items()):
+        for colour, time in zip(colours, times):
+            points = [(k, n) for t, k, n in zip(columns["t"], columns["k"], columns["n"]) if t == time and n > 0]
+            if not points:
+                continue
+            k, n = zip(*points)
+            axes.plot(k, n, linestyle=dashes[e % len(dashes)], color=colour,
+                      linewidth=2.0 if label == reference else 1.0, label=f"{label}, t = {time:g}")
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_title("size distribution")
+    axes.set_xlabel("k")
+    axes.set_ylabel("n_k")
+    axes.grid(True, which="major", alpha=0.3)
+    axes.legend(fontsize="x-small")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--output", required=True)
+    parser.add_argument("--title", default="")
+    parser.add_argument("--reference", default=None)
+    parser.add_argument("--series", nargs=2, action="append", metavar=("LABEL", "CSV"), required=True)
+    parser.add_argument("--distribution", nargs=2, action="append", metavar=("LABEL", "CSV"), default=[])
+    args = parser.parse_args()
+
+    engines = {label: read_csv(path) for label, path in args.series}
+    distributions = {label: read_csv(path) for label, path in args.distribution}
+    observables = next(iter(engines.values()))[0][1:]
+    panels = len(observables) + (1 if distributions else 0)
+    columns = min(3, panels)
+    rows = math.ceil(panels / columns)
+    figure, grid = plt.subplots(rows, columns, figsize=(5.0 * columns, 3.8 * rows), squeeze=False)
+    cells = [cell for row in grid for cell in row]
+    for axes, observable in zip(cells, observables):
+        plot_series(axes, observable, engines, args.reference)
+    if distributions:
+        plot_distributions(cells[len(observables)], distributions, args.reference)
+    for axes in cells[panels:]:
+        axes.set_visible(False)
+    figure.suptitle(args.title)
+    figure.tight_layout()
+    figure.savefig(args.output, format="png", dpi=110)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,69 @@
+#include "validation/scene.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "validation/scene_sections.hpp"
+
+namespace aggkit {
+
+const Engine* Scene::find_engine(std::string_view label) const {
+  for (const auto& engine : engines)
+    if (engine->label() == label) return engine.get();
+  return nullptr;
+}
+
+const Tolerance* ComparisonPlan::tolerance_for(std::string_view observable) const {
+  for (const auto& t : tolerances)
+    if (t.observable == observable) return &t;
+  return nullptr;
+}
+
+namespace {
+
+Scene read_scene(const toml::table& document) {
+  const SceneTable root(document, "");
+  root.allow_only({"name", "model", "time", "engine", "observe", "compare"});
+  Scene scene;
+  scene.name = root.string("name");
+  if (scene.name.empty()) root.fail("name", "a non-empty name");
+  scene.time = read_time(root.table("time"));
+  read_model(root.table("model"), scene);
+  read_engines(root, scene);
+  scene.observe = read_observation(root.table("observe"), scene);
+  if (const auto compare = root.optional_table("compare")) scene.compare = read_comparison(*compare, scene);
+  return scene;
+}
+
+toml::table parse_toml(std::string_view text, const std::string& source) {
+  try {
+    return toml::parse(text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    const auto& where = e.source().begin;
+    throw InputError("scene", source,
+                     "malformed TOML at line " + std::to_string(where.line) + ", column " + std::to_string(where.column) +
+                         ": " + std::string(e.description()));
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml(text, source)); }
+
+Scene load_scene(const std::filesystem::path& path) {
+  const std::string shown = path.string();
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) throw InputError("scene", shown, "a TOML file, not a folder");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
+  Scene scene = parse_scene(text.str(), shown);
+  scene.path = path;
+  return scene;
+}
+
+}  // namespace aggkit

@@ -1,0 +1,91 @@
+#pragma once
+// A scene: one validation run described in a TOML file (DESIGN.md "Scenes"). The schema, every key:
+//
+//   name = "..."                                   (required)
+//   [model]
+//   kernel = { name = "ballistic" }                constant | sum | product | linear (A, B) |
+//                                                  genproduct (mu) | ballistic | brownian (a)
+//   lambda = 0.01                                  or { initial = .., slope = .. } (λ = initial + slope t)
+//                                                  or { times = [..], values = [..] } (piecewise linear);
+//                                                  default 0
+//   size = 5000                                    truncation N >= 2 (required)
+//   truncation = "drop"                            drop | cutoff (default drop)
+//   initial = { kind = "monodisperse" }            optional density (default 1);
+//                                                  or { kind = "table", n = [n_1, n_2, ...] }
+//   [time]
+//   end = 100.0                                    (required, > 0)
+//   outputs = [1.0, 10.0]  or  every = 1.0         increasing, in (0, end]; end is always an output
+//   [[engine]]                                     one table per engine, run in this order
+//   name = "cvode"                                 see engine_registry.cpp for the kinds
+//   label = "cvode-direct"                         optional, default the name; unique; output folder
+//   ...                                            the engine's own options (engine_<name>.cpp)
+//   [observe]
+//   series = ["M0", "M2", "mass_leak", "n1"]       (required; see observable.hpp)
+//   distributions = [1.0, 100.0]                   optional; each one of the output times
+//   [compare]                                      optional
+//   reference = "exact"                            an engine label
+//   tolerance = { M0 = 1e-6, M2 = 1e-6 }           max relative error over the output times, per series
+//                                                  observable; observables without one are reported only
+//
+// Unknown keys anywhere are errors.
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "solvers/model.hpp"
+#include "validation/engine.hpp"
+#include "validation/observable.hpp"
+
+namespace aggkit {
+
+// How n_k(0) was given; the exact engine needs a unit monodisperse start.
+struct InitialCondition {
+  enum class Kind { monodisperse, table };
+  Kind kind = Kind::monodisperse;
+  double density = 1.0;  // of the monomers, for Kind::monodisperse
+};
+
+struct TimeGrid {
+  double end = 0.0;
+  std::vector<double> outputs;  // increasing, in (0, end], the last one is `end`
+};
+
+struct Observation {
+  std::vector<Observable> series;
+  std::vector<double> distribution_times;  // each one of TimeGrid::outputs
+};
+
+struct Tolerance {
+  std::string observable;  // a name in Observation::series
+  double relative_error;   // the largest allowed max-over-time relative error
+};
+
+struct ComparisonPlan {
+  std::string reference;  // an engine label
+  std::vector<Tolerance> tolerances;
+  const Tolerance* tolerance_for(std::string_view observable) const;  // nullptr: reported only
+};
+
+struct Scene {
+  std::string name;
+  std::filesystem::path path;  // the file it was read from; empty for a scene parsed from text
+  AggregationModel model;
+  InitialCondition initial;
+  TimeGrid time;
+  std::vector<std::unique_ptr<Engine>> engines;
+  Observation observe;
+  std::optional<ComparisonPlan> compare;
+
+  const Engine* find_engine(std::string_view label) const;  // nullptr if absent
+};
+
+// Reads and validates a scene file; throws InputError for a missing or unreadable file, malformed TOML and
+// every bad key or value (the message names the dotted key, the value and what is allowed).
+Scene load_scene(const std::filesystem::path& path);
+// The same for TOML text; `source` names it in messages.
+Scene parse_scene(std::string_view text, const std::string& source = "scene");
+
+}  // namespace aggkit

@@ -1,0 +1,72 @@
+// [observe] and [compare]: what is recorded and how engines are compared.
+#include <algorithm>
+
+#include "validation/scene_sections.hpp"
+
+namespace aggkit {
+
+namespace {
+
+bool is_series(const Scene& scene, const std::string& name) {
+  return std::any_of(scene.observe.series.begin(), scene.observe.series.end(),
+                     [&](const Observable& o) { return o.name() == name; });
+}
+
+}  // namespace
+
+Observation read_observation(const SceneTable& observe, const Scene& scene) {
+  observe.allow_only({"series", "distributions"});
+  Observation observation;
+  const std::vector<std::string> names = observe.strings("series");
+  if (names.empty()) observe.fail("series", "at least one observable: " + std::string(Observable::forms()));
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string key = observe.key("series") + "[" + std::to_string(i) + "]";
+    const auto observable = Observable::from_name(names[i]);
+    if (!observable) throw InputError(key, "\"" + names[i] + "\"", Observable::forms());
+    if (observable->kind() == Observable::Kind::density && observable->size() > scene.model.size)
+      throw InputError(key, "\"" + names[i] + "\"", "n<k> with k <= model.size = " + std::to_string(scene.model.size));
+    for (const auto& earlier : observation.series)
+      if (earlier.name() == names[i]) throw InputError(key, "\"" + names[i] + "\"", "each observable once");
+    observation.series.push_back(*observable);
+  }
+  if (observe.contains("distributions")) {
+    const std::vector<double> times = observe.numbers("distributions", Bound::finite);
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      const std::string key = observe.key("distributions") + "[" + std::to_string(i) + "]";
+      const auto t = matching_output_time(scene.time, times[i]);
+      if (!t) throw InputError(key, shortest_text(times[i]), "one of the output times (see [time])");
+      if (std::find(observation.distribution_times.begin(), observation.distribution_times.end(), *t) !=
+          observation.distribution_times.end())
+        throw InputError(key, shortest_text(times[i]), "each time once");
+      observation.distribution_times.push_back(*t);
+    }
+    std::sort(observation.distribution_times.begin(), observation.distribution_times.end());
+  }
+  return observation;
+}
+
+ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
+  compare.allow_only({"reference", "tolerance"});
+  ComparisonPlan plan;
+  plan.reference = compare.string("reference");
+  std::vector<std::string> labels;
+  for (const auto& engine : scene.engines) labels.push_back(engine->label());
+  if (!scene.find_engine(plan.reference)) compare.fail("reference", "the label of an engine of this scene: " + join(labels));
+  if (scene.engines.size() < 2)
+    compare.fail("reference", "a comparison needs a second engine besides the reference; this scene has only " +
+                                  join(labels));
+  if (const auto tolerance = compare.optional_table("tolerance")) {
+    std::vector<std::string> series;
+    for (const auto& o : scene.observe.series) series.push_back(o.name());
+    for (auto&& [key, value] : tolerance->raw()) {
+      const std::string name(key.str());
+      if (!is_series(scene, name))
+        throw InputError(tolerance->key(name), scene_text(value),
+                         "tolerances are given for observables in observe.series: " + join(series));
+      plan.tolerances.push_back({name, tolerance->number(name, Bound::non_negative)});
+    }
+  }
+  return plan;
+}
+
+}  // namespace aggkit

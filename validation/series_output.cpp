@@ -1,0 +1,34 @@
+#include "validation/series_output.hpp"
+
+#include "validation/atomic_file.hpp"
+#include "validation/text.hpp"
+
+namespace aggkit {
+
+void write_series_csv(const std::filesystem::path& file, const Observation& observe, const EngineRecord& record) {
+  AtomicFile csv(file);
+  std::ostream& out = csv.stream();
+  out << "t";
+  for (const auto& observable : observe.series) out << ',' << observable.name();
+  out << '\n';
+  for (std::size_t i = 0; i < record.times.size(); ++i) {
+    out << full_precision_text(record.times[i]);
+    for (double value : record.values[i]) out << ',' << full_precision_text(value);
+    out << '\n';
+  }
+  csv.commit();
+}
+
+void write_distribution_csv(const std::filesystem::path& file, const EngineRecord& record) {
+  AtomicFile csv(file);
+  std::ostream& out = csv.stream();
+  out << "t,k,n\n";
+  for (const auto& distribution : record.distributions) {
+    const std::string t = full_precision_text(distribution.t);
+    for (std::size_t k = 1; k <= distribution.n.size(); ++k)
+      out << t << ',' << k << ',' << full_precision_text(distribution.n[k - 1]) << '\n';
+  }
+  csv.commit();
+}
+
+}  // namespace aggkit

@@ -1,0 +1,13 @@
+#pragma once
+// The per-engine output files: <engine>/series.csv (header `t,<observables as written in the scene>`, one
+// row per output time) and <engine>/distribution.csv (`t,k,n`, n_k at each requested time); full precision.
+#include <filesystem>
+
+#include "validation/engine_record.hpp"
+
+namespace aggkit {
+
+void write_series_csv(const std::filesystem::path& file, const Observation& observe, const EngineRecord& record);
+void write_distribution_csv(const std::filesystem::path& file, const EngineRecord& record);
+
+}  // namespace aggkit
