@@ -35,7 +35,7 @@ struct IntegratorOptions {
   double lowrank_tolerance = 1e-12;
   // Relative entry error of the cheaper kernel form used for J·v (approximated kernels only; Newton's
   // method needs only an approximate Jacobian). 0 uses the right-hand side's form.
-  double jacobian_tolerance = 1e-6;
+  double jacobian_tolerance = 1e-4;
   std::size_t dense_limit = 4000;  // bdf_dense refuses larger N
   // Called after every internal step with the time reached (for progress reports); may be empty.
   std::function<void(double t)> progress;

@@ -62,9 +62,9 @@ class FastRates final : public Rates {
     const std::size_t last = std::min(size_, 2 * active_);
     if (last >= 2) {
       const std::size_t m = fft_.spectrum_size(length_);
-      if (use_plain_) {
-        kernel_.combine(plain_, plain_, m, accumulator_.data);
-        fft_.inverse(accumulator_.data, length_, last, conv_.data());
+      if (use_plain_) {  // sums s ≤ 2·plain_support_ only
+        kernel_.combine(plain_, plain_, fft_.spectrum_size(plain_length_), accumulator_.data);
+        fft_.inverse(accumulator_.data, plain_length_, std::min(last, plain_valid_), conv_.data());
       }
       if (use_tilted_) {
         kernel_.combine(tilted_, tilted_, m, accumulator_.data);
@@ -74,7 +74,7 @@ class FastRates final : public Rates {
       const double step = std::exp(-tilt_);
       double untilt = std::exp(-tilt_ * (2.0 - 2.0 * double(peak_)));
       for (std::size_t k = 2; k <= last; ++k, untilt *= step) {
-        const bool tilted = use_tilted_ && (!use_plain_ || tilted_bound_ * untilt < plain_bound_);
+        const bool tilted = use_tilted_ && (!use_plain_ || k > plain_valid_ || tilted_bound_ * untilt < plain_bound_);
         dndt[k - 1] = 0.5 * (tilted ? tilted_conv_[k - 2] * untilt : conv_[k - 2]);
       }
     }
@@ -97,7 +97,7 @@ class FastRates final : public Rates {
     // Cross convolution Σ_{i+j=k} K_ij n_i v_j (v restricted to the active range, as n is).
     const std::size_t last = std::min(size_, 2 * active_);
     if (last >= 2) {
-      if (!newton_spectra_ready_) {
+      if (!newton_spectra_ready_) {  // F(φ_p n) at full length, once per state
         kernel.transform(n, active_, length_, fft_, newton_plain_);
         newton_spectra_ready_ = true;
       }
@@ -197,18 +197,21 @@ class FastRates final : public Rates {
                                           : std::copysign(std::exp(std::log(std::abs(x)) + tilt_ * (double(k) - double(peak_))), x);
       }
       tilted_bound_ = kernel_.roundoff_bound(tilted_n_, active_);
-      // The tilted bound is largest at the smallest sum s = 2.
-      use_plain_ = tilted_bound_ * std::exp(-tilt_ * (2.0 - 2.0 * double(peak_))) > 4.0 * plain_bound_;
       kernel_.transform(tilted_n_, active_, length_, fft_, tilted_);
+      // The tilted bound exceeds the plain one for sums s < 2k0 + ln(ratio)/θ (ratio at s = 2k0):
+      // the plain convolution is needed only there, so only sizes up to that enter it (a shorter FFT).
+      const double ratio = tilted_bound_ / plain_bound_;
+      use_plain_ = ratio > 1.0;
+      const double crossover = 2.0 * double(peak_) + std::log(std::max(ratio, 1.0)) / tilt_;
+      plain_support_ = std::min<double>(double(active_), std::ceil(crossover));
+    } else {
+      plain_support_ = active_;
     }
-    if (use_plain_) kernel_.transform(n, active_, length_, fft_, plain_);
-    if (use_plain_ && !newton_kernel_) {
-      // The Jacobian's plain spectra are these very ones.
-      for (std::size_t p = 0; p < kernel_.rank(); ++p) {
-        while (newton_plain_.size() < kernel_.rank()) newton_plain_.push_back(fft_.make_spectrum());
-        std::copy(plain_[p].data, plain_[p].data + fft_.spectrum_size(length_), newton_plain_[p].data);
-      }
-      newton_spectra_ready_ = true;
+    // Sums s ≤ plain_support + 1 have every pair inside the support (all sums when it is the whole range).
+    plain_valid_ = plain_support_ == active_ ? 2 * active_ : plain_support_ + 1;
+    if (use_plain_) {
+      plain_length_ = fft_.length_for(plain_support_);
+      kernel_.transform(n, plain_support_, plain_length_, fft_, plain_);
     }
     kernel_.collision_rates(n, active_, cutoff_, rate_n_);
   }
@@ -224,7 +227,7 @@ class FastRates final : public Rates {
   std::vector<double> cached_n_, rate_n_, rate_v_, tilted_n_, conv_, tilted_conv_;
   double tilt_ = 0.0, plain_bound_ = 0.0, tilted_bound_ = 0.0;
   bool use_plain_ = true, use_tilted_ = false, newton_spectra_ready_ = false;
-  std::size_t active_ = 1, length_ = 0, peak_ = 1;
+  std::size_t active_ = 1, length_ = 0, peak_ = 1, plain_support_ = 1, plain_valid_ = 2, plain_length_ = 0;
 };
 
 }  // namespace
