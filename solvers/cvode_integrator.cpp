@@ -37,6 +37,17 @@ std::string to_string(IntegratorMethod m) {
   return "?";
 }
 
+Preconditioner preconditioner_from_name(const std::string& name) {
+  if (name == "monomer") return Preconditioner::monomer;
+  if (name == "jacobi") return Preconditioner::jacobi;
+  if (name == "none") return Preconditioner::none;
+  throw InputError("engine.preconditioner", "\"" + name + "\"", "one of monomer, jacobi, none");
+}
+
+std::string to_string(Preconditioner p) {
+  return p == Preconditioner::monomer ? "monomer" : p == Preconditioner::jacobi ? "jacobi" : "none";
+}
+
 void IntegratorOptions::validate() const {
   auto positive = [](const char* key, double value) {
     if (!std::isfinite(value) || !(value > 0.0))
@@ -44,6 +55,8 @@ void IntegratorOptions::validate() const {
   };
   positive("engine.rtol", rtol);
   positive("engine.atol", atol);
+  if (!std::isfinite(atol_exponent) || atol_exponent < 0.0 || atol_exponent > 6.0)
+    throw InputError("engine.atol_exponent", format_value(atol_exponent), "must be in [0, 6]");
   positive("engine.lowrank_tolerance", lowrank_tolerance);
   if (!std::isfinite(jacobian_tolerance) || jacobian_tolerance < 0.0 || jacobian_tolerance >= 0.1)
     throw InputError("engine.jacobian_tolerance", format_value(jacobian_tolerance), "must be in [0, 0.1)");
@@ -52,6 +65,8 @@ void IntegratorOptions::validate() const {
     throw InputError("engine.lowrank_tolerance", format_value(lowrank_tolerance), "must be < 0.1");
   if (krylov_dimension < 0 || krylov_dimension > 500)
     throw InputError("engine.krylov", std::to_string(krylov_dimension), "must be in 0..500 (0: default 5)");
+  if (!std::isfinite(linear_tolerance_factor) || !(linear_tolerance_factor > 0.0) || linear_tolerance_factor > 1.0)
+    throw InputError("engine.linear_tolerance_factor", format_value(linear_tolerance_factor), "must be in (0, 1]");
   if (max_steps < 1) throw InputError("engine.max_steps", std::to_string(max_steps), "must be >= 1");
 }
 
@@ -62,7 +77,10 @@ struct Problem {
   const AggregationModel* model = nullptr;
   Rates* rates = nullptr;
   std::size_t N = 0;
-  std::vector<double> diagonal, inverse;  // Jacobi preconditioner: diag(J) and 1/(1 - γ diag(J))
+  Rates::MonomerCoupling coupling;        // preconditioner: the O(N)-invertible part of J
+  std::vector<double> inverse;            // 1/(1 - γ J_kk)
+  double gamma = 0.0;
+  bool monomer_preconditioner = true;     // false: Jacobi (diagonal only)
   std::vector<double> dense;              // row-major dense Jacobian buffer
   double rtol = 0.0, mass = 0.0;          // for the mass projection
   const double* abstol = nullptr;
@@ -99,19 +117,26 @@ int jtimes(N_Vector v, N_Vector Jv, sunrealtype t, N_Vector y, N_Vector, void* d
   return guarded(p, [&] { p->rates->jacobian_times(t, view(y, p->N), view(v, p->N), view_mut(Jv, p->N)); });
 }
 
+// Preconditioner P = I - γ (D + S + C): D the diagonal of J, S its subdiagonal and C its monomer
+// column (monomer attachment, the most frequent collisions, couples k to k-1 and to 1). P is lower
+// triangular, so P z = r is solved by forward substitution in O(N).
 int preconditioner_setup(sunrealtype t, N_Vector y, N_Vector, sunbooleantype jok, sunbooleantype* jcur,
                          sunrealtype gamma, void* data) {
   auto* p = static_cast<Problem*>(data);
   return guarded(p, [&] {
-    if (!jok || p->diagonal.empty()) {
-      p->diagonal.resize(p->N);
-      p->rates->jacobian_diagonal(t, view(y, p->N), p->diagonal);
+    if (!jok || p->coupling.diagonal.empty()) {
+      p->rates->jacobian_monomer_coupling(t, view(y, p->N), p->coupling);
+      if (!p->monomer_preconditioner) {
+        std::fill(p->coupling.subdiagonal.begin(), p->coupling.subdiagonal.end(), 0.0);
+        std::fill(p->coupling.monomer_column.begin(), p->coupling.monomer_column.end(), 0.0);
+      }
       *jcur = SUNTRUE;
     } else {
       *jcur = SUNFALSE;
     }
+    p->gamma = gamma;
     p->inverse.resize(p->N);
-    for (std::size_t k = 0; k < p->N; ++k) p->inverse[k] = 1.0 / (1.0 - gamma * p->diagonal[k]);
+    for (std::size_t k = 0; k < p->N; ++k) p->inverse[k] = 1.0 / (1.0 - gamma * p->coupling.diagonal[k]);
   });
 }
 
@@ -120,7 +145,12 @@ int preconditioner_solve(sunrealtype, N_Vector, N_Vector, N_Vector r, N_Vector z
   auto* p = static_cast<Problem*>(data);
   const double* rr = N_VGetArrayPointer(r);
   double* zz = N_VGetArrayPointer(z);
-  for (std::size_t k = 0; k < p->N; ++k) zz[k] = rr[k] * p->inverse[k];
+  const auto& S = p->coupling.subdiagonal;
+  const auto& C = p->coupling.monomer_column;
+  const double g = p->gamma;
+  zz[0] = rr[0] * p->inverse[0];
+  for (std::size_t k = 1; k < p->N; ++k)
+    zz[k] = (rr[k] + g * (C[k] * zz[0] + S[k] * zz[k - 1])) * p->inverse[k];
   return 0;
 }
 
@@ -232,6 +262,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   }
   N_VGetArrayPointer(s.quadrature)[0] = 0.0;
   problem.rtol = options.rtol;
+  problem.monomer_preconditioner = options.preconditioner == Preconditioner::monomer;
   problem.abstol = abstol;
   for (std::size_t k = 0; k < N; ++k) problem.mass += double(k + 1) * y[k];
 
@@ -245,11 +276,12 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
 
   switch (options.method) {
     case IntegratorMethod::bdf_gmres:
-      s.linear = SUNLinSol_SPGMR(s.y, options.preconditioner ? SUN_PREC_LEFT : SUN_PREC_NONE,
+      s.linear = SUNLinSol_SPGMR(s.y, options.preconditioner != Preconditioner::none ? SUN_PREC_LEFT : SUN_PREC_NONE,
                                  options.krylov_dimension, s.context);
       check(CVodeSetLinearSolver(s.cvode, s.linear, nullptr), "CVodeSetLinearSolver", problem);
       check(CVodeSetJacTimes(s.cvode, nullptr, jtimes), "CVodeSetJacTimes", problem);
-      if (options.preconditioner)
+      check(CVodeSetEpsLin(s.cvode, options.linear_tolerance_factor), "CVodeSetEpsLin", problem);
+      if (options.preconditioner != Preconditioner::none)
         check(CVodeSetPreconditioner(s.cvode, preconditioner_setup, preconditioner_solve),
               "CVodeSetPreconditioner", problem);
       break;

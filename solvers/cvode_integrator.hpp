@@ -12,12 +12,21 @@
 namespace aggkit {
 
 enum class IntegratorMethod {
-  bdf_gmres,  // BDF, Newton with matrix-free GMRES (J·v exact, O(N R log N)) and a Jacobi preconditioner
+  bdf_gmres,  // BDF, Newton with matrix-free GMRES (J·v in O(N R log N)) and a preconditioner
   bdf_dense,  // BDF, Newton with the dense analytic Jacobian (small N only)
   adams,      // Adams-Moulton with functional (fixed-point) iteration, for non-stiff runs
 };
 IntegratorMethod integrator_method_from_name(const std::string& name);  // throws InputError
 std::string to_string(IntegratorMethod m);
+
+// Preconditioner for bdf-gmres: P = I - γ M with M a part of the Jacobian solvable in O(N).
+enum class Preconditioner {
+  none,
+  jacobi,   // M = diagonal of J
+  monomer,  // M = diagonal + subdiagonal + monomer column (monomer attachment), lower triangular
+};
+Preconditioner preconditioner_from_name(const std::string& name);  // throws InputError
+std::string to_string(Preconditioner p);
 
 struct IntegratorOptions {
   IntegratorMethod method = IntegratorMethod::bdf_gmres;
@@ -28,9 +37,10 @@ struct IntegratorOptions {
   // (M2, M3) that live in the large-size tail.
   double atol = 1e-14;
   double atol_exponent = 1.0;
-  bool preconditioner = true;   // Jacobi preconditioner for GMRES
+  Preconditioner preconditioner = Preconditioner::monomer;
   bool project_mass = true;     // cutoff + BDF: project each step onto Σ k n_k = M (exact invariant)
   int krylov_dimension = 0;     // 0: SUNDIALS default (5)
+  double linear_tolerance_factor = 0.05;  // GMRES stops at this factor of the Newton tolerance (CVodeSetEpsLin)
   long max_steps = 10'000'000;
   double lowrank_tolerance = 1e-12;
   // Relative entry error of the cheaper kernel form used for J·v (approximated kernels only; Newton's

@@ -6,6 +6,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "solvers/model.hpp"
 
@@ -23,8 +24,13 @@ class Rates {
   // Jv = (∂f/∂n)(n) v. The RHS is quadratic in n, so this is exact (no differencing).
   virtual void jacobian_times(double t, std::span<const double> n, std::span<const double> v,
                               std::span<double> Jv) = 0;
-  // diag(∂f/∂n)(n), for the Jacobi preconditioner; O(N R).
-  virtual void jacobian_diagonal(double t, std::span<const double> n, std::span<double> diagonal) = 0;
+  // The part of ∂f/∂n that a preconditioner can invert in O(N): the diagonal, the subdiagonal
+  // ∂f_k/∂n_{k-1} (k ≥ 3) and the monomer column ∂f_k/∂n_1 (k ≥ 2) — attachment of monomers, the most
+  // frequent collisions. Entry k-1 of each vector belongs to size k (unused entries are 0). O(N R).
+  struct MonomerCoupling {
+    std::vector<double> diagonal, subdiagonal, monomer_column;
+  };
+  virtual void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) = 0;
   virtual std::string describe() const = 0;
   // Rank of the separable kernel form used (0 for the direct path) and its measured max relative error.
   virtual std::size_t kernel_rank() const { return 0; }

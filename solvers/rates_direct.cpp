@@ -55,16 +55,21 @@ class DirectRates final : public Rates {
     bilinear(t, v, n, Jv);
   }
 
-  void jacobian_diagonal(double t, std::span<const double> n, std::span<double> diagonal) override {
-    // ∂f_k/∂n_k = -(1+λ)(Σ_j K_kj n_j + K_kk n_k) for k ≥ 2 (the gain term has no n_k);
-    // for monomers also + λ Σ_{j≥2} j K_1j n_j.
+  void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) override {
+    // ∂f_k/∂n_k = -(1+λ)(Σ_j K_kj n_j + K_kk n_k) for k ≥ 2 (the gain term has no n_k); for monomers
+    // also + λ Σ_{j≥2} j K_1j n_j. ∂f_k/∂n_1 = K_{1,k-1} n_{k-1} - (1+λ) n_k K_k1 (k ≥ 2);
+    // ∂f_k/∂n_{k-1} = K_{k-1,1} n_1 - (1+λ) n_k K_{k,k-1} (k ≥ 3).
     const double lambda = model_.lambda(t);
+    for (auto* v : {&J.diagonal, &J.subdiagonal, &J.monomer_column}) v->assign(size_, 0.0);
     for (std::size_t k = 1; k <= size_; ++k) {
       double rate = 0.0;
       for (std::size_t j = 1; j <= size_; ++j) rate += K(k, j) * n[j - 1];
-      diagonal[k - 1] = -(k == 1 ? 1.0 : 1.0 + lambda) * (rate + K(k, k) * n[k - 1]);
+      const double loss_factor = k == 1 ? 1.0 : 1.0 + lambda;
+      J.diagonal[k - 1] = -loss_factor * (rate + K(k, k) * n[k - 1]);
+      if (k >= 2) J.monomer_column[k - 1] = K(1, k - 1) * n[k - 2] - loss_factor * n[k - 1] * K(k, 1);
+      if (k >= 3) J.subdiagonal[k - 1] = K(k - 1, 1) * n[0] - loss_factor * n[k - 1] * K(k, k - 1);
     }
-    for (std::size_t j = 2; j <= size_; ++j) diagonal[0] += lambda * double(j) * K(1, j) * n[j - 1];
+    for (std::size_t j = 2; j <= size_; ++j) J.diagonal[0] += lambda * double(j) * K(1, j) * n[j - 1];
   }
 
   std::string describe() const override { return "direct O(N^2)"; }

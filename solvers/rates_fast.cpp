@@ -44,9 +44,11 @@ class FastRates final : public Rates {
       newton_kernel_ = std::make_unique<SeparableKernel>(model.kernel.separable_form(size_, jacobian_tolerance), size_);
     kernel_diagonal_.resize(size_);
     kernel_monomer_.resize(size_);
+    kernel_subdiagonal_.resize(size_);
     for (std::size_t k = 1; k <= size_; ++k) {
       kernel_diagonal_[k - 1] = kernel_.entry(k, k);
       kernel_monomer_[k - 1] = kernel_.entry(k, 1);
+      kernel_subdiagonal_[k - 1] = k >= 2 ? kernel_.entry(k, k - 1) : 0.0;
     }
     accumulator_ = fft_.make_spectrum();
     cached_n_.assign(size_, std::nan(""));
@@ -115,18 +117,23 @@ class FastRates final : public Rates {
     Jv[0] += lambda * shattered;
   }
 
-  void jacobian_diagonal(double t, std::span<const double> n, std::span<double> diagonal) override {
+  void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) override {
     prepare(n);
     const double lambda = model_.lambda(t);
-    std::fill(diagonal.begin(), diagonal.end(), 0.0);
+    for (auto* v : {&J.diagonal, &J.subdiagonal, &J.monomer_column}) v->assign(size_, 0.0);
+    auto allowed = [&](std::size_t i, std::size_t j) { return !cutoff_ || i + j <= size_; };
     double monomer = 0.0;  // ∂/∂n_1 of λ Σ_{i≥2} i n_i c_i = λ Σ_{i≥2} i n_i K_i1
     for (std::size_t k = 1; k <= active_; ++k) {
-      const bool self_pair = !cutoff_ || 2 * k <= size_;
-      diagonal[k - 1] = -(k == 1 ? 1.0 : 1.0 + lambda) *
-                        (rate_n_[k - 1] + (self_pair ? n[k - 1] * kernel_diagonal_[k - 1] : 0.0));
-      if (k >= 2 && (!cutoff_ || k + 1 <= size_)) monomer += double(k) * n[k - 1] * kernel_monomer_[k - 1];
+      const double loss_factor = k == 1 ? 1.0 : 1.0 + lambda;
+      J.diagonal[k - 1] = -loss_factor * (rate_n_[k - 1] + (allowed(k, k) ? n[k - 1] * kernel_diagonal_[k - 1] : 0.0));
+      if (k >= 2 && allowed(k, 1)) monomer += double(k) * n[k - 1] * kernel_monomer_[k - 1];
+      if (k >= 2)  // ∂f_k/∂n_1 = K_{1,k-1} n_{k-1} - (1+λ) n_k K_k1
+        J.monomer_column[k - 1] = kernel_monomer_[k - 2] * n[k - 2] - (allowed(k, 1) ? loss_factor * n[k - 1] * kernel_monomer_[k - 1] : 0.0);
+      if (k >= 3)  // ∂f_k/∂n_{k-1} = K_{k-1,1} n_1 - (1+λ) n_k K_{k,k-1}
+        J.subdiagonal[k - 1] = kernel_monomer_[k - 2] * n[0] -
+                               (allowed(k, k - 1) ? loss_factor * n[k - 1] * kernel_subdiagonal_[k - 1] : 0.0);
     }
-    diagonal[0] += lambda * monomer;
+    J.diagonal[0] += lambda * monomer;
   }
 
   double leak_rate(double, std::span<const double> n) override {
@@ -223,7 +230,7 @@ class FastRates final : public Rates {
   FftConvolution fft_;
   std::vector<FftConvolution::Spectrum> plain_, tilted_, newton_plain_;
   FftConvolution::Spectrum accumulator_;
-  std::vector<double> kernel_diagonal_, kernel_monomer_;
+  std::vector<double> kernel_diagonal_, kernel_monomer_, kernel_subdiagonal_;  // K̃_kk, K̃_k1, K̃_{k,k-1}
   std::vector<double> cached_n_, rate_n_, rate_v_, tilted_n_, conv_, tilted_conv_;
   double tilt_ = 0.0, plain_bound_ = 0.0, tilted_bound_ = 0.0;
   bool use_plain_ = true, use_tilted_ = false, newton_spectra_ready_ = false;

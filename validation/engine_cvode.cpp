@@ -1,6 +1,7 @@
 // Engine "cvode": the truncated rate equations integrated by SUNDIALS CVODE (solvers/cvode_integrator.hpp).
-// Options: method (bdf-gmres | bdf-dense | adams), rtol, atol, rhs (fast | direct), lowrank_tolerance,
-// preconditioner (bool), krylov (Krylov subspace dimension, 0 = CVODE's default).
+// Options: method (bdf-gmres | bdf-dense | adams), rtol, atol, atol_exponent (atol_k = atol / k^q),
+// rhs (fast | direct), lowrank_tolerance, jacobian_tolerance, preconditioner (monomer | jacobi | none), krylov (Krylov
+// subspace dimension, 0 = CVODE's default), max_steps.
 #include <limits>
 
 #include "solvers/cvode_integrator.hpp"
@@ -30,8 +31,10 @@ class CvodeEngine final : public Engine {
     return {
         {"method", to_string(options_.method)},
         {"rhs", to_string(options_.rates)},
+        {"preconditioner", to_string(options_.preconditioner)},
         {"rtol", options_.rtol},
         {"atol", options_.atol},
+        {"atol_exponent", options_.atol_exponent},
         {"steps", std::int64_t(s.steps)},
         {"rhs_evaluations", std::int64_t(s.rhs_evaluations)},
         {"linear_iterations", std::int64_t(s.linear_iterations)},
@@ -64,8 +67,15 @@ std::unique_ptr<Engine> parse_cvode(const SceneTable& table, std::string label, 
     options.rates = under_key(rekey, [&] { return rates_path_from_name(*rhs); });
   options.rtol = table.optional_number("rtol", Bound::any).value_or(options.rtol);
   options.atol = table.optional_number("atol", Bound::any).value_or(options.atol);
+  options.atol_exponent = table.optional_number("atol_exponent", Bound::any).value_or(options.atol_exponent);
+  options.jacobian_tolerance = table.optional_number("jacobian_tolerance", Bound::any).value_or(options.jacobian_tolerance);
+  if (const auto steps = table.optional_count("max_steps", 1)) {
+    if (*steps > std::size_t(std::numeric_limits<long>::max())) table.fail("max_steps", "an integer >= 1");
+    options.max_steps = long(*steps);
+  }
   options.lowrank_tolerance = table.optional_number("lowrank_tolerance", Bound::any).value_or(options.lowrank_tolerance);
-  options.preconditioner = table.optional_boolean("preconditioner").value_or(options.preconditioner);
+  if (const auto preconditioner = table.optional_string("preconditioner"))
+    options.preconditioner = under_key(rekey, [&] { return preconditioner_from_name(*preconditioner); });
   if (const auto krylov = table.optional_count("krylov", 0)) {
     if (*krylov > std::size_t(std::numeric_limits<int>::max())) table.fail("krylov", "an integer in 0..500");
     options.krylov_dimension = int(*krylov);
@@ -83,7 +93,8 @@ std::unique_ptr<Engine> parse_cvode(const SceneTable& table, std::string label, 
 EngineType cvode_engine_type() {
   return {"cvode",
           "the truncated rate equations integrated by SUNDIALS CVODE",
-          {"method", "rtol", "atol", "rhs", "lowrank_tolerance", "preconditioner", "krylov"},
+          {"method", "rtol", "atol", "atol_exponent", "rhs", "lowrank_tolerance", "jacobian_tolerance",
+           "preconditioner", "krylov", "max_steps"},
           parse_cvode};
 }
 

@@ -60,18 +60,21 @@ TEST_CASE("fast rates equal the direct oracle for every kernel", "[rates]") {
         INFO(kernel.describe() << " lambda=" << lambda << " " << to_string(truncation));
         auto fast = make_fast_rates(model, 1e-13);
         auto direct = make_direct_rates(model);
-        std::vector<double> f1(N), f2(N), j1(N), j2(N), d1(N), d2(N);
+        std::vector<double> f1(N), f2(N), j1(N), j2(N);
+        Rates::MonomerCoupling c1, c2;
         fast->evaluate(0.0, n, f1);
         direct->evaluate(0.0, n, f2);
         fast->jacobian_times(0.0, n, v, j1);
         direct->jacobian_times(0.0, n, v, j2);
-        fast->jacobian_diagonal(0.0, n, d1);
-        direct->jacobian_diagonal(0.0, n, d2);
+        fast->jacobian_monomer_coupling(0.0, n, c1);
+        direct->jacobian_monomer_coupling(0.0, n, c2);
         // FFT round-off (~1e-16 · log N relative to the largest entries) and, for ballistic, the
         // 1e-13 kernel approximation: 1e-10 leaves a wide margin while catching any wrong term.
         CHECK(relative_difference(f1, f2) < 1e-10);
         CHECK(relative_difference(j1, j2) < 1e-10);
-        CHECK(relative_difference(d1, d2) < 1e-10);
+        CHECK(relative_difference(c1.diagonal, c2.diagonal) < 1e-10);
+        CHECK(relative_difference(c1.subdiagonal, c2.subdiagonal) < 1e-10);
+        CHECK(relative_difference(c1.monomer_column, c2.monomer_column) < 1e-10);
         CHECK(fast->leak_rate(0.0, n) == Approx(direct->leak_rate(0.0, n)).epsilon(1e-11).margin(1e-300));
       }
     }

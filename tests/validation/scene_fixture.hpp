@@ -87,7 +87,7 @@ inline std::vector<BadScene> bad_scenes() {
       bad("unknown method", [cvode](SceneText& s) { s.engines = cvode + "method = \"rk4\"\n"; s.compare = ""; }, "engine[0].method", "rk4"),
       bad("unknown rhs", [cvode](SceneText& s) { s.engines = cvode + "rhs = \"slow\"\n"; s.compare = ""; }, "engine[0].rhs", "slow"),
       bad("negative krylov", [cvode](SceneText& s) { s.engines = cvode + "krylov = -3\n"; s.compare = ""; }, "engine[0].krylov", "-3"),
-      bad("preconditioner not a boolean", [cvode](SceneText& s) { s.engines = cvode + "preconditioner = \"yes\"\n"; s.compare = ""; }, "engine[0].preconditioner", "\"yes\""),
+      bad("unknown preconditioner", [cvode](SceneText& s) { s.engines = cvode + "preconditioner = \"yes\"\n"; s.compare = ""; }, "engine[0].preconditioner", "\"yes\""),
       bad("dense Jacobian for large N", [cvode](SceneText& s) { s.model = "kernel = { name = \"constant\" }\nsize = 5000\n"; s.engines = cvode + "method = \"bdf-dense\"\n"; s.compare = ""; }, "engine[0].method", "bdf-dense"),
       bad("unknown engine key", [cvode](SceneText& s) { s.engines = cvode + "rtl = 1e-8\n"; s.compare = ""; }, "engine[0].rtl", "1e-08", cli),
       bad("duplicate engine labels", [cvode](SceneText& s) { s.engines = cvode + cvode; s.compare = ""; }, "engine[1].name", "cvode"),

@@ -87,7 +87,7 @@ TEST_CASE("scene: kernel parameters, the forms of lambda(t), cutoff and a tabula
                "size = 128\ntruncation = \"cutoff\"\n"
                "initial = { kind = \"table\", n = [0.5, 0.25] }\n";
   text.engines = "[[engine]]\nname = \"cvode\"\nmethod = \"bdf-dense\"\nrhs = \"direct\"\natol = 1e-12\n"
-                 "preconditioner = false\nkrylov = 10\nlowrank_tolerance = 1e-9\n"
+                 "preconditioner = \"none\"\nkrylov = 10\nlowrank_tolerance = 1e-9\n"
                  "[[engine]]\nname = \"cvode\"\nlabel = \"cvode-adams\"\nmethod = \"adams\"\n";
   text.compare = "reference = \"cvode\"\n";
   const Scene scene = parse_scene(text.text());
