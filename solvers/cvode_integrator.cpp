@@ -1,9 +1,10 @@
-// CVODE driver for the aggregation-shattering system. The state is n_1..n_N; the mass leaked through
-// the truncation is integrated alongside as a CVODE quadrature (it does not feed back into n).
+// CVODE driver for the aggregation-shattering system. The state is y = (n_1, ..., n_N, L), L the mass
+// leaked through the truncation (dL/dt = leak rate; 0 under cutoff), so that Σ k n_k + L = M is an
+// exact linear invariant of the system, onto which every step (and every output) is projected.
 #include "solvers/cvode_integrator.hpp"
 
-#include <cvodes/cvodes.h>  // CVODE plus quadratures (used for the leaked mass)
-#include <cvodes/cvodes_proj.h>
+#include <cvode/cvode.h>
+#include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -48,16 +49,24 @@ std::string to_string(Preconditioner p) {
   return p == Preconditioner::monomer ? "monomer" : p == Preconditioner::jacobi ? "jacobi" : "none";
 }
 
+double IntegratorOptions::effective_lowrank_tolerance() const {
+  return lowrank_tolerance > 0.0 ? lowrank_tolerance : std::max(1e-12, std::min(1e-8, 1e-3 * rtol));
+}
+
 void IntegratorOptions::validate() const {
   auto positive = [](const char* key, double value) {
     if (!std::isfinite(value) || !(value > 0.0))
       throw InputError(key, format_value(value), "must be a finite number > 0");
   };
   positive("engine.rtol", rtol);
-  positive("engine.atol", atol);
+  if (!std::isfinite(atol) || atol < 0.0)
+    throw InputError("engine.atol", format_value(atol), "must be a finite number >= 0 (0: 1e-2 rtol)");
+  if (!std::isfinite(atol_floor) || atol_floor < 0.0)
+    throw InputError("engine.atol_floor", format_value(atol_floor), "must be a finite number >= 0");
   if (!std::isfinite(atol_exponent) || atol_exponent < 0.0 || atol_exponent > 6.0)
     throw InputError("engine.atol_exponent", format_value(atol_exponent), "must be in [0, 6]");
-  positive("engine.lowrank_tolerance", lowrank_tolerance);
+  if (!std::isfinite(lowrank_tolerance) || lowrank_tolerance < 0.0)
+    throw InputError("engine.lowrank_tolerance", format_value(lowrank_tolerance), "must be >= 0 (0: automatic)");
   if (!std::isfinite(jacobian_tolerance) || jacobian_tolerance < 0.0 || jacobian_tolerance >= 0.1)
     throw InputError("engine.jacobian_tolerance", format_value(jacobian_tolerance), "must be in [0, 0.1)");
   if (rtol >= 1.0) throw InputError("engine.rtol", format_value(rtol), "must be < 1");
@@ -104,17 +113,20 @@ int guarded(Problem* p, F&& f) {
 
 int rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* data) {
   auto* p = static_cast<Problem*>(data);
-  return guarded(p, [&] { p->rates->evaluate(t, view(y, p->N), view_mut(ydot, p->N)); });
-}
-
-int leak(sunrealtype t, N_Vector y, N_Vector q, void* data) {
-  auto* p = static_cast<Problem*>(data);
-  return guarded(p, [&] { N_VGetArrayPointer(q)[0] = p->rates->leak_rate(t, view(y, p->N)); });
+  return guarded(p, [&] {
+    p->rates->evaluate(t, view(y, p->N), view_mut(ydot, p->N));
+    N_VGetArrayPointer(ydot)[p->N] = p->rates->leak_rate(t, view(y, p->N));
+  });
 }
 
 int jtimes(N_Vector v, N_Vector Jv, sunrealtype t, N_Vector y, N_Vector, void* data, N_Vector) {
   auto* p = static_cast<Problem*>(data);
-  return guarded(p, [&] { p->rates->jacobian_times(t, view(y, p->N), view(v, p->N), view_mut(Jv, p->N)); });
+  return guarded(p, [&] {
+    p->rates->jacobian_times(t, view(y, p->N), view(v, p->N), view_mut(Jv, p->N));
+    // The leaked mass does not feed back into n, so its row of J may be left out (Newton then
+    // converges for L as soon as it has for n); computing it would cost two O(N R) sums per J·v.
+    N_VGetArrayPointer(Jv)[p->N] = 0.0;
+  });
 }
 
 // Preconditioner P = I - γ (D + S + C): D the diagonal of J, S its subdiagonal and C its monomer
@@ -151,6 +163,7 @@ int preconditioner_solve(sunrealtype, N_Vector, N_Vector, N_Vector r, N_Vector z
   zz[0] = rr[0] * p->inverse[0];
   for (std::size_t k = 1; k < p->N; ++k)
     zz[k] = (rr[k] + g * (C[k] * zz[0] + S[k] * zz[k - 1])) * p->inverse[k];
+  zz[p->N] = rr[p->N];  // the leaked mass: its row (∂leak/∂n) is left out
   return 0;
 }
 
@@ -158,37 +171,45 @@ int dense_jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix J, vo
                             N_Vector) {
   auto* p = static_cast<Problem*>(data);
   return guarded(p, [&] {
-    p->dense.resize(p->N * p->N);
-    dense_jacobian(*p->model, t, view(y, p->N), p->dense);
-    for (std::size_t i = 0; i < p->N; ++i)
-      for (std::size_t j = 0; j < p->N; ++j)
-        SM_ELEMENT_D(J, sunindextype(i), sunindextype(j)) = p->dense[i * p->N + j];
+    const std::size_t N = p->N;
+    p->dense.resize(N * N);
+    dense_jacobian(*p->model, t, view(y, N), p->dense);
+    SUNMatZero(J);
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::size_t j = 0; j < N; ++j) SM_ELEMENT_D(J, sunindextype(i), sunindextype(j)) = p->dense[i * N + j];
+    p->dense.resize(N);
+    leak_gradient(*p->model, t, view(y, N), p->dense);
+    for (std::size_t j = 0; j < N; ++j) SM_ELEMENT_D(J, sunindextype(N), sunindextype(j)) = p->dense[j];
   });
 }
 
-// Projection onto the mass shell Σ k n_k = M after each step (cutoff truncation, BDF): Newton and GMRES
-// are solved only to a tolerance, so without it the exactly conserved mass drifts by ~1e-9 over long runs.
-// The correction is the orthogonal projection in the metric of the error weights,
-// δ = -S² g (g·n - M)/(g·S² g), g_k = k, S_k = rtol|n_k| + atol_k: it moves the sizes that are allowed
-// to move, and the local error estimate is projected the same way.
+// Projection onto the mass shell g·y = Σ k n_k + L = M (Newton and GMRES are solved only to a
+// tolerance, so without it the mass drifts by 1e-9 .. 1e-5 over long runs). The correction is the
+// orthogonal projection in the metric of the error weights, δ = -S² g (g·y - M)/(g·S² g) with
+// S_i = rtol|y_i| + atol_i: it moves the components that are allowed to move.
+void project_onto_mass_shell(const Problem& p, const double* y, double* correction, double* error) {
+  const std::size_t size = p.N + 1;
+  auto g = [&](std::size_t i) { return i < p.N ? double(i + 1) : 1.0; };
+  double mass = 0.0, norm = 0.0;
+  for (std::size_t i = 0; i < size; ++i) {
+    // L itself is never corrected: it stays the integral of the leak rate (0 under cutoff).
+    const double scale = i == p.N ? 0.0 : p.rtol * std::abs(y[i]) + p.abstol[i];
+    correction[i] = scale * scale * g(i);
+    mass += g(i) * y[i];
+    norm += g(i) * correction[i];
+  }
+  if (error) {  // the local error estimate is projected the same way
+    double error_mass = 0.0;
+    for (std::size_t i = 0; i < size; ++i) error_mass += g(i) * error[i];
+    for (std::size_t i = 0; i < size; ++i) error[i] -= correction[i] * error_mass / norm;
+  }
+  const double excess = (mass - p.mass) / norm;
+  for (std::size_t i = 0; i < size; ++i) correction[i] *= -excess;
+}
+
 int project_mass(sunrealtype, N_Vector y, N_Vector correction, sunrealtype, N_Vector error, void* data) {
-  auto* p = static_cast<Problem*>(data);
-  const double* n = N_VGetArrayPointer(y);
-  double* c = N_VGetArrayPointer(correction);
-  double mass = 0.0, norm = 0.0, error_mass = 0.0;
-  for (std::size_t k = 0; k < p->N; ++k) {
-    const double scale = p->rtol * std::abs(n[k]) + p->abstol[k];
-    c[k] = scale * scale * double(k + 1);
-    mass += double(k + 1) * n[k];
-    norm += double(k + 1) * c[k];
-  }
-  if (error) {
-    double* e = N_VGetArrayPointer(error);
-    for (std::size_t k = 0; k < p->N; ++k) error_mass += double(k + 1) * e[k];
-    for (std::size_t k = 0; k < p->N; ++k) e[k] -= c[k] * error_mass / norm;
-  }
-  const double excess = (mass - p->mass) / norm;
-  for (std::size_t k = 0; k < p->N; ++k) c[k] *= -excess;
+  project_onto_mass_shell(*static_cast<Problem*>(data), N_VGetArrayPointer(y), N_VGetArrayPointer(correction),
+                          error ? N_VGetArrayPointer(error) : nullptr);
   return 0;
 }
 
@@ -200,7 +221,7 @@ void error_handler(int code, const char* module, const char* function, char* mes
 // Owns the SUNDIALS objects of one integration.
 struct Session {
   SUNContext context = nullptr;
-  N_Vector y = nullptr, abstol = nullptr, quadrature = nullptr;
+  N_Vector y = nullptr, abstol = nullptr;
   SUNMatrix matrix = nullptr;
   SUNLinearSolver linear = nullptr;
   SUNNonlinearSolver nonlinear = nullptr;
@@ -210,7 +231,6 @@ struct Session {
     if (linear) SUNLinSolFree(linear);
     if (nonlinear) SUNNonlinSolFree(nonlinear);
     if (matrix) SUNMatDestroy(matrix);
-    if (quadrature) N_VDestroy(quadrature);
     if (abstol) N_VDestroy(abstol);
     if (y) N_VDestroy(y);
     if (context) SUNContext_Free(&context);
@@ -243,7 +263,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
                          " (N = " + std::to_string(N) + "); use bdf-gmres");
 
   const auto started = std::chrono::steady_clock::now();
-  auto rates = make_rates(model, options.rates, options.lowrank_tolerance, options.jacobian_tolerance);
+  auto rates = make_rates(model, options.rates, options.effective_lowrank_tolerance(), options.jacobian_tolerance);
   Problem problem;
   problem.model = &model;
   problem.rates = rates.get();
@@ -251,16 +271,20 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
 
   Session s;
   if (SUNContext_Create(nullptr, &s.context) != 0) throw std::runtime_error("SUNContext_Create failed");
-  s.y = N_VNew_Serial(sunindextype(N), s.context);
-  s.abstol = N_VNew_Serial(sunindextype(N), s.context);
-  s.quadrature = N_VNew_Serial(1, s.context);
+  s.y = N_VNew_Serial(sunindextype(N + 1), s.context);  // n_1..n_N and the leaked mass
+  s.abstol = N_VNew_Serial(sunindextype(N + 1), s.context);
   double* y = N_VGetArrayPointer(s.y);
   double* abstol = N_VGetArrayPointer(s.abstol);
+  double density_scale = 0.0;
   for (std::size_t k = 0; k < N; ++k) {
     y[k] = k < model.initial.size() ? model.initial[k] : 0.0;
-    abstol[k] = options.atol * std::pow(double(k + 1), -options.atol_exponent);
+    density_scale = std::max(density_scale, y[k]);
   }
-  N_VGetArrayPointer(s.quadrature)[0] = 0.0;
+  for (std::size_t k = 0; k < N; ++k)
+    abstol[k] = std::max(options.effective_atol() * std::pow(double(k + 1), -options.atol_exponent),
+                         options.effective_atol_floor() * density_scale);
+  y[N] = 0.0;
+  abstol[N] = options.effective_atol();  // an absolute mass
   problem.rtol = options.rtol;
   problem.monomer_preconditioner = options.preconditioner == Preconditioner::monomer;
   problem.abstol = abstol;
@@ -272,7 +296,6 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   check(CVodeInit(s.cvode, rhs, 0.0, s.y), "CVodeInit", problem);
   check(CVodeSetUserData(s.cvode, &problem), "CVodeSetUserData", problem);
   check(CVodeSVtolerances(s.cvode, options.rtol, s.abstol), "CVodeSVtolerances", problem);
-  check(CVodeQuadInit(s.cvode, leak, s.quadrature), "CVodeQuadInit", problem);
 
   switch (options.method) {
     case IntegratorMethod::bdf_gmres:
@@ -286,7 +309,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
               "CVodeSetPreconditioner", problem);
       break;
     case IntegratorMethod::bdf_dense:
-      s.matrix = SUNDenseMatrix(sunindextype(N), sunindextype(N), s.context);
+      s.matrix = SUNDenseMatrix(sunindextype(N + 1), sunindextype(N + 1), s.context);
       s.linear = SUNLinSol_Dense(s.y, s.matrix, s.context);
       check(CVodeSetLinearSolver(s.cvode, s.linear, s.matrix), "CVodeSetLinearSolver", problem);
       check(CVodeSetJacFn(s.cvode, dense_jacobian_callback), "CVodeSetJacFn", problem);
@@ -297,8 +320,10 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
       break;
   }
 
-  if (options.project_mass && model.truncation == Truncation::cutoff && options.method != IntegratorMethod::adams)
+  // CVODE projects BDF steps only; Adams runs get their outputs projected.
+  if (options.project_mass && options.method != IntegratorMethod::adams)
     check(CVodeSetProjFn(s.cvode, project_mass), "CVodeSetProjFn", problem);
+  std::vector<double> correction(N + 1);
 
   IntegratorStatistics stats;
   N_Vector out = N_VClone(s.y);
@@ -325,17 +350,17 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
       if (options.progress) options.progress(std::min(t, t_out));
     }
     check(CVodeGetDky(s.cvode, t_out, 0, out), "CVodeGetDky", problem);
-    double leaked_rate_time = 0.0;
-    N_Vector q = N_VClone(s.quadrature);
-    check(CVodeGetQuadDky(s.cvode, t_out, 0, q), "CVodeGetQuadDky", problem);
-    leaked_rate_time = N_VGetArrayPointer(q)[0];
-    N_VDestroy(q);
+    double* interpolated = N_VGetArrayPointer(out);
+    if (options.project_mass) {  // the interpolant between steps is not on the mass shell
+      project_onto_mass_shell(problem, interpolated, correction.data(), nullptr);
+      for (std::size_t i = 0; i <= N; ++i) interpolated[i] += correction[i];
+    }
     const auto n = view(out, N);
     std::size_t negatives = 0;
     for (double x : n)
       if (x < 0.0) ++negatives, stats.most_negative_density = std::min(stats.most_negative_density, x);
     stats.negative_densities = std::max(stats.negative_densities, negatives);
-    on_output(t_out, n, leaked_rate_time);
+    on_output(t_out, n, interpolated[N]);
   }
 
   long v = 0;

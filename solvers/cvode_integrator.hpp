@@ -28,27 +28,42 @@ enum class Preconditioner {
 Preconditioner preconditioner_from_name(const std::string& name);  // throws InputError
 std::string to_string(Preconditioner p);
 
+// Defaults chosen by the work-precision study (bench/RESULTS.md): at rtol 1e-6 the moments M0, M2, M3
+// are within ~3e-7 of a tight reference for the ballistic and constant kernels with shattering.
 struct IntegratorOptions {
   IntegratorMethod method = IntegratorMethod::bdf_gmres;
   RatesPath rates = RatesPath::fast;
-  double rtol = 1e-8;
+  double rtol = 1e-6;
   // Absolute tolerance on n_k is atol / k^atol_exponent. With exponent q the error of M_p, p < q, is
-  // bounded by about atol Σ_k k^{p-q}: q = 1 weighs the mass, larger q protects the high moments
-  // (M2, M3) that live in the large-size tail.
-  double atol = 1e-14;
-  double atol_exponent = 1.0;
+  // bounded by about atol Σ_k k^{p-q}: q = 3 protects M0..M3, whose large-size tail a mass-weighted
+  // (q = 1) tolerance leaves uncontrolled (M3 errors of 1e-2 at rtol 1e-10 were seen with q = 1).
+  // atol = 0 (default) chooses 1e-2 rtol.
+  double atol = 0.0;
+  double atol_exponent = 3.0;
+  // Lower bound of atol_k, relative to the largest initial density. The FFT gain is accurate to about
+  // 1e-16 of the largest densities; below that, tolerance-level junk in the far tail evolves
+  // non-smoothly and a smaller atol_k makes CVODE chase it with tiny steps (30x more steps were seen
+  // for the ballistic kernel at λ = 1 without the floor; bench/RESULTS.md, stress runs). The floor
+  // costs accuracy in the high moments of large systems (M3 of N = 4096 to ~1e-6), so it follows the
+  // tolerance: 0 (default) chooses 1e-10 rtol, i.e. 1e-16 at rtol 1e-6.
+  double atol_floor = 0.0;
+  double effective_atol_floor() const { return atol_floor > 0.0 ? atol_floor : 1e-10 * rtol; }
   Preconditioner preconditioner = Preconditioner::monomer;
-  bool project_mass = true;     // cutoff + BDF: project each step onto Σ k n_k = M (exact invariant)
   int krylov_dimension = 0;     // 0: SUNDIALS default (5)
   double linear_tolerance_factor = 0.05;  // GMRES stops at this factor of the Newton tolerance (CVodeSetEpsLin)
+  bool project_mass = true;     // cutoff + BDF: project each step onto Σ k n_k = M (exact invariant)
   long max_steps = 10'000'000;
-  double lowrank_tolerance = 1e-12;
+  // Max relative entry error of the low-rank kernel form (kernels without an exact factorisation);
+  // 0 chooses min(1e-8, 1e-3 rtol), at least 1e-12 (about the attainable floor).
+  double lowrank_tolerance = 0.0;
   // Relative entry error of the cheaper kernel form used for J·v (approximated kernels only; Newton's
   // method needs only an approximate Jacobian). 0 uses the right-hand side's form.
   double jacobian_tolerance = 1e-4;
   std::size_t dense_limit = 4000;  // bdf_dense refuses larger N
   // Called after every internal step with the time reached (for progress reports); may be empty.
   std::function<void(double t)> progress;
+  double effective_lowrank_tolerance() const;
+  double effective_atol() const { return atol > 0.0 ? atol : 1e-2 * rtol; }
   void validate() const;           // throws InputError on non-positive or non-finite tolerances
 };
 

@@ -48,6 +48,15 @@ class DirectRates final : public Rates {
     return leak;
   }
 
+  double leak_rate_derivative(double, std::span<const double> n, std::span<const double> v) override {
+    if (cutoff_) return 0.0;
+    double d = 0.0;  // ½ Σ_{i+j>N} (i+j) K_ij (v_i n_j + n_i v_j)
+    for (std::size_t i = 1; i <= size_; ++i)
+      for (std::size_t j = size_ - i + 1; j <= size_; ++j)
+        d += 0.5 * double(i + j) * K(i, j) * (v[i - 1] * n[j - 1] + n[i - 1] * v[j - 1]);
+    return d;
+  }
+
   void jacobian_times(double t, std::span<const double> n, std::span<const double> v,
                       std::span<double> Jv) override {
     std::fill(Jv.begin(), Jv.end(), 0.0);
@@ -120,6 +129,14 @@ std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path,
                                   double jacobian_tolerance) {
   return path == RatesPath::direct ? make_direct_rates(model)
                                    : make_fast_rates(model, lowrank_tolerance, jacobian_tolerance);
+}
+
+void leak_gradient(const AggregationModel& model, double, std::span<const double> n, std::span<double> gradient) {
+  const std::size_t N = model.size;
+  std::fill(gradient.begin(), gradient.end(), 0.0);
+  if (model.truncation == Truncation::cutoff) return;
+  for (std::size_t l = 1; l <= N; ++l)
+    for (std::size_t j = N - l + 1; j <= N; ++j) gradient[l - 1] += double(l + j) * model.kernel(l, j) * n[j - 1];
 }
 
 void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,

@@ -14,7 +14,8 @@ ShatteringRate ShatteringRate::linear(double initial, double slope) {
   ShatteringRate r;
   r.times_ = {0.0, 1.0};
   r.values_ = {initial, initial + slope};
-  r.extrapolate_ = true;
+  r.linear_ = true;
+  r.slope_ = slope;
   return r;
 }
 
@@ -36,15 +37,19 @@ ShatteringRate ShatteringRate::table(std::vector<double> times, std::vector<doub
 }
 
 double ShatteringRate::operator()(double t) const {
-  if (times_.size() == 1) return values_[0];
-  if (extrapolate_ || (t > times_.front() && t < times_.back())) {
-    // Linear interpolation (extrapolation for the linear law) on the bracketing segment.
-    std::size_t seg = std::size_t(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
-    seg = std::clamp<std::size_t>(seg, 1, times_.size() - 1);
-    const double w = (t - times_[seg - 1]) / (times_[seg] - times_[seg - 1]);
-    return values_[seg - 1] + w * (values_[seg] - values_[seg - 1]);
-  }
-  return t <= times_.front() ? values_.front() : values_.back();
+  // Values within round-off below zero (e.g. a linear law that reaches 0 exactly at the end) are 0;
+  // validate() has checked that nothing more negative occurs on [0, end].
+  return std::max(0.0, unclamped(t));
+}
+
+double ShatteringRate::unclamped(double t) const {
+  if (linear_) return values_[0] + slope_ * t;
+  if (times_.size() == 1 || t <= times_.front()) return values_.front();
+  if (t >= times_.back()) return values_.back();
+  // Linear interpolation on the bracketing segment.
+  const std::size_t seg = std::size_t(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
+  const double w = (t - times_[seg - 1]) / (times_[seg] - times_[seg - 1]);
+  return values_[seg - 1] + w * (values_[seg] - values_[seg - 1]);
 }
 
 void ShatteringRate::validate(double t_end, const std::string& key) const {
@@ -52,10 +57,12 @@ void ShatteringRate::validate(double t_end, const std::string& key) const {
   std::vector<double> probes{0.0, t_end};
   for (double t : times_)
     if (t > 0.0 && t < t_end) probes.push_back(t);
+  double scale = 0.0;
+  for (double v : values_) scale = std::max(scale, std::abs(v));
   for (double t : probes) {
-    const double value = (*this)(t);
+    const double value = unclamped(t);
     if (!std::isfinite(value)) throw InputError(key, format_value(value), "the shattering rate must be finite");
-    if (value < 0.0)
+    if (value < -1e-12 * scale)  // below round-off
       throw InputError(key, describe(),
                        "the shattering rate must be >= 0 on [0, end]; it is " + format_value(value) +
                            " at t = " + format_value(t));
@@ -66,8 +73,8 @@ std::string ShatteringRate::describe() const {
   std::ostringstream out;
   if (times_.size() == 1) {
     out << format_value(values_[0]);
-  } else if (extrapolate_) {
-    out << format_value(values_[0]) << " + " << format_value(values_[1] - values_[0]) << " t";
+  } else if (linear_) {
+    out << format_value(values_[0]) << (slope_ < 0 ? " - " : " + ") << format_value(std::abs(slope_)) << " t";
   } else {
     out << "table(";
     for (std::size_t i = 0; i < times_.size(); ++i)

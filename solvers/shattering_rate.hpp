@@ -13,7 +13,7 @@ class ShatteringRate {
   static ShatteringRate linear(double initial, double slope);  // λ(t) = initial + slope t
   static ShatteringRate table(std::vector<double> times, std::vector<double> values);  // held flat outside
 
-  double operator()(double t) const;
+  double operator()(double t) const;  // never negative
   bool is_constant() const { return times_.size() == 1; }
   bool is_zero() const { return is_constant() && values_[0] == 0.0; }
   // Throws InputError (key `key`) unless λ(t) is finite and >= 0 on [0, t_end].
@@ -21,9 +21,11 @@ class ShatteringRate {
   std::string describe() const;
 
  private:
+  double unclamped(double t) const;
   std::vector<double> times_{0.0};
   std::vector<double> values_{0.0};
-  bool extrapolate_ = false;  // the linear law continues beyond its two defining points
+  bool linear_ = false;       // λ(t) = values_[0] + slope_ t
+  double slope_ = 0.0;
 };
 
 }  // namespace aggkit

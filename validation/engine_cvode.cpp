@@ -1,5 +1,6 @@
 // Engine "cvode": the truncated rate equations integrated by SUNDIALS CVODE (solvers/cvode_integrator.hpp).
 // Options: method (bdf-gmres | bdf-dense | adams), rtol, atol, atol_exponent (atol_k = atol / k^q),
+// atol_floor (lower bound of atol_k relative to the largest initial density),
 // rhs (fast | direct), lowrank_tolerance, jacobian_tolerance, preconditioner (monomer | jacobi | none), krylov (Krylov
 // subspace dimension, 0 = CVODE's default), max_steps.
 #include <limits>
@@ -18,7 +19,7 @@ class CvodeEngine final : public Engine {
 
   std::string describe() const override {
     return to_string(options_.method) + ", rhs " + to_string(options_.rates) + ", rtol " + shortest_text(options_.rtol) +
-           ", atol " + shortest_text(options_.atol);
+           ", atol " + shortest_text(options_.effective_atol()) + "/k^" + shortest_text(options_.atol_exponent);
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
@@ -33,7 +34,7 @@ class CvodeEngine final : public Engine {
         {"rhs", to_string(options_.rates)},
         {"preconditioner", to_string(options_.preconditioner)},
         {"rtol", options_.rtol},
-        {"atol", options_.atol},
+        {"atol", options_.effective_atol()},
         {"atol_exponent", options_.atol_exponent},
         {"steps", std::int64_t(s.steps)},
         {"rhs_evaluations", std::int64_t(s.rhs_evaluations)},
@@ -68,6 +69,7 @@ std::unique_ptr<Engine> parse_cvode(const SceneTable& table, std::string label, 
   options.rtol = table.optional_number("rtol", Bound::any).value_or(options.rtol);
   options.atol = table.optional_number("atol", Bound::any).value_or(options.atol);
   options.atol_exponent = table.optional_number("atol_exponent", Bound::any).value_or(options.atol_exponent);
+  options.atol_floor = table.optional_number("atol_floor", Bound::any).value_or(options.atol_floor);
   options.jacobian_tolerance = table.optional_number("jacobian_tolerance", Bound::any).value_or(options.jacobian_tolerance);
   if (const auto steps = table.optional_count("max_steps", 1)) {
     if (*steps > std::size_t(std::numeric_limits<long>::max())) table.fail("max_steps", "an integer >= 1");
@@ -93,7 +95,7 @@ std::unique_ptr<Engine> parse_cvode(const SceneTable& table, std::string label, 
 EngineType cvode_engine_type() {
   return {"cvode",
           "the truncated rate equations integrated by SUNDIALS CVODE",
-          {"method", "rtol", "atol", "atol_exponent", "rhs", "lowrank_tolerance", "jacobian_tolerance",
+          {"method", "rtol", "atol", "atol_exponent", "atol_floor", "rhs", "lowrank_tolerance", "jacobian_tolerance",
            "preconditioner", "krylov", "max_steps"},
           parse_cvode};
 }

@@ -97,3 +97,39 @@ TEST_CASE("every integrator reproduces the constant-kernel solution", "[cvode][e
     }
   }
 }
+
+TEST_CASE("every preconditioner gives the same solution", "[cvode]") {
+  AggregationModel model;
+  model.kernel = Kernel::ballistic();
+  model.lambda = ShatteringRate::constant(0.05);
+  model.size = 1000;
+  model.initial = monodisperse(model.size);
+  std::vector<double> reference;
+  for (Preconditioner p : {Preconditioner::monomer, Preconditioner::jacobi, Preconditioner::none}) {
+    IntegratorOptions options;
+    options.rtol = 1e-9;
+    options.atol = 1e-11;
+    options.atol_exponent = 3.0;
+    options.preconditioner = p;
+    std::vector<double> result;
+    integrate(model, std::vector<double>{1.0, 30.0}, options, [&](double, std::span<const double> n, double) {
+      for (double q : {0.0, 2.0, 3.0}) result.push_back(moment(n, q));
+    });
+    if (reference.empty()) reference = result;
+    for (std::size_t i = 0; i < result.size(); ++i) CHECK(result[i] == Approx(reference[i]).epsilon(1e-7));
+  }
+}
+
+TEST_CASE("max_steps stops a run with a clear error", "[cvode][input]") {
+  AggregationModel model;
+  model.kernel = Kernel::constant();
+  model.size = 100;
+  model.initial = monodisperse(model.size);
+  IntegratorOptions options;
+  options.max_steps = 5;
+  CHECK_THROWS_WITH(integrate(model, std::vector<double>{10.0}, options, [](double, std::span<const double>, double) {}),
+                    Catch::Contains("max_steps = 5"));
+  options.rtol = -1.0;
+  CHECK_THROWS_WITH(integrate(model, std::vector<double>{10.0}, options, [](double, std::span<const double>, double) {}),
+                    Catch::Contains("engine.rtol"));
+}
