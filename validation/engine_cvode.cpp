@@ -2,7 +2,7 @@
 // Options: method (bdf-gmres | bdf-dense | adams), rtol, atol, atol_exponent (atol_k = atol / k^q),
 // atol_floor (lower bound of atol_k relative to the largest initial density),
 // rhs (fast | direct), lowrank_tolerance, jacobian_tolerance, preconditioner (monomer | jacobi | none), krylov (Krylov
-// subspace dimension, 0 = CVODE's default), max_steps.
+// subspace dimension, 0 = CVODE's default), max_steps, project_mass (bool).
 #include <limits>
 
 #include "solvers/cvode_integrator.hpp"
@@ -76,6 +76,7 @@ std::unique_ptr<Engine> parse_cvode(const SceneTable& table, std::string label, 
     options.max_steps = long(*steps);
   }
   options.lowrank_tolerance = table.optional_number("lowrank_tolerance", Bound::any).value_or(options.lowrank_tolerance);
+  options.project_mass = table.optional_boolean("project_mass").value_or(options.project_mass);
   if (const auto preconditioner = table.optional_string("preconditioner"))
     options.preconditioner = under_key(rekey, [&] { return preconditioner_from_name(*preconditioner); });
   if (const auto krylov = table.optional_count("krylov", 0)) {
@@ -96,7 +97,7 @@ EngineType cvode_engine_type() {
   return {"cvode",
           "the truncated rate equations integrated by SUNDIALS CVODE",
           {"method", "rtol", "atol", "atol_exponent", "atol_floor", "rhs", "lowrank_tolerance", "jacobian_tolerance",
-           "preconditioner", "krylov", "max_steps"},
+           "preconditioner", "krylov", "max_steps", "project_mass"},
           parse_cvode};
 }
 

@@ -21,7 +21,9 @@ AggregationModel shattering_model(Truncation truncation, std::size_t N, double l
 }
 }  // namespace
 
-TEST_CASE("mass is conserved to 1e-10 under cutoff with shattering", "[cvode][conservation]") {
+// Each step and each output is projected onto Σ k n_k + L = M (solvers/cvode_integrator.cpp), so the
+// defect is round-off: 1e-12 leaves a margin of ~1000 over what is observed (1e-15).
+TEST_CASE("mass is conserved to 1e-12 under cutoff with shattering", "[cvode][conservation]") {
   for (const Kernel& kernel : {Kernel::ballistic(), Kernel::brownian(0.6), Kernel::constant()}) {
     AggregationModel model = shattering_model(Truncation::cutoff, 512, 0.05);
     model.kernel = kernel;
@@ -34,7 +36,7 @@ TEST_CASE("mass is conserved to 1e-10 under cutoff with shattering", "[cvode][co
                 CHECK(leaked == 0.0);
               });
     INFO(kernel.describe() << " mass drift " << drift);
-    CHECK(drift < 1e-10);
+    CHECK(drift < 1e-12);
   }
 }
 
@@ -43,13 +45,14 @@ TEST_CASE("under drop the leaked mass equals the loss of M1", "[cvode][conservat
   const AggregationModel model = shattering_model(Truncation::drop, 64, 0.01);
   IntegratorOptions options;
   options.rtol = 1e-9;
+  options.preconditioner = Preconditioner::jacobi;  // also without the monomer coupling
   double last_leak = 0.0;
   integrate(model, std::vector<double>{1.0, 10.0, 100.0, 1000.0}, options,
             [&](double t, std::span<const double> n, double leaked) {
               const double lost = 1.0 - moment(n, 1.0);
               INFO("t = " << t << " lost " << lost << " leaked " << leaked);
               CHECK(leaked >= last_leak);
-              CHECK(std::abs(leaked - lost) < 1e-8 * std::max(lost, 1e-3));
+              CHECK(std::abs(leaked - lost) < 1e-12);
               last_leak = leaked;
             });
   CHECK(last_leak > 0.01);  // the test is not vacuous: a measurable mass left
