@@ -31,7 +31,7 @@ void run_case(const Case& c, double t_end) {
   model.truncation = c.truncation;
   model.initial = monodisperse(c.N);
   IntegratorOptions options;
-  options.max_steps = 100000;  // all else default
+  options.max_steps = 50000;  // all else default
   std::vector<double> outputs{1.0, 10.0, 100.0, 1000.0, t_end};
   double drift = 0.0, m0 = 0.0, m2 = 0.0, reached = 0.0;
   std::size_t negatives = 0;
@@ -67,11 +67,12 @@ int main(int argc, char** argv) {
   std::printf("| kernel | lambda | N | trunc. | wall [s] | steps | mass defect | #neg | most neg. | M0(end) | M2(end) | status |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::vector<Case> cases;
+  // N = 2^17 for the exact rank-1/2 kernels; the ballistic kernel (rank ~25) up to 2^15 here.
   const std::vector<std::size_t> sizes = quick ? std::vector<std::size_t>{4096} : std::vector<std::size_t>{4096, 32768, 131072};
   for (std::size_t N : sizes)
     for (double lambda : {0.01, 1.0, 10.0}) {
       cases.push_back({Kernel::constant(), lambda, N, Truncation::cutoff});
-      cases.push_back({Kernel::ballistic(), lambda, N, Truncation::drop});
+      if (N <= 32768) cases.push_back({Kernel::ballistic(), lambda, N, Truncation::drop});
       cases.push_back({Kernel::brownian(0.95), lambda, N, Truncation::cutoff});
     }
   for (const auto& c : cases) run_case(c, t_end);
