@@ -183,10 +183,10 @@ int dense_jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix J, vo
   });
 }
 
-// Projection onto the mass shell g·y = Σ k n_k + L = M (Newton and GMRES are solved only to a
-// tolerance, so without it the mass drifts by 1e-9 .. 1e-5 over long runs). The correction is the
-// orthogonal projection in the metric of the error weights, δ = -S² g (g·y - M)/(g·S² g) with
-// S_i = rtol|y_i| + atol_i: it moves the components that are allowed to move.
+// Projection onto the mass shell g·y = Σ k n_k + L = M. The defect d = g·y - M is removed by
+// δ_i = -d w_i g_i / Σ_j w_j g_j² with w_i = S_i²/g_i^4 (S_i = rtol|y_i| + atol_i the error scale): like
+// the orthogonal projection in the error-weight metric (w_i = S_i²) it moves only what may move, and the
+// extra 1/g^4 keeps the correction on small sizes, where it changes M2 and M3 least. L is not corrected.
 void project_onto_mass_shell(const Problem& p, const double* y, double* correction, double* error) {
   const std::size_t size = p.N + 1;
   auto g = [&](std::size_t i) { return i < p.N ? double(i + 1) : 1.0; };
@@ -194,7 +194,7 @@ void project_onto_mass_shell(const Problem& p, const double* y, double* correcti
   for (std::size_t i = 0; i < size; ++i) {
     // L itself is never corrected: it stays the integral of the leak rate (0 under cutoff).
     const double scale = i == p.N ? 0.0 : p.rtol * std::abs(y[i]) + p.abstol[i];
-    correction[i] = scale * scale * g(i);
+    correction[i] = scale * scale / (g(i) * g(i) * g(i));  // w_i g_i
     mass += g(i) * y[i];
     norm += g(i) * correction[i];
   }
