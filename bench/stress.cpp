@@ -31,7 +31,7 @@ void run_case(const Case& c, double t_end) {
   model.truncation = c.truncation;
   model.initial = monodisperse(c.N);
   IntegratorOptions options;
-  options.max_steps = 50000;  // all else default
+  options.max_steps = 200000;  // all else default
   std::vector<double> outputs{1.0, 10.0, 100.0, 1000.0, t_end};
   double drift = 0.0, m0 = 0.0, m2 = 0.0, reached = 0.0;
   std::size_t negatives = 0;
