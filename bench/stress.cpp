@@ -1,7 +1,8 @@
 // Stress runs of the CVODE solver (issue 2): long times (t = 10^4), strong shattering (λ up to 10) and
 // large truncations (N up to 2^17). For each run: wall time, steps, the conservation defect (cutoff:
 // |M1 - M1(0)|; drop: |M1 + leaked - M1(0)|), negative densities at the end, and any failure.
-//   bench_stress [--quick]
+//   bench_stress [--quick | --large]   (--quick: N = 4096; --large: N = 2^15..2^17 without the slow
+//   λ = 0.01 runs of the ballistic and Brownian kernels)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -62,6 +63,7 @@ void run_case(const Case& c, double t_end) {
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const bool large = argc > 1 && std::strcmp(argv[1], "--large") == 0;
   const double t_end = 1e4;
   std::printf("default options (bdf-gmres + monomer preconditioner, rtol 1e-6, atol 1e-8/k^3 >= 1e-16), t = 0 .. %g\n\n", t_end);
   std::printf("| kernel | lambda | N | trunc. | wall [s] | steps | mass defect | #neg | most neg. | M0(end) | M2(end) | status |\n");
@@ -75,6 +77,12 @@ int main(int argc, char** argv) {
       if (N <= 32768) cases.push_back({Kernel::ballistic(), lambda, N, Truncation::drop});
       cases.push_back({Kernel::brownian(0.95), lambda, N, Truncation::cutoff});
     }
+  if (large) {
+    cases.clear();
+    for (double lambda : {0.01, 1.0, 10.0}) cases.push_back({Kernel::constant(), lambda, 131072, Truncation::cutoff});
+    for (double lambda : {1.0, 10.0}) cases.push_back({Kernel::brownian(0.95), lambda, 131072, Truncation::cutoff});
+    for (double lambda : {1.0, 10.0}) cases.push_back({Kernel::ballistic(), lambda, 32768, Truncation::drop});
+  }
   for (const auto& c : cases) run_case(c, t_end);
   return 0;
 }
