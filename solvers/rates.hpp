@@ -21,8 +21,6 @@ class Rates {
   virtual void evaluate(double t, std::span<const double> n, std::span<double> dndt) = 0;
   // Rate at which mass leaves through the truncation, ½ Σ_{i+j>N} (i+j) K_ij n_i n_j (0 for cutoff).
   virtual double leak_rate(double t, std::span<const double> n) = 0;
-  // Its derivative along v, (∂ leak/∂n) v (the leak rate is quadratic in n).
-  virtual double leak_rate_derivative(double t, std::span<const double> n, std::span<const double> v) = 0;
   // Jv = (∂f/∂n)(n) v. The RHS is quadratic in n, so this is exact (no differencing).
   virtual void jacobian_times(double t, std::span<const double> n, std::span<const double> v,
                               std::span<double> Jv) = 0;

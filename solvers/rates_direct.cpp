@@ -48,15 +48,6 @@ class DirectRates final : public Rates {
     return leak;
   }
 
-  double leak_rate_derivative(double, std::span<const double> n, std::span<const double> v) override {
-    if (cutoff_) return 0.0;
-    double d = 0.0;  // ½ Σ_{i+j>N} (i+j) K_ij (v_i n_j + n_i v_j)
-    for (std::size_t i = 1; i <= size_; ++i)
-      for (std::size_t j = size_ - i + 1; j <= size_; ++j)
-        d += 0.5 * double(i + j) * K(i, j) * (v[i - 1] * n[j - 1] + n[i - 1] * v[j - 1]);
-    return d;
-  }
-
   void jacobian_times(double t, std::span<const double> n, std::span<const double> v,
                       std::span<double> Jv) override {
     std::fill(Jv.begin(), Jv.end(), 0.0);

@@ -147,12 +147,6 @@ class FastRates final : public Rates {
     return kernel_.truncation_flux(n, n, active_);
   }
 
-  double leak_rate_derivative(double, std::span<const double> n, std::span<const double> v) override {
-    if (cutoff_) return 0.0;
-    prepare(n);  // the active range of n (v is restricted to it, as in jacobian_times)
-    return kernel_.truncation_flux(v, n, active_) + kernel_.truncation_flux(n, v, active_);
-  }
-
   std::string describe() const override {
     return "fft, separable rank " + std::to_string(kernel_.rank()) + (kernel_.form().exact ? " (exact)" : " (approximate)");
   }

@@ -119,7 +119,8 @@ void SeparableKernel::combine_with(const std::vector<FftConvolution::Spectrum>& 
 }
 
 double SeparableKernel::roundoff_bound(std::span<const double> x, std::size_t active) const {
-  std::vector<double> norms(rank());
+  std::vector<double>& norms = norms_;  // reused: this runs on every right-hand side
+  norms.resize(rank());
   for (std::size_t p = 0; p < rank(); ++p) {
     double s = 0.0;
     for (std::size_t i = 0; i < active; ++i) {

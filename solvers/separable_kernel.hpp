@@ -46,6 +46,7 @@ class SeparableKernel {
   std::size_t size_;
   std::vector<Coupling> couplings_;
   std::vector<double> work_, moments_;
+  mutable std::vector<double> norms_;
   std::vector<std::vector<double>> partial_;
   FftConvolution::Spectrum scratch_;
 };
