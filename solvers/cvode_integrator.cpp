@@ -300,6 +300,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   for (std::size_t k = 0; k < N; ++k) {
     y[k] = k < model.initial.size() ? model.initial[k] : 0.0;
     density_scale = std::max(density_scale, y[k]);
+    problem.mass += double(k + 1) * y[k];
   }
   for (std::size_t k = 0; k < N; ++k)
     abstol[k] = std::max(options.effective_atol() * std::pow(double(k + 1), -options.atol_exponent),
@@ -307,13 +308,10 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   y[N] = 0.0;
   // The leaked mass matters relative to the total mass M; an absolute tolerance tied to atol would make
   // CVODE resolve a leak of ~1e-20 driven by the far tail (thousands of extra steps were seen).
-  double mass = 0.0;
-  for (std::size_t k = 0; k < N; ++k) mass += double(k + 1) * y[k];
-  abstol[N] = std::max(options.effective_atol(), options.rtol * mass);
+  abstol[N] = std::max(options.effective_atol(), options.rtol * problem.mass);
   problem.rtol = options.rtol;
   problem.monomer_preconditioner = options.preconditioner == Preconditioner::monomer;
   problem.abstol = abstol;
-  for (std::size_t k = 0; k < N; ++k) problem.mass += double(k + 1) * y[k];
 
   s.cvode = CVodeCreate(options.method == IntegratorMethod::adams ? CV_ADAMS : CV_BDF, s.context);
   if (!s.cvode) throw std::runtime_error("CVodeCreate failed");

@@ -81,7 +81,7 @@ struct IntegratorStatistics {
   double wall_seconds = 0.0;
   std::size_t kernel_rank = 0;            // rank of the separable kernel form (fast path)
   double kernel_relative_error = 0.0;     // its measured max relative entry error
-  std::size_t negative_densities = 0;     // entries < 0 in the last output (round-off), before clipping
+  std::size_t negative_densities = 0;     // most entries < 0 at any output (tolerance level, not clipped)
   double most_negative_density = 0.0;
 };
 
