@@ -166,14 +166,11 @@ OscillationClassification classify_oscillation(std::span<const double> t_all, st
     const LineFit fit = fit_line(times, logs);
     c.decay_rate = -fit.slope;
     c.decay_rate_error = fit.slope_error;
-    if (c.decay_rate * span > criteria.drift_tolerance) {
-      c.regime = Regime::damped;
-      c.converged = true;
-      c.note = "monotone relaxation";
-    } else {
-      c.regime = Regime::irregular;
-      c.note = "drifts without oscillating or relaxing";
-    }
+    // Either way it does not oscillate: damped (no persistent oscillation), converged only for a clean
+    // exponential relaxation.
+    c.regime = Regime::damped;
+    c.converged = c.decay_rate * span > criteria.drift_tolerance;
+    c.note = c.converged ? "monotone relaxation" : "monotone drift, not yet relaxing exponentially: run longer";
     return c;
   }
 

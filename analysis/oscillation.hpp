@@ -17,7 +17,8 @@
 //     half of the tail's cycles within `drift_tolerance` and `period_tolerance` over at least
 //     `minimum_cycles` cycles;
 //  5. no turning points: a monotone relaxation, damped with γ from a fit of ln|Δx| against time (for
-//     x = x∞ + c e^{-γt} the increments decay at the same rate) — or irregular if the increments do not decay;
+//     x = x∞ + c e^{-γt} the increments decay at the same rate); converged only if the increments decay by
+//     more than `drift_tolerance` over the tail (else a slow drift: damped, not converged, "run longer");
 //  6. cycle lengths that scatter by more than `regularity_tolerance` (coefficient of variation): irregular
 //     (noise or chaos, not a periodic or linearly damped mode).
 #include <cstddef>

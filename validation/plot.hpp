@@ -17,6 +17,10 @@ struct PlotOutcome {
 };
 std::string to_string(PlotOutcome::Status status);
 
+// The Python that draws the plots: $AGGKIT_PYTHON, else /usr/bin/python3 (Debian's, with python3-matplotlib),
+// else python3 on PATH.
+std::string plot_interpreter();
+
 // Plots the series (and distributions) already written to `folder` for the engines that completed.
 // The interpreter is $AGGKIT_PYTHON, else /usr/bin/python3 (Debian's, with python3-matplotlib), else
 // python3 on PATH; the script is $AGGKIT_PLOT_SCRIPT, else the one in the source or install tree.

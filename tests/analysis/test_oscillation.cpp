@@ -98,6 +98,13 @@ TEST_CASE("oscillation: relaxation to a constant is damped (monotone) or steady 
   const auto r = classify(relaxed);
   CHECK(r.regime == Regime::steady);
   CHECK(r.mean == Approx(2.0).epsilon(1e-8));
+  // A linear drift neither oscillates nor relaxes: damped (no persistent oscillation) but not converged.
+  const auto drifting = sample(400, 1.0, [](double t) { return 1.0 + 1e-3 * t; });
+  const auto d = classify(drifting);
+  CHECK(d.regime == Regime::damped);
+  CHECK_FALSE(d.converged);
+  CHECK(std::abs(d.decay_rate) < 1e-9);
+  CHECK(d.note.find("drift") != std::string::npos);
 }
 
 TEST_CASE("oscillation: noise") {
