@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/particle_configuration.hpp"
-#include "particle/ed/event_driven_aggregation.hpp"
+#include "particle/ed/ed_configuration.hpp"
 #include "validation/atomic_file.hpp"
 #include "validation/particle_final_state.hpp"
 #include "validation/particle_snapshot.hpp"
@@ -29,16 +29,6 @@ struct EdOptions {
   std::size_t target_clusters = 0;  // 0: stop at time.end
   std::size_t cells = 0;
 };
-
-ParticleConfiguration configuration_of(const EventDrivenAggregation& ed) {
-  ParticleConfiguration config;
-  config.dimension = ed.box().dimension;
-  config.radius = ed.radius();
-  config.box = ed.box().side;
-  config.periodic = ed.box().boundary == Boundary::periodic;
-  config.positions = ed.positions();
-  return config;
-}
 
 ParticleState state_of(const EventDrivenAggregation& ed) {
   const std::vector<std::size_t> sizes = ed.cluster_sizes();
@@ -111,7 +101,7 @@ class EdEngine final : public Engine {
       run_to_target(ed, stopped, scene.time.end);
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
-      const ParticleConfiguration config = configuration_of(ed);
+      const ParticleConfiguration config = configuration(ed);
       const std::vector<std::uint32_t> labels = ed.cluster_labels();
       const std::vector<Vector3> largest = ed.cluster_positions(ed.largest_cluster());
       const FinalConfiguration final{config, labels, largest, ed.kinetic_energy()};
