@@ -153,4 +153,19 @@ std::vector<std::array<double, 3>> unwrap_cluster(const ParticleConfiguration& c
   return unwrapped;
 }
 
+std::vector<std::array<double, 3>> largest_cluster(const ParticleConfiguration& config,
+                                                   std::span<const std::uint32_t> labels, double contact_distance) {
+  if (labels.size() != config.positions.size())
+    throw InputError("labels", std::to_string(labels.size()) + " labels",
+                     "needs one label per particle (" + std::to_string(config.positions.size()) + ")");
+  const std::vector<std::size_t> sizes = cluster_sizes(labels);
+  if (sizes.empty()) return {};
+  const std::uint32_t largest = std::uint32_t(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
+  std::vector<std::size_t> members;
+  members.reserve(sizes[largest]);
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    if (labels[i] == largest) members.push_back(i);
+  return unwrap_cluster(config, members, contact_distance);
+}
+
 }  // namespace aggkit

@@ -49,4 +49,9 @@ std::vector<std::array<double, 3>> unwrap_cluster(const ParticleConfiguration& c
                                                   std::span<const std::size_t> members,
                                                   double contact_distance);
 
+// The members of the largest cluster (the lowest label among equals), unwrapped as above: the input of
+// gyration() and the fractal dimensions for "the final aggregate" of a run. Empty if there are no particles.
+std::vector<std::array<double, 3>> largest_cluster(const ParticleConfiguration& config,
+                                                   std::span<const std::uint32_t> labels, double contact_distance);
+
 }  // namespace aggkit

@@ -10,7 +10,7 @@ namespace aggkit {
 
 NeighbourGrid::NeighbourGrid(std::span<const std::array<double, 3>> points, int dimension, double cutoff,
                              const std::array<double, 3>& box, bool periodic)
-    : points_(points), dimension_(dimension), cutoff2_(cutoff * cutoff), box_(box), periodic_(periodic) {
+    : dimension_(dimension), cutoff2_(cutoff * cutoff), box_(box), periodic_(periodic) {
   if (dimension != 2 && dimension != 3) throw InputError("dimension", std::to_string(dimension), "must be 2 or 3");
   if (!(cutoff > 0) || !std::isfinite(cutoff))
     throw InputError("cutoff", format_value(cutoff), "the neighbour cutoff must be positive and finite");
@@ -55,19 +55,38 @@ NeighbourGrid::NeighbourGrid(std::span<const std::array<double, 3>> points, int 
   order_.resize(points.size());
   std::vector<std::size_t> fill(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < points.size(); ++i) order_[fill[cell_of[i]]++] = i;
+  // Cell-ordered copies (contiguous sweeps); periodic coordinates wrapped into [0, L) so that a neighbour
+  // cell across the wall is reached by a shift of ±L (exact minimum image when the axis has >= 3 cells,
+  // since the cutoff is then <= L/3).
+  sorted_.resize(points.size());
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    sorted_[p] = {0, 0, 0};
+    for (int a = 0; a < dimension; ++a) {
+      double x = points[order_[p]][a];
+      if (periodic) x -= side[a] * std::floor(x / side[a]);
+      sorted_[p][a] = x;
+    }
+  }
+  for (int a = 0; a < dimension; ++a) nearest_image_[a] = periodic && cells_[a] < 3;
 }
 
-int NeighbourGrid::neighbours(int axis, int c, std::array<int, 3>& out) const {
+int NeighbourGrid::neighbours(int axis, int c, std::array<int, 3>& out, std::array<double, 3>& shift) const {
   const int n = cells_[axis];
   int count = 0;
   for (int offset = -1; offset <= 1; ++offset) {
     int other = c + offset;
+    double image = 0;
     if (periodic_) {
-      other = (other + n) % n;
+      if (other < 0) other += n, image = -box_[axis];
+      if (other >= n) other -= n, image = box_[axis];
+      if (nearest_image_[axis] || axis >= dimension_) image = 0;  // reduced per pair instead / unused axis
     } else if (other < 0 || other >= n) {
       continue;
     }
-    if (std::find(out.begin(), out.begin() + count, other) == out.begin() + count) out[count++] = other;
+    if (std::find(out.begin(), out.begin() + count, other) == out.begin() + count) {
+      shift[count] = image;
+      out[count++] = other;
+    }
   }
   return count;
 }

@@ -114,10 +114,20 @@ PairDistribution pair_distribution(const ParticleConfiguration& config, std::spa
   std::vector<double> sorted2(sorted.size());
   for (std::size_t k = 0; k < sorted.size(); ++k) sorted2[k] = sorted[k] * sorted[k];
   std::vector<std::size_t> histogram(sorted.size(), 0);
+  // A lookup table over d² in [0, max r²] gives a lower bound on the radius index; a short forward scan
+  // finishes it (exact comparisons d² <= r², whatever the spacing of the radii).
+  const std::size_t table_size = 4 * sorted.size() + 16;
+  const double table_scale = double(table_size) / sorted2.back();
+  std::vector<std::size_t> first_at_least(table_size + 1);
+  for (std::size_t b = 0; b <= table_size; ++b)
+    first_at_least[b] = std::size_t(std::lower_bound(sorted2.begin(), sorted2.end(), double(b) / table_scale) - sorted2.begin());
   NeighbourGrid grid(config.positions, config.dimension, sorted.back(), config.box, config.periodic);
   grid.for_each_pair([&](std::size_t, std::size_t, const auto&, double d2) {
     // the first radius with d² <= r²; the grid only reports d² <= max r²
-    ++histogram[std::size_t(std::lower_bound(sorted2.begin(), sorted2.end(), d2) - sorted2.begin())];
+    const std::size_t b = std::min(table_size, std::size_t(d2 * table_scale));
+    std::size_t k = first_at_least[b == 0 ? 0 : b - 1];  // one bin of slack against rounding
+    while (sorted2[k] < d2) ++k;
+    ++histogram[k];
   });
   std::size_t cumulative = 0;
   std::vector<double> p_sorted(sorted.size());

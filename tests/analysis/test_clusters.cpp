@@ -113,6 +113,11 @@ TEST_CASE("clusters: a chain wrapped through the periodic corner is unwrapped in
   CHECK(g.eigenvalues[1] == Approx(0).margin(1e-12));
   // The wrapped positions, taken at face value, are spread over the box instead.
   CHECK(std::abs(gyration(p, 2).eigenvalues[0] - 8.25) > 1.0);
+  // The same chain plus two loose particles: it is the largest cluster, returned unwrapped.
+  auto with_loose = c;
+  with_loose.positions.insert(with_loose.positions.begin(), {{5, 2, 0}, {2, 5, 0}});
+  const auto labels = contact_clusters(with_loose, 1.0 + 1e-9);
+  CHECK(largest_cluster(with_loose, labels, 1.0 + 1e-9) == unwrapped);
   // Without periodicity the positions are returned as they are.
   CHECK(unwrap_cluster(configuration(p, false), members, 1.0) == p);
 }

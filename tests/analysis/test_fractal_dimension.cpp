@@ -1,10 +1,12 @@
 // Box-counting and mass–radius fractal dimensions of sets whose dimension is known.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
 
+#include "analysis/clusters.hpp"
 #include "analysis/fractal_dimension.hpp"
 #include "analysis/input_error.hpp"
 #include "tests/analysis/known_shapes.hpp"
@@ -105,6 +107,31 @@ TEST_CASE("fractal dimension: mass-radius on a filled lattice and on Sierpinski 
   const auto line = mass_radius_dimension(shapes::line(3000, 1.0, 0.3), 2, 1.0);
   describe("line", line);
   CHECK(line.dimension == Approx(1).margin(0.05));
+}
+
+TEST_CASE("fractal dimension: an aggregate wrapped through a periodic box is measured after unwrapping") {
+  // The right-angled Sierpinski triangle of generation 7 (2187 discs, side 256R) shifted by (100, 90) in a
+  // periodic box of side 300 crosses both walls. Unwrapped (largest_cluster) it is the original set up to a
+  // translation, and the grid is anchored at the points' own corner, so box counting is exact again.
+  ParticleConfiguration c;
+  c.radius = 1;
+  c.periodic = true;
+  c.box = {300, 300, 0};
+  for (auto p : shapes::sierpinski(7, 1.0, false))
+    c.positions.push_back({std::fmod(p[0] + 100, 300.0), std::fmod(p[1] + 90, 300.0), 0});
+  const auto labels = contact_clusters(c, 2 * c.radius * (1 + 1e-9));
+  const auto aggregate = largest_cluster(c, labels, 2 * c.radius * (1 + 1e-9));
+  REQUIRE(aggregate.size() == c.positions.size());  // the discrete gasket is connected
+  CHECK(box_counting_dimension(aggregate, 2, 1.0).dimension == Approx(sierpinski_dimension).epsilon(1e-12));
+  CHECK(mass_radius_dimension(aggregate, 2, 1.0).dimension ==
+        Approx(mass_radius_dimension(shapes::sierpinski(7, 1.0, false), 2, 1.0).dimension).epsilon(1e-12));
+  // As it lies in the box, the set is cut into pieces spread over the whole box; unwrapped it spans 254.
+  auto x_extent = [](const std::vector<std::array<double, 3>>& p) {
+    const auto [lo, hi] = std::minmax_element(p.begin(), p.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+    return (*hi)[0] - (*lo)[0];
+  };
+  CHECK(x_extent(aggregate) == Approx(254));
+  CHECK(x_extent(c.positions) > 290);
 }
 
 TEST_CASE("fractal dimension: degenerate input") {
