@@ -12,6 +12,13 @@ namespace {
 
 constexpr std::chrono::seconds plot_timeout{120};
 
+std::string interpreter() {
+  if (const char* python = std::getenv("AGGKIT_PYTHON"); python && *python) return python;
+  std::error_code error;
+  if (std::filesystem::exists("/usr/bin/python3", error)) return "/usr/bin/python3";
+  return "python3";
+}
+
 std::filesystem::path plot_script() {
   if (const char* script = std::getenv("AGGKIT_PLOT_SCRIPT"); script && *script) return script;
   std::error_code error;
@@ -35,12 +42,9 @@ std::string last_line(const std::string& text) {
 
 }  // namespace
 
-std::string plot_interpreter() {
-  if (const char* python = std::getenv("AGGKIT_PYTHON"); python && *python) return python;
-  std::error_code error;
-  if (std::filesystem::exists("/usr/bin/python3", error)) return "/usr/bin/python3";
-  return "python3";
-}
+std::string plot_interpreter() { return interpreter(); }
+
+std::string last_output_line(const std::string& text) { return last_line(text); }
 
 std::string to_string(PlotOutcome::Status status) {
   switch (status) {
@@ -53,7 +57,7 @@ std::string to_string(PlotOutcome::Status status) {
 
 PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder) {
   AtomicFile png(folder.report_file());
-  std::vector<std::string> argv{plot_interpreter(), plot_script().string(), "--output", png.temporary_path().string(),
+  std::vector<std::string> argv{interpreter(), plot_script().string(), "--output", png.temporary_path().string(),
                                 "--title", scene.name};
   if (scene.compare) argv.insert(argv.end(), {"--reference", scene.compare->reference});
   std::size_t plotted = 0;
