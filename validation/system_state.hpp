@@ -15,6 +15,11 @@ class SystemState {
   virtual double density(std::size_t k) const = 0;     // n_k (k >= 1)
   virtual double leaked_mass() const = 0;              // mass that left through the truncation so far
   virtual std::vector<double> distribution() const = 0;  // n_1..n_N
+  // Particle-level observables; a state of densities has no particle count or velocities (NaN), and its mean
+  // cluster size is the number-average size M1/M0.
+  virtual double clusters() const;
+  virtual double kinetic_energy() const;
+  virtual double mean_cluster_size() const { return moment(1) / moment(0); }
 };
 
 // A state given by its densities n_1..n_N (a view: the densities must outlive it).
