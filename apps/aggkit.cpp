@@ -1,5 +1,6 @@
 // The `aggkit` command line: parses arguments and calls the libraries.
 //   aggkit run SCENE --out DIR [--quiet] [--no-plot]
+//   [mpirun -np K] aggkit scan SCENE --out DIR [--quiet] [--no-plot]
 //   aggkit kernels
 //   aggkit --version
 // Exit status: 0 pass; 1 a comparison failed (or an engine failed); 2 bad input (bad scene or command
@@ -15,6 +16,8 @@
 #include "validation/exit_code.hpp"
 #include "validation/harness.hpp"
 #include "validation/kernel_catalogue.hpp"
+#include "validation/scan.hpp"
+#include "validation/scan_mpi.hpp"
 #include "validation/scene.hpp"
 #include "validation/text.hpp"
 #include "validation/version.hpp"
@@ -54,6 +57,17 @@ int run(const RunArguments& arguments) {
   return aggkit::run_scene(scene, options).exit_code;
 }
 
+// MPI is initialised for the scan only (a singleton job without mpirun); the other commands never touch it.
+int scan(const RunArguments& arguments, int* argc, char*** argv) {
+  aggkit::MpiSession mpi(argc, argv);
+  const aggkit::ScanPlan plan = aggkit::load_scan_plan(arguments.scene);
+  aggkit::ScanOptions options;
+  options.out = arguments.out;
+  options.plot = !arguments.no_plot;
+  options.progress = arguments.quiet ? nullptr : &std::cerr;
+  return aggkit::run_scan(plan, options).exit_code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -69,6 +83,20 @@ int main(int argc, char** argv) {
   run_command->add_flag("--quiet,-q", arguments.quiet, "no progress lines on stderr");
   run_command->add_flag("--no-plot", arguments.no_plot, "do not draw report.png");
   run_command->footer(engine_help());
+  RunArguments scan_arguments;
+  CLI::App* scan_command = app.add_subcommand(
+      "scan", "classify the oscillation regime over an (a, lambda) grid and locate lambda_crit(a); MPI: mpirun -np K");
+  scan_command->add_option("scene", scan_arguments.scene, "scan scene (TOML with a [scan] section; see validation/scan_plan.hpp)")
+      ->required();
+  scan_command->add_option("--out,-o", scan_arguments.out, "output folder (created if needed; a rerun resumes)")
+      ->required();
+  scan_command->add_flag("--quiet,-q", scan_arguments.quiet, "no progress lines on stderr");
+  scan_command->add_flag("--no-plot", scan_arguments.no_plot, "do not draw phase_diagram.png");
+  scan_command->footer(
+      "Writes DIR/scan.csv (a,lambda,regime,period,amplitude,...), DIR/lambda_crit.csv (a,lambda_crit,...),\n"
+      "DIR/phase_diagram.png, DIR/timing.csv, DIR/truncation_check.csv (if asked) and DIR/points/ (finished\n"
+      "points: an interrupted scan resumes). Exit status 0: every point classified; 1: some runs failed;\n"
+      "2: bad input.");
   CLI::App* kernels_command = app.add_subcommand("kernels", "list the kernels and their parameters");
 
   try {
@@ -89,6 +117,7 @@ int main(int argc, char** argv) {
       aggkit::print_kernel_catalogue(std::cout);
       return aggkit::exit_pass;
     }
+    if (*scan_command) return scan(scan_arguments, &argc, &argv);
     return run(arguments);
   } catch (const aggkit::InputError& e) {
     std::cerr << "aggkit: error: " << e.what() << "\n";

@@ -3,6 +3,7 @@
 // (engine_cvode.cpp, engine_exact.cpp, ...) and is listed once in engine_registry.cpp; the scene parser
 // knows engines only through this interface, so a new kind (dsmc, ed, ts, dem, snes) needs no change to it.
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -28,6 +29,7 @@ using EngineStatistics = std::vector<EngineStatistic>;
 struct EngineObserver {
   std::function<void(double t, const SystemState& state)> output;  // at each output time, in order
   std::function<void(double t)> progress;                           // the time reached, as often as it likes
+  std::filesystem::path folder;  // the engine's output folder (exists), for files beyond the series (final.json)
 };
 
 class Engine {
@@ -58,6 +60,7 @@ struct EngineType {
   // Reads the options (unknown keys are already rejected) and checks them against the scene's model and
   // time grid, which are parsed before the engines; throws InputError naming the key.
   std::function<std::unique_ptr<Engine>(const SceneTable& options, std::string label, const Scene& scene)> parse;
+  bool needs_model = true;         // kinetic engines need [model]; particle engines need [particles] instead
 };
 
 const std::vector<EngineType>& engine_types();

@@ -17,7 +17,7 @@ namespace aggkit {
 namespace {
 
 // Runs one engine into a record; InputError propagates (bad input), any other failure is recorded.
-EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& progress) {
+EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& progress, const OutputFolder& folder) {
   EngineRecord record;
   record.label = engine.label();
   record.name = engine.name();
@@ -29,6 +29,7 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
     progress.reached(t);
   };
   observer.progress = [&](double t) { progress.reached(t); };
+  observer.folder = folder.engine_folder(engine.label());
   try {
     record.statistics = engine.run(scene, observer);
     if (record.times.size() != scene.time.outputs.size())
@@ -59,7 +60,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   for (std::size_t i = 0; i < scene.engines.size(); ++i) {
     const Engine& engine = *scene.engines[i];
     progress.start(engine.label(), i + 1, scene.engines.size(), scene.time.end);
-    result.records.push_back(run_engine(scene, engine, progress));
+    result.records.push_back(run_engine(scene, engine, progress, folder));
     progress.finish();
     if (result.records.back().completed()) write_engine_outputs(scene, result.records.back(), folder);
     else if (options.warnings)

@@ -20,11 +20,14 @@ std::optional<T> parse_whole(std::string_view text) {
 }  // namespace
 
 const char* Observable::forms() {
-  return "M<p> with a real p >= 0 (M0, M1, M2, M1.5, ...), n<k> with an integer k >= 1 (n1, n10, ...) or mass_leak";
+  return "M<p> with a real p >= 0 (M0, M1, M2, M1.5, ...), n<k> with an integer k >= 1 (n1, n10, ...), mass_leak, clusters, kinetic_energy or mean_cluster_size";
 }
 
 std::optional<Observable> Observable::from_name(std::string_view name) {
   if (name == "mass_leak") return Observable(std::string(name), Kind::mass_leak, 0.0, 0);
+  if (name == "clusters") return Observable(std::string(name), Kind::clusters, 0.0, 0);
+  if (name == "kinetic_energy") return Observable(std::string(name), Kind::kinetic_energy, 0.0, 0);
+  if (name == "mean_cluster_size") return Observable(std::string(name), Kind::mean_cluster_size, 0.0, 0);
   if (name.size() < 2) return std::nullopt;
   const std::string_view rest = name.substr(1);
   if (name.front() == 'M') {
@@ -48,6 +51,9 @@ double Observable::evaluate(const SystemState& state) const {
     case Kind::moment: return state.moment(order_);
     case Kind::density: return state.density(size_);
     case Kind::mass_leak: return state.leaked_mass();
+    case Kind::clusters: return state.clusters();
+    case Kind::kinetic_energy: return state.kinetic_energy();
+    case Kind::mean_cluster_size: return state.mean_cluster_size();
   }
   return 0.0;
 }

@@ -3,6 +3,9 @@
 //   M<p>        the moment M_p = Σ_k k^p n_k for a real p >= 0 (M0, M1, M2, M1.5, ...)
 //   n<k>        the density n_k of size k (k >= 1)
 //   mass_leak   the mass lost through the truncation so far (truncation = "drop")
+//   clusters            the number of clusters (particle engines; NaN for densities)
+//   kinetic_energy      Σ ½ m v² over the particles (particle engines; NaN for densities)
+//   mean_cluster_size   particles per cluster; M1/M0 for densities
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -14,7 +17,7 @@ namespace aggkit {
 
 class Observable {
  public:
-  enum class Kind { moment, density, mass_leak };
+  enum class Kind { moment, density, mass_leak, clusters, kinetic_energy, mean_cluster_size };
 
   // The observable named `name`, or std::nullopt if the name is not one of the forms above.
   static std::optional<Observable> from_name(std::string_view name);

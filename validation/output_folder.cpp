@@ -49,6 +49,7 @@ void OutputFolder::prepare(const Scene& scene) const {
     if (error) unusable(folder, error.message());
     remove_stale(series_file(engine->label()));
     remove_stale(distribution_file(engine->label()));
+    for (const char* name : {"final.json", "final.vtu", "final.png"}) remove_stale(folder / name);  // particle engines
   }
 }
 

@@ -42,6 +42,10 @@ std::string last_line(const std::string& text) {
 
 }  // namespace
 
+std::string plot_interpreter() { return interpreter(); }
+
+std::string last_output_line(const std::string& text) { return last_line(text); }
+
 std::string to_string(PlotOutcome::Status status) {
   switch (status) {
     case PlotOutcome::Status::written: return "written";

@@ -22,4 +22,9 @@ std::string to_string(PlotOutcome::Status status);
 // python3 on PATH; the script is $AGGKIT_PLOT_SCRIPT, else the one in the source or install tree.
 PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder);
 
+// The Python interpreter the plotters run under (as described above), and the last non-blank line of a
+// plotter's output (its exception message), shared with the other plotters (validation/particle_snapshot).
+std::string plot_interpreter();
+std::string last_output_line(const std::string& text);
+
 }  // namespace aggkit

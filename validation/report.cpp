@@ -23,8 +23,11 @@ std::string scientific(double value) { return std::isnan(value) ? "nan" : format
 void print_report(std::ostream& out, const Scene& scene, const RunResult& result, const OutputFolder& folder) {
   out << "scene " << scene.name;
   if (!scene.path.empty()) out << " (" << scene.path.string() << ")";
-  out << ": " << scene.model.kernel.describe() << ", lambda = " << scene.model.lambda.describe()
-      << ", N = " << scene.model.size << ", t in (0, " << shortest_text(scene.time.end) << "], "
+  if (scene.has_model)
+    out << ": " << scene.model.kernel.describe() << ", lambda = " << scene.model.lambda.describe()
+        << ", N = " << scene.model.size;
+  if (scene.particles) out << (scene.has_model ? "; " : ": ") << scene.particles->describe();
+  out << ", t in (0, " << shortest_text(scene.time.end) << "], "
       << scene.time.outputs.size() << " outputs\n\n";
 
   out << format("  %-16s %-8s %10s %16s  %s\n", "engine", "kind", "wall [s]", "final mass_leak", "status");

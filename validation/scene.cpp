@@ -25,12 +25,16 @@ namespace {
 
 Scene read_scene(const toml::table& document) {
   const SceneTable root(document, "");
-  root.allow_only({"name", "model", "time", "engine", "observe", "compare"});
+  root.allow_only({"name", "model", "particles", "time", "engine", "observe", "compare"});
   Scene scene;
   scene.name = root.string("name");
   if (scene.name.empty()) root.fail("name", "a non-empty name");
   scene.time = read_time(root.table("time"));
-  read_model(root.table("model"), scene);
+  if (const auto model = root.optional_table("model")) {
+    read_model(*model, scene);
+    scene.has_model = true;
+  }
+  if (const auto particles = root.optional_table("particles")) scene.particles = read_particles(*particles);
   read_engines(root, scene);
   scene.observe = read_observation(root.table("observe"), scene);
   if (const auto compare = root.optional_table("compare")) scene.compare = read_comparison(*compare, scene);

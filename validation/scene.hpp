@@ -2,7 +2,7 @@
 // A scene: one validation run described in a TOML file (DESIGN.md "Scenes"). The schema, every key:
 //
 //   name = "..."                                   (required)
-//   [model]
+//   [model]                                        required by the kinetic engines (cvode, exact, ...)
 //   kernel = { name = "ballistic" }                constant | sum | product | linear (A, B) |
 //                                                  genproduct (mu) | ballistic | brownian (a)
 //   lambda = 0.01                                  or { initial = .., slope = .. } (λ = initial + slope t)
@@ -12,6 +12,8 @@
 //   truncation = "drop"                            drop | cutoff (default drop)
 //   initial = { kind = "monodisperse" }            optional density (default 1);
 //                                                  or { kind = "table", n = [n_1, n_2, ...] }
+//   [particles]                                    required by the particle engines (ed); see
+//                                                  scene_particles.cpp for the keys
 //   [time]
 //   end = 100.0                                    (required, > 0)
 //   outputs = [1.0, 10.0]  or  every = 1.0         increasing, in (0, end]; end is always an output
@@ -22,6 +24,10 @@
 //   [observe]
 //   series = ["M0", "M2", "mass_leak", "n1"]       (required; see observable.hpp)
 //   distributions = [1.0, 100.0]                   optional; each one of the output times
+//   final = ["contacts", "fractal_dimension_box"]  particle engines: observables of the final configuration
+//                                                  (particle_final_state.hpp), written to <engine>/final.json
+//   snapshots = true                               particle engines: the final configuration as
+//                                                  <engine>/final.vtu and <engine>/final.png (default false)
 //   [compare]                                      optional
 //   reference = "exact"                            an engine label
 //   tolerance = { M0 = 1e-6, M2 = 1e-6 }           max relative error over the output times, per series
@@ -38,6 +44,7 @@
 #include <string_view>
 #include <vector>
 
+#include "particle/common/particle_system.hpp"
 #include "solvers/model.hpp"
 #include "validation/engine.hpp"
 #include "validation/observable.hpp"
@@ -59,6 +66,8 @@ struct TimeGrid {
 struct Observation {
   std::vector<Observable> series;
   std::vector<double> distribution_times;  // each one of TimeGrid::outputs
+  std::vector<std::string> final_state;    // names of final-configuration observables (particle engines)
+  bool snapshots = false;                  // final configuration as .vtu and .png (particle engines)
 };
 
 struct Tolerance {
@@ -78,8 +87,10 @@ struct ComparisonPlan {
 struct Scene {
   std::string name;
   std::filesystem::path path;  // the file it was read from; empty for a scene parsed from text
-  AggregationModel model;
+  AggregationModel model;     // meaningful only if has_model
+  bool has_model = false;     // the scene has a [model] section
   InitialCondition initial;
+  std::optional<ParticleSystem> particles;  // the [particles] section, if any
   TimeGrid time;
   std::vector<std::unique_ptr<Engine>> engines;
   Observation observe;

@@ -24,6 +24,8 @@ void read_engines(const SceneTable& root, Scene& scene) {
     const std::string name = table.string("name");
     const EngineType* type = find_engine_type(name);
     if (!type) table.fail("name", "one of " + join(engine_names()));
+    if (type->needs_model && !scene.has_model)
+      table.fail("name", "a scene with a [model] section (engine " + name + " solves the kinetic equations)");
     std::vector<std::string> allowed{"name", "label"};
     allowed.insert(allowed.end(), type->keys.begin(), type->keys.end());
     table.allow_only(allowed);

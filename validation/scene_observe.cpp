@@ -1,11 +1,27 @@
 // [observe] and [compare]: what is recorded and how engines are compared.
 #include <algorithm>
 
+#include "validation/particle_final_state.hpp"
 #include "validation/scene_sections.hpp"
 
 namespace aggkit {
 
 namespace {
+
+// observe.final: names of final-configuration observables, each once; only with [particles].
+std::vector<std::string> read_final_state(const SceneTable& observe, const Scene& scene) {
+  const std::vector<std::string> names = observe.strings("final");
+  if (!scene.particles) observe.fail("final", "no final-state observables: they need a [particles] section");
+  const auto& known = final_state_observables();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string key = observe.key("final") + "[" + std::to_string(i) + "]";
+    if (std::find(known.begin(), known.end(), names[i]) == known.end())
+      throw InputError(key, "\"" + names[i] + "\"", "one of " + join(known));
+    if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i)
+      throw InputError(key, "\"" + names[i] + "\"", "each observable once");
+  }
+  return names;
+}
 
 bool is_series(const Scene& scene, const std::string& name) {
   return std::any_of(scene.observe.series.begin(), scene.observe.series.end(),
@@ -15,7 +31,7 @@ bool is_series(const Scene& scene, const std::string& name) {
 }  // namespace
 
 Observation read_observation(const SceneTable& observe, const Scene& scene) {
-  observe.allow_only({"series", "distributions"});
+  observe.allow_only({"series", "distributions", "final", "snapshots"});
   Observation observation;
   const std::vector<std::string> names = observe.strings("series");
   if (names.empty()) observe.fail("series", "at least one observable: " + std::string(Observable::forms()));
@@ -23,8 +39,11 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
     const std::string key = observe.key("series") + "[" + std::to_string(i) + "]";
     const auto observable = Observable::from_name(names[i]);
     if (!observable) throw InputError(key, "\"" + names[i] + "\"", Observable::forms());
-    if (observable->kind() == Observable::Kind::density && observable->size() > scene.model.size)
-      throw InputError(key, "\"" + names[i] + "\"", "n<k> with k <= model.size = " + std::to_string(scene.model.size));
+    const std::size_t largest = scene.has_model ? scene.model.size : scene.particles ? scene.particles->count : 0;
+    if (observable->kind() == Observable::Kind::density && observable->size() > largest)
+      throw InputError(key, "\"" + names[i] + "\"",
+                       "n<k> with k <= " + std::string(scene.has_model ? "model.size" : "particles.count") + " = " +
+                           std::to_string(largest));
     for (const auto& earlier : observation.series)
       if (earlier.name() == names[i]) throw InputError(key, "\"" + names[i] + "\"", "each observable once");
     observation.series.push_back(*observable);
@@ -42,6 +61,9 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
     }
     std::sort(observation.distribution_times.begin(), observation.distribution_times.end());
   }
+  if (observe.contains("final")) observation.final_state = read_final_state(observe, scene);
+  observation.snapshots = observe.optional_boolean("snapshots").value_or(false);
+  if (observation.snapshots && !scene.particles) observe.fail("snapshots", "false: snapshots need a [particles] section");
   return observation;
 }
 

@@ -7,7 +7,8 @@ namespace aggkit {
 
 TimeGrid read_time(const SceneTable& time);                      // [time]
 void read_model(const SceneTable& model, Scene& scene);          // [model]; needs scene.time
-void read_engines(const SceneTable& root, Scene& scene);         // [[engine]]; needs model and time
+ParticleSystem read_particles(const SceneTable& particles);        // [particles]
+void read_engines(const SceneTable& root, Scene& scene);         // [[engine]]; needs model/particles and time
 Observation read_observation(const SceneTable& observe, const Scene& scene);  // [observe]
 ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene);  // [compare]
 

@@ -21,22 +21,33 @@ std::string relative(const std::filesystem::path& file, const OutputFolder& fold
 }
 
 Json scene_json(const Scene& scene) {
-  const AggregationModel& m = scene.model;
-  Json kernel_parameters = Json::object();
-  for (const auto& [name, value] : m.kernel.parameters()) kernel_parameters[name] = value;
-  return {
+  Json json = {
       {"name", scene.name},
       {"path", scene.path.string()},
       {"absolute_path", scene.path.empty() ? std::string() : std::filesystem::absolute(scene.path).string()},
-      {"model",
-       {{"kernel", m.kernel.name()},
-        {"kernel_parameters", kernel_parameters},
-        {"lambda", m.lambda.describe()},
-        {"size", m.size},
-        {"truncation", to_string(m.truncation)},
-        {"initial", scene.initial.kind == InitialCondition::Kind::monodisperse ? "monodisperse" : "table"}}},
-      {"time", {{"end", scene.time.end}, {"outputs", scene.time.outputs.size()}}},
   };
+  if (scene.has_model) {
+    const AggregationModel& m = scene.model;
+    Json kernel_parameters = Json::object();
+    for (const auto& [name, value] : m.kernel.parameters()) kernel_parameters[name] = value;
+    json["model"] = {{"kernel", m.kernel.name()},
+                     {"kernel_parameters", kernel_parameters},
+                     {"lambda", m.lambda.describe()},
+                     {"size", m.size},
+                     {"truncation", to_string(m.truncation)},
+                     {"initial", scene.initial.kind == InitialCondition::Kind::monodisperse ? "monodisperse" : "table"}};
+  }
+  if (scene.particles) {
+    const ParticleSystem& p = *scene.particles;
+    json["particles"] = {{"dimension", p.box.dimension},
+                         {"count", p.count},
+                         {"radius", p.radius},
+                         {"volume_fraction", p.volume_fraction()},
+                         {"boundary", to_string(p.box.boundary)},
+                         {"realizations", p.realizations}};
+  }
+  json["time"] = {{"end", scene.time.end}, {"outputs", scene.time.outputs.size()}};
+  return json;
 }
 
 Json engine_json(const EngineRecord& record, const OutputFolder& folder) {

@@ -19,6 +19,11 @@ class SystemState {
   // available on its own so that observables get a standard error. A deterministic state is its own only one.
   virtual std::size_t realisations() const { return 1; }
   virtual const SystemState& realisation(std::size_t) const { return *this; }
+  // Particle-level observables; a state of densities has no particle count or velocities (NaN), and its mean
+  // cluster size is the number-average size M1/M0.
+  virtual double clusters() const;
+  virtual double kinetic_energy() const;
+  virtual double mean_cluster_size() const { return moment(1) / moment(0); }
 };
 
 // A state given by its densities n_1..n_N (a view: the densities must outlive it).

@@ -1,0 +1,243 @@
+#include "analysis/oscillation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+std::string to_string(Regime regime) {
+  switch (regime) {
+    case Regime::steady: return "steady";
+    case Regime::damped: return "damped";
+    case Regime::sustained: return "sustained";
+    case Regime::irregular: return "irregular";
+  }
+  return "?";
+}
+
+void OscillationCriteria::validate() const {
+  const auto check = [](const char* key, double value, bool ok, const char* allowed) {
+    if (!ok) throw InputError(std::string("oscillation.") + key, format_value(value), allowed);
+  };
+  check("tail_fraction", tail_fraction, tail_fraction > 0 && tail_fraction <= 1, "a fraction in (0, 1]");
+  check("steady_tolerance", steady_tolerance, steady_tolerance > 0 && steady_tolerance < 1, "in (0, 1)");
+  check("drift_tolerance", drift_tolerance, drift_tolerance > 0 && drift_tolerance < 1, "in (0, 1)");
+  check("period_tolerance", period_tolerance, period_tolerance > 0 && period_tolerance < 1, "in (0, 1)");
+  check("regularity_tolerance", regularity_tolerance, regularity_tolerance > 0 && regularity_tolerance < 1,
+        "in (0, 1)");
+  check("prominence", prominence, prominence > 0 && prominence < 1, "in (0, 1)");
+  check("minimum_cycles", double(minimum_cycles), minimum_cycles >= 2, "an integer >= 2");
+}
+
+namespace {
+
+struct TurningPoint {
+  double t, x;
+  bool maximum;
+};
+
+struct LineFit {
+  double slope = 0, slope_error = 0;
+};
+
+// Least-squares line y = c + s x with the standard error of s.
+LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = double(x.size());
+  const double mx = std::accumulate(x.begin(), x.end(), 0.0) / n;
+  const double my = std::accumulate(y.begin(), y.end(), 0.0) / n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+  }
+  LineFit fit;
+  if (sxx <= 0) return fit;
+  fit.slope = sxy / sxx;
+  if (x.size() > 2) {
+    double residual = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double r = y[i] - my - fit.slope * (x[i] - mx);
+      residual += r * r;
+    }
+    fit.slope_error = std::sqrt(residual / (n - 2) / sxx);
+  }
+  return fit;
+}
+
+// The vertex of the parabola through (i-1, i, i+1): position and value of a sampled extremum to O(Δt^4)
+// for a smooth signal (the discrete maximum alone is off by O(Δt^2)).
+TurningPoint refine(std::span<const double> t, std::span<const double> x, std::size_t i, bool maximum) {
+  TurningPoint p{t[i], x[i], maximum};
+  if (i == 0 || i + 1 >= x.size()) return p;
+  const double left = x[i - 1], mid = x[i], right = x[i + 1];
+  const double curvature = left - 2 * mid + right;
+  if (curvature == 0) return p;
+  const double offset = 0.5 * (left - right) / curvature;  // in samples, |offset| <= 1/2 at a discrete extremum
+  if (std::abs(offset) > 1) return p;
+  const double dt = t[i + 1] - t[i];
+  p.t = t[i] + offset * dt;
+  p.x = mid - 0.25 * (left - right) * offset;
+  return p;
+}
+
+// Turning points confirmed by a reversal of at least `reversal` (hysteresis: noise smaller than that makes
+// none). Extrema on the first or last sample are not turning points (the signal may continue beyond).
+std::vector<TurningPoint> turning_points(std::span<const double> t, std::span<const double> x, double reversal) {
+  std::vector<TurningPoint> points;
+  std::size_t high = 0, low = 0;  // candidate maximum / minimum since the last confirmed turning point
+  int direction = 0;               // +1 looking for a maximum, -1 for a minimum, 0 not yet known
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    if (direction >= 0 && x[i] > x[high]) high = i;
+    if (direction <= 0 && x[i] < x[low]) low = i;
+    if (direction >= 0 && x[i] < x[high] - reversal) {
+      if (high > 0) points.push_back(refine(t, x, high, true));
+      direction = -1;
+      low = i;
+    } else if (direction <= 0 && x[i] > x[low] + reversal) {
+      if (low > 0) points.push_back(refine(t, x, low, false));
+      direction = +1;
+      high = i;
+    }
+  }
+  return points;  // the last candidate is unconfirmed and left out
+}
+
+double mean_of(std::span<const double> v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
+
+void check_series(std::span<const double> t, std::span<const double> x) {
+  if (t.size() != x.size())
+    throw InputError("series", std::to_string(x.size()) + " values",
+                     "as many values as times (" + std::to_string(t.size()) + ")");
+  if (t.size() < 3) throw InputError("series", std::to_string(t.size()) + " samples", "at least 3 samples");
+  const double dt = (t.back() - t.front()) / double(t.size() - 1);
+  if (!(dt > 0)) throw InputError("series.t", format_value(t.back()), "increasing times");
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (!std::isfinite(x[i]))
+      throw InputError("series.x[" + std::to_string(i) + "]", format_value(x[i]), "a finite value");
+    if (i > 0 && std::abs(t[i] - t[i - 1] - dt) > 1e-6 * dt)
+      throw InputError("series.t[" + std::to_string(i) + "]", format_value(t[i]),
+                       "uniformly spaced times (spacing " + format_value(dt) + ")");
+  }
+}
+
+}  // namespace
+
+OscillationClassification classify_oscillation(std::span<const double> t_all, std::span<const double> x_all,
+                                               const OscillationCriteria& criteria) {
+  criteria.validate();
+  check_series(t_all, x_all);
+  const double t_start = t_all.back() - criteria.tail_fraction * (t_all.back() - t_all.front());
+  const std::size_t first = std::size_t(std::lower_bound(t_all.begin(), t_all.end(), t_start - 1e-9) - t_all.begin());
+  const std::span<const double> t = t_all.subspan(first), x = x_all.subspan(first);
+  if (t.size() < 16)
+    throw InputError("series", std::to_string(t.size()) + " samples in the tail",
+                     "at least 16 samples in the classified tail (sample more often or raise tail_fraction)");
+
+  OscillationClassification c;
+  c.mean = mean_of(x);
+  const auto [low, high] = std::minmax_element(x.begin(), x.end());
+  const double half_swing = 0.5 * (*high - *low);
+  const double scale = std::max(std::abs(c.mean), half_swing);
+  c.amplitude = half_swing;
+  c.relative_amplitude = c.mean != 0 ? half_swing / std::abs(c.mean) : OscillationClassification::nan;
+  if (half_swing <= criteria.steady_tolerance * scale) {
+    c.regime = Regime::steady;
+    c.converged = true;
+    return c;
+  }
+
+  const std::vector<TurningPoint> points = turning_points(t, x, criteria.prominence * half_swing);
+  const double span = t.back() - t.front();
+
+  if (points.size() < 3) {
+    // No complete cycle: a monotone relaxation x∞ + c e^{-γt} (or a drift). Its increments decay at rate γ.
+    std::vector<double> times, logs;
+    for (std::size_t i = 1; i < x.size(); ++i) {
+      const double dx = std::abs(x[i] - x[i - 1]);
+      if (dx > 0) {
+        times.push_back(0.5 * (t[i] + t[i - 1]));
+        logs.push_back(std::log(dx));
+      }
+    }
+    const LineFit fit = fit_line(times, logs);
+    c.decay_rate = -fit.slope;
+    c.decay_rate_error = fit.slope_error;
+    // Either way it does not oscillate: damped (no persistent oscillation), converged only for a clean
+    // exponential relaxation.
+    c.regime = Regime::damped;
+    c.converged = c.decay_rate * span > criteria.drift_tolerance;
+    c.note = c.converged ? "monotone relaxation" : "monotone drift, not yet relaxing exponentially: run longer";
+    return c;
+  }
+
+  // Cycle amplitudes (half differences of successive turning points) at the midpoint times, and periods
+  // (spacing of turning points of the same kind).
+  std::vector<double> amplitude_times, amplitudes, log_amplitudes, periods;
+  for (std::size_t j = 0; j + 1 < points.size(); ++j) {
+    amplitude_times.push_back(0.5 * (points[j].t + points[j + 1].t));
+    amplitudes.push_back(0.5 * std::abs(points[j + 1].x - points[j].x));
+    log_amplitudes.push_back(std::log(std::max(amplitudes.back(), 1e-300)));
+  }
+  for (std::size_t j = 0; j + 2 < points.size(); ++j) periods.push_back(points[j + 2].t - points[j].t);
+  c.cycles = periods.size() / 2;
+
+  const double period_mean = mean_of(periods);
+  double variance = 0;
+  for (double p : periods) variance += (p - period_mean) * (p - period_mean);
+  const double period_scatter = periods.size() > 1 ? std::sqrt(variance / double(periods.size() - 1)) / period_mean : 0;
+
+  // The last cycles: amplitude and period reported; the first and second halves compared.
+  const std::size_t last = std::min<std::size_t>(amplitudes.size(), 4);
+  c.amplitude = mean_of(std::span<const double>(amplitudes).last(last));
+  c.relative_amplitude = c.mean != 0 ? c.amplitude / std::abs(c.mean) : OscillationClassification::nan;
+  c.period = mean_of(std::span<const double>(periods).last(std::min<std::size_t>(periods.size(), 4)));
+  if (amplitudes.size() >= 4) {
+    const std::size_t half = amplitudes.size() / 2;
+    const double a1 = mean_of(std::span<const double>(amplitudes).first(half));
+    const double a2 = mean_of(std::span<const double>(amplitudes).last(half));
+    c.amplitude_change = std::abs(a2 - a1) / a2;
+  }
+  if (periods.size() >= 4) {
+    const std::size_t half = periods.size() / 2;
+    const double p1 = mean_of(std::span<const double>(periods).first(half));
+    const double p2 = mean_of(std::span<const double>(periods).last(half));
+    c.period_change = std::abs(p2 - p1) / p2;
+  }
+
+  const LineFit fit = fit_line(amplitude_times, log_amplitudes);
+  c.decay_rate = -fit.slope;
+  c.decay_rate_error = fit.slope_error;
+  const double fitted_span = amplitude_times.back() - amplitude_times.front();
+  const double envelope_change = c.decay_rate * fitted_span;
+
+  if (period_scatter > criteria.regularity_tolerance) {
+    c.regime = Regime::irregular;
+    c.note = "cycle lengths scatter by " + std::to_string(int(std::round(100 * period_scatter))) +
+             " %: noise or chaos, not a periodic or linearly damped mode";
+    return c;
+  }
+  const bool enough_cycles = c.cycles >= criteria.minimum_cycles;
+  if (envelope_change > criteria.drift_tolerance) {
+    c.regime = Regime::damped;
+    c.converged = enough_cycles;
+  } else if (envelope_change < -criteria.drift_tolerance) {
+    c.regime = Regime::sustained;
+    c.converged = false;
+    c.note = "amplitude still growing (unstable steady state; limit cycle not reached): run longer";
+  } else {
+    c.regime = Regime::sustained;
+    c.converged = enough_cycles && c.amplitude_change <= criteria.drift_tolerance &&
+                  c.period_change <= criteria.period_tolerance;
+    if (!c.converged && enough_cycles) c.note = "amplitude or period not converged between the halves of the tail";
+  }
+  if (!enough_cycles)
+    c.note = "only " + std::to_string(c.cycles) + " cycles in the tail (" + std::to_string(criteria.minimum_cycles) +
+             " needed for a converged verdict): run longer";
+  return c;
+}
+
+}  // namespace aggkit

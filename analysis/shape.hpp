@@ -1,0 +1,37 @@
+#pragma once
+// Shape and packing of a particle configuration (issue 5, "Observables"): the gyration tensor, the
+// relative number of contacts N_c and the pair distribution P(r). N_c and P(r) follow the definitions of
+// Degond et al. (ballistic aggregation of hard spheres), as quoted in issue 5.
+#include <array>
+#include <span>
+#include <vector>
+
+#include "analysis/particle_configuration.hpp"
+
+namespace aggkit {
+
+// Gyration tensor S_ab = (1/N) Σ_i (x_ia - c_a)(x_ib - c_b), c the centroid, over the first `dimension`
+// axes (the points of one cluster, unwrapped if periodic).
+struct Gyration {
+  std::array<double, 3> eigenvalues{};           // of the gyration tensor, descending
+  double aspect_ratio = 1;                       // λ1/λ2 (ratio of eigenvalues; +inf if λ2 = 0 < λ1)
+  std::array<double, 3> principal_axis{};        // unit eigenvector of λ1
+  double orientation = 0;                        // angle of the principal axis to x (radians, [0, π))
+  double radius_of_gyration = 0;                 // sqrt(λ1 + λ2 + λ3)
+};
+Gyration gyration(std::span<const std::array<double, 3>> points, int dimension);
+
+// N_c = (1/N)(1/N_max) Σ_{i≠j} 1{|Xi−Xj| ≤ factor·R}, N_max = 6 (2-D) or 12 (3-D): the mean number of
+// neighbours within factor·R relative to the densest packing's (issue 5, Degond et al.). O(N) by a
+// neighbour grid; minimum image when periodic. 0 for an empty configuration.
+double relative_contacts(const ParticleConfiguration& config, double factor = 2.1);
+
+// P(r) = (1/N) Σ_{i≠j} 1{|Xi−Xj| ≤ r} at the given radii (any order, positive), the mean number of other
+// particles within r (issue 5, Degond et al.; used for 2R < r < 20R). O(N · pairs within max r) by a
+// neighbour grid with cutoff max r; periodic: minimum-image distances only.
+struct PairDistribution { std::vector<double> r; std::vector<double> p; };
+PairDistribution pair_distribution(const ParticleConfiguration& config, std::span<const double> r);
+// `count` radii evenly spaced on (2R, 20R]: 2R + 18R k/count, k = 1..count (the issue's range).
+std::vector<double> pair_distribution_radii(double radius, int count = 90);
+
+}  // namespace aggkit

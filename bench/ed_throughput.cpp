@@ -1,0 +1,46 @@
+// ED aggregation throughput (issue 5): events per second and time to one cluster as functions of N and the
+// volume fraction ν, 2-D or 3-D, periodic or reflecting.
+//   bench_ed_throughput DIM BOUNDARY NU N1 [N2 ...]    e.g. bench_ed_throughput 2 periodic 0.01 1e4 1e5 1e6
+// Prints one line per N: set-up seconds, seconds to one cluster, events (merges, crossings, walls), events/s,
+// and the cost exponent between consecutive N (log t2/t1 / log N2/N1).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "bench/ed_common.hpp"
+
+using namespace aggkit;
+
+int main(int argc, char** argv) {
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: %s DIM periodic|reflecting NU N1 [N2 ...]\n", argv[0]);
+    return 2;
+  }
+  const int dimension = std::atoi(argv[1]);
+  const Boundary boundary = boundary_from_name(argv[2]);
+  const double nu = std::atof(argv[3]);
+  bench::print_load();
+  std::printf("# dim %d %s nu %g, unit speed uniform directions, run to one cluster\n", dimension, argv[2], nu);
+  std::printf("%10s %8s %10s %12s %12s %12s %10s %12s %8s\n", "N", "setup_s", "run_s", "events", "merges",
+              "crossings", "walls", "events/s", "exponent");
+  double previous_n = 0, previous_t = 0;
+  for (int k = 4; k < argc; ++k) {
+    const auto n = std::size_t(std::atof(argv[k]));
+    auto start = std::chrono::steady_clock::now();
+    auto ed = bench::make_ed(dimension, n, nu, boundary, true);
+    const double setup = bench::seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    ed.advance(1e30, 1);
+    const double run = bench::seconds_since(start);
+    const auto& c = ed.counters();
+    const double exponent = previous_n > 0 ? std::log(run / previous_t) / std::log(double(n) / previous_n) : NAN;
+    std::printf("%10zu %8.2f %10.2f %12llu %12llu %12llu %10llu %12.3g %8.2f\n", n, setup, run,
+                (unsigned long long)c.events(), (unsigned long long)c.merges, (unsigned long long)c.cell_crossings,
+                (unsigned long long)c.wall_contacts, double(c.events()) / run, exponent);
+    std::fflush(stdout);
+    previous_n = double(n);
+    previous_t = run;
+  }
+  bench::print_load();
+}

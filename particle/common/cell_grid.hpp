@@ -1,0 +1,45 @@
+#pragma once
+// A regular grid of cells over the box, each at least `min_side` wide along every axis, so that two
+// particles closer than min_side always sit in the same or in neighbouring cells (the 3^d stencil).
+// Periodic axes need at least 3 cells so that the stencil cells are distinct.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "particle/common/box.hpp"
+
+namespace aggkit {
+
+using CellCoords = std::array<int, 3>;
+
+class CellGrid {
+ public:
+  // Cells of side >= max(min_side, (V/target_cells)^{1/d}); throws InputError when a periodic axis cannot
+  // hold 3 cells of side min_side.
+  CellGrid(const Box& box, double min_side, std::size_t target_cells);
+
+  const Box& box() const { return box_; }
+  const CellCoords& counts() const { return counts_; }
+  const Vector3& cell_side() const { return cell_side_; }
+  std::size_t size() const { return size_; }
+
+  // The cell of a position (wrapped onto periodic axes, clamped onto the grid along reflecting ones).
+  CellCoords coords_of(const Vector3& position) const;
+  std::size_t index(const CellCoords& c) const { return std::size_t(c[0]) + std::size_t(counts_[0]) * (std::size_t(c[1]) + std::size_t(counts_[1]) * std::size_t(c[2])); }
+  CellCoords coords(std::size_t index) const;
+  // The cell at c + offset: wrapped along periodic axes, std::nullopt past a reflecting wall.
+  std::optional<CellCoords> neighbour(const CellCoords& c, const CellCoords& offset) const;
+  // The stencil offsets {-1,0,1}^d (with a 0 third component in 2-D).
+  const std::vector<CellCoords>& stencil() const { return stencil_; }
+
+ private:
+  Box box_;
+  CellCoords counts_{1, 1, 1};
+  Vector3 cell_side_{};
+  std::size_t size_ = 1;
+  std::vector<CellCoords> stencil_;
+};
+
+}  // namespace aggkit

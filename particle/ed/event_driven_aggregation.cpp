@@ -1,0 +1,220 @@
+// Construction, the event loop and the queries of the ED engine (predictions in ed_prediction.cpp, event
+// handling in ed_events.cpp).
+#include "particle/ed/event_driven_aggregation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, std::span<const Vector3> positions,
+                                               std::span<const Vector3> velocities, bool sticking, std::size_t cells)
+    : grid_(box, 2 * radius, cells ? cells : positions.size()),
+      radius_(radius),
+      sticking_(sticking),
+      cells_(grid_.size(), positions.size()),
+      members_(positions.size()),
+      offset_(positions.size(), Vector3{0, 0, 0}),
+      cell_(positions.size()),
+      collisions_(positions.size(), 0),
+      origin_(positions.begin(), positions.end()),
+      velocity_(velocities.begin(), velocities.end()),
+      low_(positions.size(), Vector3{0, 0, 0}),
+      high_(positions.size(), Vector3{0, 0, 0}),
+      clock_(positions.size(), 0.0L),
+      stamp_(positions.size()) {
+  if (!(radius > 0) || !std::isfinite(radius)) throw InputError("radius", format_value(radius), "a finite radius > 0");
+  if (positions.size() < 1 || positions.size() >= CellList::none)
+    throw InputError("count", std::to_string(positions.size()), "1 <= N < 2^32 - 1");
+  if (velocities.size() != positions.size())
+    throw InputError("velocities", std::to_string(velocities.size()), "one velocity per particle");
+  for (std::uint32_t p = 0; p < positions.size(); ++p) {
+    for (int d = 0; d < box.dimension; ++d) {
+      const double x = positions[p][d];
+      const bool inside = box.boundary == Boundary::periodic ? std::isfinite(x)
+                                                              : x >= radius && x <= box.side[d] - radius;
+      if (!inside || !std::isfinite(velocities[p][d]))
+        throw InputError("position", format_value(x), "finite positions and velocities inside the box (at least R from reflecting walls)");
+    }
+    for (int d = box.dimension; d < 3; ++d) origin_[p][d] = velocity_[p][d] = 0.0;
+    origin_[p] = box.wrap(origin_[p]);
+    cell_[p] = grid_.coords_of(origin_[p]);
+    cells_.insert(p, grid_.index(cell_[p]));
+    stamp_[p] = new_stamp();
+  }
+  if (largest_overlap() > overlap_tolerance)
+    throw InputError("positions", "overlapping", "initial positions with no two particles closer than 2R");
+  for (std::uint32_t p = 0; p < positions.size(); ++p) {
+    predict_crossing(p);
+    predict_collisions(p, -1, 0, /*higher_only=*/true);
+    predict_wall(p);
+  }
+  compact_at_ = std::max<std::size_t>(1u << 16, 8 * positions.size());
+}
+
+void EventDrivenAggregation::thermalize(std::size_t collisions) {
+  if (collisions == 0) return;
+  const bool sticking = sticking_;
+  sticking_ = false;
+  thermal_target_ = collisions;
+  thermal_pending_ = 0;
+  for (auto c : collisions_) thermal_pending_ += c < collisions;
+  // Each particle needs `collisions` collisions and each collision serves two particles; allow a generous
+  // factor for cell crossings and walls before declaring that it cannot finish (e.g. a lone particle).
+  const std::uint64_t budget = counters_.events() + 10'000 * (collisions + 1) * particles() + 1'000'000;
+  while (thermal_pending_ > 0) {
+    if (queue_.empty() || counters_.events() > budget)
+      throw std::runtime_error("thermalisation cannot finish: " + std::to_string(thermal_pending_) +
+                               " particles never reach " + std::to_string(collisions) + " collisions");
+    const Event e = queue_.top();
+    queue_.pop();
+    if (!valid(e)) {
+      ++counters_.stale_events;
+      continue;
+    }
+    now_ = std::max(now_, e.time);
+    process(e);
+    maybe_compact();
+  }
+  thermal_target_ = 0;
+  sticking_ = sticking;
+  clock_origin_ = now_;
+}
+
+EdStop EventDrivenAggregation::advance(double t, std::size_t target_clusters) {
+  const long double end = clock_origin_ + (long double)t;
+  while (true) {
+    if (sticking_ && members_.clusters() <= target_clusters) return EdStop::clusters_reached;
+    if (queue_.empty() || queue_.top().time > end) {
+      now_ = std::max(now_, end);
+      return EdStop::time_reached;
+    }
+    const Event e = queue_.top();
+    queue_.pop();
+    if (!valid(e)) {
+      ++counters_.stale_events;
+      continue;
+    }
+    now_ = std::max(now_, e.time);
+    process(e);
+    maybe_compact();
+  }
+}
+
+bool EventDrivenAggregation::step() {
+  while (!queue_.empty()) {
+    const Event e = queue_.top();
+    queue_.pop();
+    if (!valid(e)) {
+      ++counters_.stale_events;
+      continue;
+    }
+    now_ = std::max(now_, e.time);
+    process(e);
+    maybe_compact();
+    return true;
+  }
+  return false;
+}
+
+void EventDrivenAggregation::maybe_compact() {
+  if (queue_.size() < compact_at_) return;
+  queue_.compact([this](const Event& e) { return valid(e); });
+  compact_at_ = std::max<std::size_t>({compact_at_, 4 * queue_.size()});
+}
+
+bool EventDrivenAggregation::valid(const Event& e) const {
+  switch (e.kind) {
+    case EventKind::collision:
+      return stamp_[members_.cluster_of(e.a)] == e.stamp_a && stamp_[members_.cluster_of(e.b)] == e.stamp_b;
+    case EventKind::cell_crossing: return stamp_[members_.cluster_of(e.a)] == e.stamp_a;
+    case EventKind::wall: return stamp_[e.a] == e.stamp_a;
+  }
+  return false;
+}
+
+Vector3 EventDrivenAggregation::cluster_origin(std::uint32_t cluster) const {
+  const double dt = double(now_ - clock_[cluster]);
+  return origin_[cluster] + dt * velocity_[cluster];
+}
+
+void EventDrivenAggregation::bring_to_now(std::uint32_t cluster) {
+  origin_[cluster] = cluster_origin(cluster);
+  clock_[cluster] = now_;
+}
+
+Vector3 EventDrivenAggregation::position(std::uint32_t particle) const {
+  return cluster_origin(members_.cluster_of(particle)) + offset_[particle];
+}
+
+std::vector<Vector3> EventDrivenAggregation::positions() const {
+  std::vector<Vector3> x(particles());
+  for (std::uint32_t p = 0; p < x.size(); ++p) x[p] = box().wrap(position(p));
+  return x;
+}
+
+std::vector<Vector3> EventDrivenAggregation::velocities() const {
+  std::vector<Vector3> v(particles());
+  for (std::uint32_t p = 0; p < v.size(); ++p) v[p] = velocity(p);
+  return v;
+}
+
+double EventDrivenAggregation::kinetic_energy() const {
+  double e = 0;
+  for (std::uint32_t c = 0; c < particles(); ++c)
+    if (members_.size(c) > 0) e += 0.5 * double(members_.size(c)) * dot(velocity_[c], velocity_[c]);
+  return e;
+}
+
+Vector3 EventDrivenAggregation::momentum() const {
+  Vector3 p{0, 0, 0};
+  for (std::uint32_t c = 0; c < particles(); ++c)
+    if (members_.size(c) > 0) p = p + double(members_.size(c)) * velocity_[c];
+  return p;
+}
+
+std::vector<std::size_t> EventDrivenAggregation::cluster_sizes() const {
+  const std::vector<std::uint32_t> labels = cluster_labels();
+  std::vector<std::size_t> sizes(clusters(), 0);
+  for (auto l : labels) ++sizes[l];
+  return sizes;
+}
+
+std::uint32_t EventDrivenAggregation::largest_cluster() const {
+  std::uint32_t best = 0;
+  for (std::uint32_t c = 1; c < particles(); ++c)
+    if (members_.size(c) > members_.size(best)) best = c;
+  return best;
+}
+
+std::vector<Vector3> EventDrivenAggregation::cluster_positions(std::uint32_t cluster) const {
+  std::vector<Vector3> x;
+  x.reserve(members_.size(cluster));
+  const Vector3 origin = cluster_origin(cluster);
+  for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p))
+    x.push_back(origin + offset_[p]);
+  return x;
+}
+
+double EventDrivenAggregation::largest_overlap() const {
+  double worst = 0;
+  const double sigma = 2 * radius_;
+  for (std::uint32_t i = 0; i < particles(); ++i) {
+    const Vector3 xi = position(i);
+    for (const CellCoords& o : grid_.stencil()) {
+      const auto cell = grid_.neighbour(cell_[i], o);
+      if (!cell) continue;
+      for (std::uint32_t j = cells_.first(grid_.index(*cell)); j != CellList::none; j = cells_.next(j)) {
+        if (j <= i) continue;
+        worst = std::max(worst, 1 - norm(separation(i, xi, j, o)) / sigma);
+      }
+    }
+  }
+  return worst;
+}
+
+}  // namespace aggkit

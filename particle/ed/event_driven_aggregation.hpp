@@ -1,0 +1,124 @@
+#pragma once
+// Event-driven ballistic aggregation (DESIGN.md "Particle level", ED; Degond, Dimarco, Ferreira & Hecht,
+// ../shared/reference/PUBLISHED.md B): N equal hard discs (2-D) or spheres (3-D) of radius R and unit mass fly
+// freely; two particles of different clusters that touch stick, and their clusters merge into one rigid,
+// non-rotating cluster moving with the momentum-weighted mean velocity (momentum conserved, energy lost).
+// With sticking off (thermalisation) collisions are elastic instead (equal masses: normal components swap).
+// Walls: periodic, or reflecting (a cluster touching a wall has that velocity component reversed as a whole).
+//
+// Exactness and cost: only exact events are processed — contacts between particles of different clusters,
+// cell crossings of particles, wall contacts of clusters — from a heap with lazy invalidation (event_queue.hpp).
+// A particle's position is its cluster's origin advanced in free flight plus a fixed offset, so nothing is
+// updated per event beyond the clusters involved; a merge relabels the smaller cluster and re-predicts the
+// merged cluster's particles only. Time is kept in long double: positions at 1e9 collision times still
+// resolve contacts to ~1e-10 R.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "particle/common/box.hpp"
+#include "particle/common/cell_grid.hpp"
+#include "particle/common/cell_list.hpp"
+#include "particle/common/cluster_membership.hpp"
+#include "particle/ed/event_queue.hpp"
+
+namespace aggkit {
+
+struct EdCounters {
+  std::uint64_t merges = 0;              // sticking collisions
+  std::uint64_t elastic_collisions = 0;  // collisions with sticking off
+  std::uint64_t cell_crossings = 0;
+  std::uint64_t wall_contacts = 0;
+  std::uint64_t stale_events = 0;        // invalidated events popped and skipped
+  std::uint64_t events() const { return merges + elastic_collisions + cell_crossings + wall_contacts; }
+};
+
+enum class EdStop { time_reached, clusters_reached };
+
+class EventDrivenAggregation {
+ public:
+  // Largest overlap (1 − |Δx|/2R) any pair may show after an event: contacts are found to round-off of the
+  // positions (|x| ≲ L), so this bounds it with a margin for boxes up to L ~ 10^6 R.
+  static constexpr double overlap_tolerance = 1e-9;
+
+  // Positions inside the box (reflecting: at least R from every wall), pairwise not overlapping; one velocity
+  // per particle. `sticking` false: every collision is elastic (no aggregation). `cells` is the wanted number
+  // of cells (0: about one per particle); cells are never narrower than a contact distance 2R.
+  EventDrivenAggregation(const Box& box, double radius, std::span<const Vector3> positions,
+                         std::span<const Vector3> velocities, bool sticking = true, std::size_t cells = 0);
+
+  // Elastic collisions (sticking off) until every particle has collided at least `collisions` times; then
+  // sticking is switched on and the clock restarts at t = 0. Throws std::runtime_error if it cannot finish.
+  void thermalize(std::size_t collisions);
+  // Runs until time t (since the start, or since the end of thermalisation) or until at most
+  // `target_clusters` clusters remain (sticking runs only), whichever comes first.
+  EdStop advance(double t, std::size_t target_clusters = 1);
+  // Processes the next valid event, whatever its time; false if there is none (for tests and diagnostics).
+  bool step();
+
+  double time() const { return double(now_ - clock_origin_); }
+  std::size_t particles() const { return offset_.size(); }
+  std::size_t clusters() const { return members_.clusters(); }
+  const Box& box() const { return grid_.box(); }
+  double radius() const { return radius_; }
+  const EdCounters& counters() const { return counters_; }
+  std::size_t queued_events() const { return queue_.size(); }
+
+  double kinetic_energy() const;  // Σ ½ m |v|² over particles (m = 1)
+  Vector3 momentum() const;       // Σ m v
+  Vector3 wall_impulse() const { return wall_impulse_; }  // momentum given to the walls so far
+  Vector3 position(std::uint32_t particle) const;          // unwrapped: contiguous within its cluster
+  Vector3 velocity(std::uint32_t particle) const { return velocity_[members_.cluster_of(particle)]; }
+  std::vector<Vector3> positions() const;                  // wrapped into the box
+  std::vector<Vector3> velocities() const;
+  std::vector<std::uint32_t> cluster_labels() const { return members_.labels(); }
+  std::vector<std::size_t> cluster_sizes() const;          // index = label of cluster_labels()
+  std::uint32_t largest_cluster() const;                   // a cluster id
+  std::vector<Vector3> cluster_positions(std::uint32_t cluster) const;  // contiguous (unwrapped)
+  std::uint32_t cluster_of(std::uint32_t particle) const { return members_.cluster_of(particle); }
+  // max over all pairs of 1 − |Δx|/2R (0 if no pair overlaps); O(N) with the cell list.
+  double largest_overlap() const;
+
+ private:
+  Vector3 cluster_origin(std::uint32_t cluster) const;  // origin at time now_
+  void bring_to_now(std::uint32_t cluster);
+  std::uint64_t new_stamp() { return next_stamp_++; }
+  bool valid(const Event& e) const;
+  void process(const Event& e);
+  void collide(std::uint32_t i, std::uint32_t j);
+  void merge(std::uint32_t i, std::uint32_t j, const Vector3& contact);
+  void cross(std::uint32_t particle, int axis, int direction);
+  void reflect(std::uint32_t cluster, int axis);
+  void predict_cluster(std::uint32_t cluster);
+  void predict_crossing(std::uint32_t particle);
+  // Contacts of `particle` with particles of other clusters in the stencil cells (only those on side
+  // `direction` of `axis` when axis >= 0; only partners > particle when `higher_only`).
+  void predict_collisions(std::uint32_t particle, int axis = -1, int direction = 0, bool higher_only = false);
+  void predict_wall(std::uint32_t cluster);
+  Vector3 separation(std::uint32_t i, const Vector3& xi, std::uint32_t j, const CellCoords& offset) const;
+  void maybe_compact();
+
+  CellGrid grid_;
+  double radius_;
+  bool sticking_;
+  CellList cells_;
+  ClusterMembership members_;
+  // Per particle: offset from its cluster's origin, cell, collisions so far (thermalisation).
+  std::vector<Vector3> offset_;
+  std::vector<CellCoords> cell_;
+  std::vector<std::uint32_t> collisions_;
+  // Per cluster (id = a particle id): origin at time clock_, velocity, stamp, extent of the offsets.
+  std::vector<Vector3> origin_, velocity_, low_, high_;
+  std::vector<long double> clock_;
+  std::vector<std::uint64_t> stamp_;
+  std::uint64_t next_stamp_ = 1;
+  EventQueue queue_;
+  std::size_t compact_at_ = 0;
+  long double now_ = 0, clock_origin_ = 0;
+  Vector3 wall_impulse_{0, 0, 0};
+  std::size_t thermal_target_ = 0, thermal_pending_ = 0;
+  EdCounters counters_;
+};
+
+}  // namespace aggkit

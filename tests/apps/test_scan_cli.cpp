@@ -1,0 +1,200 @@
+// `aggkit scan` end to end: the same CSV from one process and from `mpirun -np 2`, resumption after an
+// interruption without recomputing finished points, the phase diagram, and bad input (exit 2).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <cstdlib>
+#include <sys/wait.h>
+#include <thread>
+
+#include "tests/validation/scene_fixture.hpp"
+
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int exit_code;
+  std::string err;
+};
+
+std::string quoted(const std::string& word) {
+  std::string q = "'";
+  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// FFTW's measured plans may differ between processes (and so the last bits of a run); estimated plans
+// make every process compute the same numbers.
+const std::string environment = "AGGKIT_FFT_PLANNING=estimate";
+
+std::string scan_command(const std::string& prefix, const fs::path& scene, const fs::path& out, bool plot = false) {
+  std::string command = environment + " " + prefix + quoted(AGGKIT_CLI) + " scan " + quoted(scene.string()) +
+                        " --out " + quoted(out.string());
+  if (!plot) command += " --no-plot";
+  return command;
+}
+
+Outcome run(const std::string& command, const fs::path& folder) {
+  const auto err = folder / "stderr.txt";
+  const int status = std::system((command + " >/dev/null 2>" + quoted(err.string())).c_str());
+  REQUIRE(WIFEXITED(status));
+  return {WEXITSTATUS(status), aggkit::testing::read_text(err)};
+}
+
+std::string mpirun(int ranks) {
+  return quoted(AGGKIT_MPIEXEC) + " --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
+}
+
+// 3 x 3 points at N = 128 (cutoff: mass conserved), t up to 100: steady, damped and monotone regimes, each
+// point a few hundredths of a second.
+const char* const small_scan = R"(
+name = "small-scan"
+[model]
+kernel = { name = "brownian", a = 0.9 }
+size = 128
+truncation = "cutoff"
+[time]
+end = 100.0
+every = 1.0
+[scan]
+a = { from = 0.6, to = 0.9, count = 3 }
+lambda = { from = 0.01, to = 1.0, count = 3, spacing = "log" }
+)";
+
+std::map<std::string, std::string> point_files(const fs::path& out) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::directory_iterator(out / "points"))
+    if (entry.path().extension() == ".csv") files[entry.path().filename().string()] = aggkit::testing::read_text(entry.path());
+  return files;
+}
+
+std::size_t lines(const std::string& text) { return std::size_t(std::count(text.begin(), text.end(), '\n')); }
+
+}  // namespace
+
+TEST_CASE("scan cli: one process and mpirun -np 2 write the same scan.csv and lambda_crit.csv") {
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-mpi");
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", small_scan);
+  const Outcome single = run(scan_command("", scene, folder / "single"), folder);
+  REQUIRE(single.exit_code == 0);
+  const Outcome two = run(scan_command(mpirun(2), scene, folder / "two"), folder);
+  INFO(two.err);
+  REQUIRE(two.exit_code == 0);
+  const std::string csv = aggkit::testing::read_text(folder / "single" / "scan.csv");
+  CHECK(lines(csv) == 10);  // header + 9 points
+  CHECK(aggkit::testing::first_line(folder / "single" / "scan.csv").rfind("a,lambda,regime,period,amplitude,", 0) == 0);
+  CHECK(csv == aggkit::testing::read_text(folder / "two" / "scan.csv"));
+  CHECK(aggkit::testing::read_text(folder / "single" / "lambda_crit.csv") ==
+        aggkit::testing::read_text(folder / "two" / "lambda_crit.csv"));
+  CHECK(aggkit::testing::first_line(folder / "two" / "lambda_crit.csv").rfind("a,lambda_crit,", 0) == 0);
+  // Both ranks computed points.
+  const std::string timing = aggkit::testing::read_text(folder / "two" / "timing.csv");
+  CHECK_THAT(timing, Contains(",0\n") && Contains(",1\n"));
+  CHECK_THAT(two.err, Contains("[rank 1]"));
+}
+
+TEST_CASE("scan cli: an interrupted scan resumes without recomputing its finished points") {
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-resume");
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", small_scan);
+  const auto out = folder / "out";
+  REQUIRE(run(scan_command("", scene, out), folder).exit_code == 0);
+  const std::string complete = aggkit::testing::read_text(out / "scan.csv");
+  auto before = point_files(out);
+  REQUIRE(before.size() == 9);
+
+  // Interrupted: two points lost, scan.csv not yet written, a half-written point file left behind.
+  const std::string lost1 = before.begin()->first, lost2 = std::next(before.begin(), 4)->first;
+  fs::remove(out / "points" / lost1);
+  fs::remove(out / "points" / lost2);
+  fs::remove(out / "scan.csv");
+  aggkit::testing::write_text(out / "points" / (lost1 + ".partial"), "a,lambda,regime\n0.6,");
+  const Outcome resumed = run(scan_command("", scene, out, /*plot=*/true), folder);
+  INFO(resumed.err);
+  REQUIRE(resumed.exit_code == 0);
+  CHECK_THAT(resumed.err, Contains("9 runs, 7 finished earlier, 2 to compute"));
+  const auto after = point_files(out);
+  REQUIRE(after.size() == 9);
+  // Finished points were not recomputed: their files (with the wall time of their run) are unchanged.
+  for (const auto& [name, text] : before)
+    if (name != lost1 && name != lost2) CHECK(after.at(name) == text);
+  CHECK(aggkit::testing::read_text(out / "scan.csv") == complete);
+  // The phase diagram is a PNG.
+  CHECK(aggkit::testing::read_text(out / "phase_diagram.png").substr(1, 3) == "PNG");
+
+  // A changed scene (here the time grid) does not reuse the old points.
+  const auto changed = aggkit::testing::write_text(folder / "changed.toml",
+                                                   std::string(small_scan).replace(std::string(small_scan).find("end = 100.0"), 11, "end = 90.0"));
+  const Outcome rerun = run(scan_command("", changed, out), folder);
+  REQUIRE(rerun.exit_code == 0);
+  CHECK_THAT(rerun.err, Contains("earlier results discarded") && Contains("0 finished earlier, 9 to compute"));
+}
+
+TEST_CASE("scan cli: a scan killed while running continues from its finished points") {
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-kill");
+  // 8 points of ~0.1-0.5 s (N = 512): long enough to be killed midway.
+  std::string text = small_scan;
+  text.replace(text.find("size = 128"), 10, "size = 512");
+  text.replace(text.find("end = 100.0"), 11, "end = 400.0");
+  text.replace(text.find("count = 3 }\nlambda"), 9, "count = 2");
+  text.replace(text.find("count = 3, spacing"), 9, "count = 4");
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", text);
+  const auto out = folder / "out";
+  const auto pid_file = folder / "pid";
+  std::system((scan_command("", scene, out) + " >/dev/null 2>" + quoted((folder / "kill.txt").string()) + " & echo $! > " + quoted(pid_file.string())).c_str());
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  std::size_t finished = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (fs::exists(out / "points")) finished = point_files(out).size();
+    if (finished >= 1) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  INFO(aggkit::testing::read_text(folder / "kill.txt"));
+  REQUIRE(finished >= 1);
+  std::system(("kill -KILL $(cat " + quoted(pid_file.string()) + ") 2>/dev/null; sleep 0.2").c_str());
+  const auto survivors = point_files(out);
+  const Outcome resumed = run(scan_command("", scene, out), folder);
+  INFO(resumed.err);
+  REQUIRE(resumed.exit_code == 0);
+  CHECK_THAT(resumed.err, Contains("8 runs, " + std::to_string(survivors.size()) + " finished earlier"));
+  const auto after = point_files(out);
+  CHECK(after.size() == 8);
+  for (const auto& [name, content] : survivors) CHECK(after.at(name) == content);
+  CHECK(lines(aggkit::testing::read_text(out / "scan.csv")) == 9);
+}
+
+TEST_CASE("scan cli: bad input exits 2 naming the key and the value") {
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-bad");
+  const auto replace = [](std::string text, const std::string& from, const std::string& to) {
+    return text.replace(text.find(from), from.size(), to);
+  };
+  struct Case {
+    std::string text, key, value;
+  };
+  const std::vector<Case> cases{
+      {replace(small_scan, "from = 0.6, to = 0.9", "from = 0.6, to = 1.5"), "scan.a[1]", "1.05"},
+      {replace(small_scan, "from = 0.01, to = 1.0", "from = 1.0, to = 0.01"), "scan.lambda.to", "0.01"},
+      {replace(small_scan, "count = 3, spacing", "count = 0, spacing"), "scan.lambda.count", "0"},
+      {replace(small_scan, "from = 0.01, to = 1.0", "from = -0.01, to = 1.0"), "scan.lambda.from", "-0.01"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    INFO(cases[i].text);
+    const auto scene = aggkit::testing::write_text(folder / ("bad" + std::to_string(i) + ".toml"), cases[i].text);
+    const Outcome bad = run(scan_command("", scene, folder / "out"), folder);
+    CHECK(bad.exit_code == 2);
+    CHECK_THAT(bad.err, Contains("aggkit: error: " + cases[i].key) && Contains(cases[i].value));
+  }
+  CHECK_FALSE(fs::exists(folder / "out"));
+  // An output folder that cannot be created (its parent is a file), also under mpirun.
+  const auto scene = aggkit::testing::write_text(folder / "good.toml", small_scan);
+  aggkit::testing::write_text(folder / "file", "not a folder");
+  const Outcome unwritable = run(scan_command("", scene, folder / "file" / "out"), folder);
+  CHECK(unwritable.exit_code == 2);
+  CHECK_THAT(unwritable.err, Contains("--out") && Contains("file/out"));
+  const Outcome unwritable_mpi = run(scan_command(mpirun(2), scene, folder / "file" / "out"), folder);
+  CHECK(unwritable_mpi.exit_code == 2);
+  CHECK_THAT(unwritable_mpi.err, Contains("--out"));
+}

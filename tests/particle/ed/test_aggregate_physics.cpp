@@ -1,0 +1,68 @@
+// Physics of the final aggregates in 2-D (Degond, Dimarco, Ferreira & Hecht, PUBLISHED.md B; González,
+// Thornton & Luding, PUBLISHED.md C): contacts per sphere and the growth of the fractal dimension with the
+// volume fraction. Reflecting walls, square-lattice start, unit speed with uniform random directions.
+#include <catch2/catch.hpp>
+
+#include "analysis/fractal_dimension.hpp"
+#include "analysis/shape.hpp"
+#include "particle/common/initial_state.hpp"
+#include "particle/ed/ed_configuration.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+EventDrivenAggregation aggregate(std::size_t count, double nu, std::uint64_t seed) {
+  const double radius = 0.2;  // as in B
+  const double side = box_side_for_volume_fraction(2, count, radius, nu);
+  const Box box{2, {side, side, 0}, Boundary::reflecting};
+  EventDrivenAggregation ed(box, radius, lattice_positions(box, count, radius),
+                            initial_velocities(2, count, VelocityLaw::fixed_speed, 1.0, seed));
+  ed.advance(1e12, 1);
+  return ed;
+}
+
+}  // namespace
+
+TEST_CASE("contacts of final aggregates: one contact per merge, few near contacts", "[ed][physics]") {
+  // Hit-and-stick merging creates exactly one contact per merge (two simultaneous contacts have probability
+  // zero), so the contact graph at |Xi − Xj| = 2R is a spanning tree: N_c(α_R = 2) = 2(N − 1)/(N N_max)
+  // exactly. Near contacts within 5 % of a diameter (α_R = 2.1, the published indicator) add little.
+  // Published B reports N_c ≈ 0.5 for ED and TS; this engine measures ≈ 0.345 at α_R = 2.1 (≈ 0.5 only at
+  // α_R ≈ 3): see the issue-5 ED report — the test checks what the model implies, not the published value.
+  for (std::size_t count : {400u, 2500u}) {
+    for (double nu : {0.1, 0.3}) {
+      INFO("N = " << count << ", nu = " << nu);
+      const auto ed = aggregate(count, nu, 11);
+      REQUIRE(ed.clusters() == 1);
+      const ParticleConfiguration config = configuration(ed);
+      const double tree = 2.0 * double(count - 1) / double(count) / 6.0;
+      // 1e-6 R above contact: contacts are exact to ~1e-12 R (overlap_tolerance), gaps between non-touching
+      // particles are generically far larger.
+      CHECK(relative_contacts(config, 2.0 + 1e-6) == Approx(tree).epsilon(1e-12));
+      const double near = relative_contacts(config, 2.1);
+      CHECK(near >= tree);
+      CHECK(near <= tree + 0.05);
+    }
+  }
+}
+
+TEST_CASE("fractal dimension of the final aggregate grows with the volume fraction", "[ed][physics]") {
+  // Mass–radius dimension, N = 2500, mean of 2 realizations: measured 1.61 (ν = 0.02) and 1.87 (ν = 0.3)
+  // with fit errors ~0.02–0.03 and realization spread ~0.05; published C: 1.4 ≲ d_f ≤ 2 rising with density.
+  // The margin 0.15 is 3× the spread.
+  const auto dimension = [](double nu) {
+    double sum = 0;
+    for (std::uint64_t seed : {3u, 4u}) {
+      const auto ed = aggregate(2500, nu, seed);
+      const auto points = ed.cluster_positions(ed.largest_cluster());
+      sum += mass_radius_dimension(points, 2, ed.radius()).dimension / 2;
+    }
+    return sum;
+  };
+  const double dilute = dimension(0.02), dense = dimension(0.3);
+  INFO("d_f(0.02) = " << dilute << ", d_f(0.3) = " << dense);
+  CHECK(dilute > 1.4);
+  CHECK(dense < 2.0);
+  CHECK(dense > dilute + 0.15);
+}

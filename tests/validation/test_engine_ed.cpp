@@ -1,0 +1,128 @@
+// The ed engine through the harness: [particles] and observe.final parsing, bad input, the output contract
+// (series.csv header and values, final.json keys, stderr with realizations) and the physics it reports.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/input_error.hpp"
+#include "tests/validation/scene_fixture.hpp"
+#include "validation/harness.hpp"
+
+using namespace aggkit;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string ed_scene(const std::string& particles_extra = "", const std::string& engine_extra = "stop = \"one_cluster\"\n",
+                     const std::string& observe = "series = [\"clusters\", \"kinetic_energy\", \"mean_cluster_size\", \"M0\", \"M1\"]\n"
+                                                  "final = [\"clusters\", \"contacts\", \"fractal_dimension_mass\", \"aspect_ratio\"]\n") {
+  return "name = \"ed-test\"\n[particles]\ndimension = 2\ncount = 100\nradius = 0.5\nvolume_fraction = 0.2\n"
+         "boundary = \"reflecting\"\ninitial = { lattice = \"square\", speed = 1.0, directions = \"uniform\" }\n" +
+         particles_extra + "\n[time]\nend = 5.0\noutputs = [1.0, 2.0, 5.0]\n\n[[engine]]\nname = \"ed\"\n" + engine_extra +
+         "\n[observe]\n" + observe;
+}
+
+RunOptions quiet(const std::filesystem::path& out) {
+  RunOptions options;
+  options.out = out;
+  options.plot = false;
+  options.report = nullptr;
+  options.progress = nullptr;
+  options.warnings = nullptr;
+  return options;
+}
+
+void check_bad(const std::string& text, const std::string& key, const std::string& value) {
+  INFO(text);
+  try {
+    parse_scene(text);
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    CHECK(e.key() == key);
+    CHECK_THAT(std::string(e.what()), Contains(value));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed][harness]") {
+  const auto out = aggkit::testing::scratch_folder("ed-contract");
+  const Scene scene = parse_scene(ed_scene("realizations = 3\nseed = 5\n"));
+  REQUIRE(scene.particles);
+  CHECK_FALSE(scene.has_model);
+  const RunResult result = run_scene(scene, quiet(out));
+  REQUIRE(result.records.size() == 1);
+  REQUIRE(result.records[0].completed());
+  CHECK(aggkit::testing::first_line(out / "ed" / "series.csv") == "t,clusters,kinetic_energy,mean_cluster_size,M0,M1");
+  const auto& values = result.records[0].values;
+  REQUIRE(values.size() == 3);
+  double previous_energy = 50.0;  // ½ N v² at the start
+  for (const auto& row : values) {
+    CHECK(row[0] >= 1.0);
+    CHECK(row[0] <= 100.0);
+    CHECK(row[1] <= previous_energy * (1 + 1e-12));  // inelastic merging: energy never grows
+    previous_energy = row[1];
+    CHECK(row[2] == Approx(100.0 / row[0]).epsilon(0.5));  // N/C per realization, averaged: close to N/mean C
+    CHECK(row[3] == Approx(row[0] / 100.0).epsilon(1e-12));  // M0 = C/N
+    CHECK(row[4] == Approx(1.0).epsilon(1e-12));             // M1 = 1: mass conservation
+  }
+  std::ifstream in(out / "ed" / "final.json");
+  const auto final = nlohmann::json::parse(in);
+  for (const char* key : {"clusters", "contacts", "fractal_dimension_mass", "aspect_ratio", "events", "wall_seconds",
+                          "momentum_drift", "clusters_stderr", "contacts_stderr", "events_stderr"})
+    CHECK(final.contains(key));
+  CHECK(final["clusters"].get<double>() == 1.0);
+  CHECK(final["clusters_stderr"].get<double>() == 0.0);
+  CHECK(final["realizations"].get<int>() == 3);
+  // Momentum plus wall impulse is conserved to round-off (relative to Σ m|v|).
+  CHECK(final["momentum_drift"].get<double>() < 1e-13);
+  // Hit-and-stick merging makes one contact per merge: at least the tree value 2(N−1)/(N·6) = 0.33.
+  CHECK(final["contacts"].get<double>() >= 2.0 * 99 / 100 / 6 - 1e-12);
+  CHECK_FALSE(std::filesystem::exists(out / "ed" / "final.vtu"));  // snapshots not requested
+}
+
+TEST_CASE("ed: without stop the run ends at time.end; { clusters = K } stops at K", "[ed][harness]") {
+  const auto out = aggkit::testing::scratch_folder("ed-stop");
+  const RunResult by_time = run_scene(parse_scene(ed_scene("", "", "series = [\"clusters\"]\n")), quiet(out));
+  REQUIRE(by_time.records[0].completed());
+  CHECK(by_time.records[0].values.back()[0] > 1.0);  // 100 particles do not reach one cluster by t = 5
+  const RunResult by_count =
+      run_scene(parse_scene(ed_scene("", "stop = { clusters = 50 }\n", "series = [\"clusters\"]\nfinal = [\"clusters\"]\n")),
+                quiet(out));
+  std::ifstream in(out / "ed" / "final.json");
+  CHECK(nlohmann::json::parse(in)["clusters"].get<double>() == 50.0);
+}
+
+TEST_CASE("ed: snapshots write final.vtu", "[ed][harness]") {
+  const auto out = aggkit::testing::scratch_folder("ed-snapshot");
+  run_scene(parse_scene(ed_scene("", "stop = \"one_cluster\"\n", "series = [\"clusters\"]\nsnapshots = true\n")), quiet(out));
+  CHECK(std::filesystem::exists(out / "ed" / "final.vtu"));
+  CHECK(std::filesystem::exists(out / "ed" / "final.json"));
+}
+
+TEST_CASE("ed: bad [particles], stop and observe input name the key", "[ed][harness]") {
+  check_bad(ed_scene("", "stop = \"never\"\n"), "engine[0].stop", "never");
+  check_bad(ed_scene("", "stop = { clusters = 1000 }\n"), "engine[0].stop.clusters", "1000");
+  check_bad(ed_scene("thermalize = -1\n"), "particles.thermalize", "-1");
+  check_bad(ed_scene("", "", "series = [\"clusters\"]\nfinal = [\"temperature\"]\n"), "observe.final[0]", "temperature");
+  const std::string base = ed_scene();
+  auto replace = [&](const std::string& from, const std::string& to) {
+    std::string s = base;
+    s.replace(s.find(from), from.size(), to);
+    return s;
+  };
+  check_bad(replace("boundary = \"reflecting\"", "boundary = \"sticky\""), "particles.boundary", "sticky");
+  check_bad(replace("dimension = 2", "dimension = 4"), "particles.dimension", "4");
+  check_bad(replace("volume_fraction = 0.2", "volume_fraction = 0.9"), "particles.volume_fraction", "0.9");
+  check_bad(replace("volume_fraction = 0.2", "volume_fraction = 0.2\nbox = 10.0"), "particles.box", "10");
+  check_bad(replace("directions = \"uniform\"", "directions = \"gaussian\""), "particles.initial.directions", "gaussian");
+  check_bad(replace("lattice = \"square\"", "lattice = \"hexagonal\""), "particles.initial.lattice", "hexagonal");
+  // A kinetic engine needs [model]; the ed engine needs [particles].
+  check_bad(replace("name = \"ed\"", "name = \"cvode\""), "engine[0].name", "cvode");
+  check_bad("name = \"x\"\n[model]\nkernel = { name = \"constant\" }\nsize = 10\n[time]\nend = 1.0\n[[engine]]\nname = \"ed\"\n"
+            "[observe]\nseries = [\"M0\"]\n",
+            "engine[0].name", "ed");
+}

@@ -1,0 +1,130 @@
+// Particle snapshots: the .vtu parses as VTK XML with the right structure and counts (checked by Python's
+// XML parser, an independent reader), and the cluster picture is a PNG whenever matplotlib is present.
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+
+#include "analysis/input_error.hpp"
+#include "tests/validation/scene_fixture.hpp"
+#include "validation/child_process.hpp"
+#include "validation/particle_snapshot.hpp"
+#include "validation/plot.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+ParticleConfiguration five_particles(int dimension) {
+  ParticleConfiguration c;
+  c.dimension = dimension;
+  c.radius = 0.25;
+  c.box = {4, 4, 4};
+  c.periodic = true;
+  c.positions = {{0.5, 0.5, 1}, {1.0, 0.5, 1}, {3.9, 2, 1.5}, {0.1, 2, 1.5}, {2, 3.25, 0.125}};
+  return c;
+}
+
+// Python's ElementTree reads the file; the script prints one line per DataArray: its name, type,
+// NumberOfComponents and the number of values, plus the Piece counts and the first values.
+const char* vtu_reader = R"(
+import sys, xml.etree.ElementTree as ET
+root = ET.parse(sys.argv[1]).getroot()
+assert root.tag == 'VTKFile' and root.get('type') == 'UnstructuredGrid', root.attrib
+piece = root.find('UnstructuredGrid/Piece')
+print('piece', piece.get('NumberOfPoints'), piece.get('NumberOfCells'))
+for section in ('PointData', 'Points', 'Cells'):
+    for array in piece.find(section).findall('DataArray'):
+        values = array.text.split()
+        print(section, array.get('Name', '-'), array.get('type'), array.get('NumberOfComponents', '1'),
+              len(values), ' '.join(values[:6]))
+)";
+
+std::string read_with_python(const std::filesystem::path& vtu) {
+  const ProcessOutcome run = run_process({plot_interpreter(), "-c", vtu_reader, vtu.string()}, std::chrono::seconds(60));
+  INFO(run.output);
+  REQUIRE(run.succeeded());
+  return run.output;
+}
+
+bool matplotlib_available() {
+  return run_process({plot_interpreter(), "-c", "import matplotlib, numpy"}, std::chrono::seconds(60)).succeeded();
+}
+
+}  // namespace
+
+TEST_CASE("particle snapshot: the .vtu is well-formed VTK XML with one vertex per particle") {
+  const auto folder = aggkit::testing::scratch_folder("particle-snapshot-vtu");
+  const auto c = five_particles(3);
+  const std::vector<std::uint32_t> cluster{0, 0, 1, 1, 2};
+  const std::vector<std::array<double, 3>> velocity{{1, 0, 0}, {1, 0, 0}, {-0.5, 0.25, 2}, {-0.5, 0.25, 2}, {0, 0, 0}};
+  write_vtu_snapshot(folder / "with-velocity.vtu", c, cluster, velocity);
+  CHECK(read_with_python(folder / "with-velocity.vtu") ==
+        "piece 5 5\n"
+        "PointData cluster Int32 1 5 0 0 1 1 2\n"
+        "PointData radius Float64 1 5 0.25 0.25 0.25 0.25 0.25\n"
+        "PointData velocity Float64 3 15 1 0 0 1 0 0\n"
+        "Points - Float64 3 15 0.5 0.5 1 1 0.5 1\n"
+        "Cells connectivity Int64 1 5 0 1 2 3 4\n"
+        "Cells offsets Int64 1 5 1 2 3 4 5\n"
+        "Cells types UInt8 1 5 1 1 1 1 1\n");
+
+  // 2-D, no velocity: z is written as 0 and there is no velocity array.
+  write_vtu_snapshot(folder / "plain.vtu", five_particles(2), cluster);
+  CHECK(read_with_python(folder / "plain.vtu") ==
+        "piece 5 5\n"
+        "PointData cluster Int32 1 5 0 0 1 1 2\n"
+        "PointData radius Float64 1 5 0.25 0.25 0.25 0.25 0.25\n"
+        "Points - Float64 3 15 0.5 0.5 0 1 0.5 0\n"
+        "Cells connectivity Int64 1 5 0 1 2 3 4\n"
+        "Cells offsets Int64 1 5 1 2 3 4 5\n"
+        "Cells types UInt8 1 5 1 1 1 1 1\n");
+  // Only the two snapshots are there (no temporary files left behind).
+  CHECK(std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator()) == 2);
+}
+
+TEST_CASE("particle snapshot: sizes that do not match the particles are an input error") {
+  const auto folder = aggkit::testing::scratch_folder("particle-snapshot-bad");
+  const auto c = five_particles(2);
+  const std::vector<std::uint32_t> short_labels{0, 1};
+  CHECK_THROWS_AS(write_vtu_snapshot(folder / "bad.vtu", c, short_labels), InputError);
+  const std::vector<std::uint32_t> labels{0, 1, 2, 3, 4};
+  const std::vector<std::array<double, 3>> velocity{{1, 0, 0}};
+  CHECK_THROWS_WITH(write_vtu_snapshot(folder / "bad.vtu", c, labels, velocity), Catch::Contains("velocity"));
+  CHECK_THROWS_AS(write_cluster_picture(folder / "bad.png", c, short_labels), InputError);
+  CHECK(std::filesystem::is_empty(folder));
+}
+
+TEST_CASE("particle snapshot: the cluster picture is a PNG when matplotlib is present") {
+  const auto folder = aggkit::testing::scratch_folder("particle-snapshot-png");
+  const std::vector<std::uint32_t> cluster{0, 0, 1, 1, 2};
+  if (!matplotlib_available()) {
+    WARN("matplotlib is not available to " << plot_interpreter() << ": the picture is not tested");
+    return;
+  }
+  for (int dimension : {2, 3}) {
+    const auto png = folder / ("clusters-" + std::to_string(dimension) + "d.png");
+    std::string error;
+    CHECK(write_cluster_picture(png, five_particles(dimension), cluster, &error));
+    INFO(error);
+    CHECK(error.empty());
+    std::ifstream in(png, std::ios::binary);
+    char signature[8] = {};
+    in.read(signature, 8);
+    CHECK(std::string(signature, 8) == "\x89PNG\r\n\x1a\n");
+  }
+  CHECK(std::distance(std::filesystem::directory_iterator(folder), std::filesystem::directory_iterator()) == 2);
+}
+
+TEST_CASE("particle snapshot: a plotter that fails gives a message, not an exception or a file") {
+  const auto folder = aggkit::testing::scratch_folder("particle-snapshot-png-failure");
+  const std::vector<std::uint32_t> cluster{0, 0, 1, 1, 2};
+  ::setenv("AGGKIT_CLUSTER_PLOT_SCRIPT", (folder / "no-such-script.py").c_str(), 1);
+  std::string error;
+  const bool written = write_cluster_picture(folder / "clusters.png", five_particles(2), cluster, &error);
+  ::unsetenv("AGGKIT_CLUSTER_PLOT_SCRIPT");
+  CHECK_FALSE(written);
+  CHECK_THAT(error, Catch::Contains("no-such-script.py"));
+  CHECK(std::filesystem::is_empty(folder));
+}

@@ -1,0 +1,69 @@
+#!/usr/bin/env python3
+"""Phase diagram of an aggkit scan: the regime of every (a, lambda) point (scan.csv) and the lambda_crit(a)
+curve with its error bars (lambda_crit.csv). Called by `aggkit scan`; runs with Debian's python3-matplotlib."""
+import argparse
+import csv
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+STYLE = {
+    "sustained": dict(color="tab:red", marker="o", label="sustained"),
+    "damped": dict(color="tab:blue", marker="s", label="damped"),
+    "steady": dict(color="tab:green", marker="^", label="steady"),
+    "irregular": dict(color="tab:gray", marker="x", label="irregular"),
+}
+
+
+def number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--scan", required=True)
+    parser.add_argument("--lambda-crit", required=True)
+    parser.add_argument("--output", required=True)
+    parser.add_argument("--title", default="scan")
+    parser.add_argument("--log-lambda", action="store_true")
+    args = parser.parse_args()
+
+    with open(args.scan, newline="") as f:
+        points = list(csv.DictReader(f))
+    with open(args.lambda_crit, newline="") as f:
+        crit = list(csv.DictReader(f))
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for regime, style in STYLE.items():
+        xs = [number(p["a"]) for p in points if p["regime"] == regime]
+        ys = [number(p["lambda"]) for p in points if p["regime"] == regime]
+        if xs:
+            ax.scatter(xs, ys, s=28, color=style["color"], marker=style["marker"], label=style["label"])
+    rows = [r for r in crit if not math.isnan(number(r["lambda_crit"]))]
+    if rows:
+        a = [number(r["a"]) for r in rows]
+        lc = [number(r["lambda_crit"]) for r in rows]
+        err = [number(r["lambda_crit_error"]) for r in rows]
+        err = [0.0 if math.isnan(e) else e for e in err]
+        method = rows[0]["method"]
+        ax.errorbar(a, lc, yerr=err, color="black", lw=1.5, capsize=3,
+                    label="lambda_crit(a) (%s)" % method)
+    if args.log_lambda:
+        ax.set_yscale("log")
+    ax.set_xlabel("a  (kernel (i/j)^a + (j/i)^a)")
+    ax.set_ylabel("lambda (shattering rate)")
+    ax.set_title(args.title)
+    ax.legend(fontsize=8, loc="best")
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(args.output, dpi=120, format="png")
+
+
+if __name__ == "__main__":
+    main()

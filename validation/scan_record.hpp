@@ -1,0 +1,40 @@
+#pragma once
+// One scan point's result: a row of DIR/scan.csv, and the file DIR/points/<index>.csv that marks the
+// point finished (so an interrupted scan resumes without recomputing it).
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <string>
+
+namespace aggkit {
+
+struct ScanRecord {
+  static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  std::size_t index = 0;
+  double a = 0, lambda = 0;
+  std::size_t size = 0;                // truncation N of the run
+  // The time-series classification of the scan's moment (analysis/oscillation.hpp).
+  std::string regime;                  // steady | damped | sustained (irregular: no verdict)
+  double period = nan, amplitude = nan, mean = nan;
+  double decay_rate = nan, decay_rate_error = nan;
+  std::size_t cycles = 0;
+  bool converged = false;
+  // Linear stability of the steady state (empty where not computed).
+  std::string regime_stability;        // steady | damped | sustained, from the rightmost eigenvalue
+  double rightmost_real = nan, rightmost_imag = nan;
+  std::string agree;                   // yes | no | "" (no stability verdict)
+  std::string note;                    // commas and line breaks replaced
+  // Not in scan.csv (so that it is reproducible): where and how long.
+  double seconds = 0;
+  int rank = 0;
+};
+
+// The header and a row of scan.csv (full precision: a resumed scan writes the same bytes).
+std::string scan_csv_header();
+std::string scan_csv_row(const ScanRecord& record);
+// The point file: the scan.csv header and row plus `seconds,rank`.
+std::string point_file_text(const ScanRecord& record);
+// Reads a point file's text back; std::nullopt if it is not a complete point file of this format.
+std::optional<ScanRecord> parse_point_file(const std::string& text);
+
+}  // namespace aggkit
