@@ -1,0 +1,76 @@
+// Dilute 2-D ballistic aggregation (González, Thornton & Luding, PUBLISHED.md C): kinetic energy E(t) and
+// mean cluster size S(t) = N/C, fitted as E ∝ t^{-δ} and S ∝ t^{ζ} (mean field: ζ = 1 in 2-D) by least squares
+// in log-log over t in [T1, T2] (log-spaced outputs), with the standard error of the slope.
+//   bench_ed_decay N NU THERMALIZE T1 T2 [SEED]   (periodic, uniform velocity components, zero momentum)
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "bench/ed_common.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+struct Fit {
+  double slope, error;
+};
+
+Fit fit_loglog(const std::vector<double>& x, const std::vector<double>& y) {
+  const std::size_t n = x.size();
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < n; ++i) mx += std::log(x[i]) / n, my += std::log(y[i]) / n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sxx += (std::log(x[i]) - mx) * (std::log(x[i]) - mx);
+    sxy += (std::log(x[i]) - mx) * (std::log(y[i]) - my);
+  }
+  const double slope = sxy / sxx;
+  double rss = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = std::log(y[i]) - my - slope * (std::log(x[i]) - mx);
+    rss += r * r;
+  }
+  return {slope, std::sqrt(rss / double(n - 2) / sxx)};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 6) {
+    std::fprintf(stderr, "usage: %s N NU THERMALIZE T1 T2 [SEED]\n", argv[0]);
+    return 2;
+  }
+  const auto n = std::size_t(std::atof(argv[1]));
+  const double nu = std::atof(argv[2]);
+  const auto thermalize = std::size_t(std::atoi(argv[3]));
+  const double t1 = std::atof(argv[4]), t2 = std::atof(argv[5]);
+  const std::uint64_t seed = argc > 6 ? std::uint64_t(std::atoll(argv[6])) : 1;
+  bench::print_load();
+  auto ed = bench::make_ed(2, n, nu, Boundary::periodic, true, seed, VelocityLaw::uniform_components);
+  const auto start = std::chrono::steady_clock::now();
+  ed.thermalize(thermalize);
+  const double e0 = ed.kinetic_energy();
+  std::printf("# N %zu nu %g periodic, thermalised %zu collisions/particle; t E/E0 S=N/C\n", n, nu, thermalize);
+  std::vector<double> ts, es, ss;
+  const double t_first = t1 / 100;
+  for (double t = t_first; t <= t2 * 1.0001 && ed.clusters() > 1; t *= std::pow(10.0, 0.1)) {
+    ed.advance(t, 1);
+    const double e = ed.kinetic_energy() / e0, s = double(n) / double(ed.clusters());
+    std::printf("%12.5g %12.5g %12.5g\n", t, e, s);
+    if (t >= t1 * 0.9999) {
+      ts.push_back(t);
+      es.push_back(e);
+      ss.push_back(s);
+    }
+  }
+  const double seconds = bench::seconds_since(start);
+  if (ts.size() >= 3) {
+    const Fit e = fit_loglog(ts, es), s = fit_loglog(ts, ss);
+    std::printf("# fit t in [%g, %g], %zu points: delta = %.3f +- %.3f, zeta = %.3f +- %.3f\n", ts.front(), ts.back(),
+                ts.size(), -e.slope, e.error, s.slope, s.error);
+  }
+  std::printf("# %.1f s, %llu events\n", seconds, (unsigned long long)ed.counters().events());
+  bench::print_load();
+}
