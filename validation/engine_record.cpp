@@ -18,6 +18,19 @@ void record_state(EngineRecord& record, const Scene& scene, double t, const Syst
   std::vector<double> row;
   row.reserve(scene.observe.series.size());
   for (const auto& observable : scene.observe.series) row.push_back(observable.evaluate(state));
+  const std::size_t runs = state.realisations();
+  if (runs > 1) {
+    std::vector<double> errors;
+    for (std::size_t j = 0; j < scene.observe.series.size(); ++j) {
+      double squares = 0.0;
+      for (std::size_t r = 0; r < runs; ++r) {
+        const double deviation = scene.observe.series[j].evaluate(state.realisation(r)) - row[j];
+        squares += deviation * deviation;
+      }
+      errors.push_back(std::sqrt(squares / double(runs - 1) / double(runs)));
+    }
+    record.standard_errors.push_back(std::move(errors));
+  }
   record.times.push_back(output_time);
   record.values.push_back(std::move(row));
   record.final_mass_leak = state.leaked_mass();

@@ -21,6 +21,9 @@ struct EngineRecord {
   std::string description;
   std::vector<double> times;                  // output times reached, in order
   std::vector<std::vector<double>> values;    // values[i][j]: observe.series[j] at times[i]
+  // standard_errors[i][j]: standard error of values[i][j] over an ensemble (stochastic engines with more than
+  // one realisation); empty otherwise.
+  std::vector<std::vector<double>> standard_errors;
   std::vector<DistributionRecord> distributions;
   EngineStatistics statistics;
   double wall_seconds = 0.0;
@@ -30,7 +33,9 @@ struct EngineRecord {
 };
 
 // Appends the observables of `state`, reported by the engine at time `t`, which must be the next output
-// time of the scene (std::runtime_error otherwise); keeps the distribution at a distribution time.
+// time of the scene (std::runtime_error otherwise); keeps the distribution at a distribution time. For an
+// ensemble state (realisations() > 1) also the standard error of each observable: the sample standard
+// deviation over the realisations divided by sqrt(realisations()).
 void record_state(EngineRecord& record, const Scene& scene, double t, const SystemState& state);
 
 }  // namespace aggkit

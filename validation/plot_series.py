@@ -54,7 +54,11 @@ def plot_series(axes, observable, engines, reference):
     everything_t, everything_y = [], []
     for label, (_, columns) in engines.items():
         t, y = columns["t"], columns[observable]
-        axes.plot(t, y, **style(label, reference, len(t)))
+        lines = axes.plot(t, y, **style(label, reference, len(t)))
+        if observable + "_stderr" in columns:  # an ensemble engine: shade ±2 standard errors
+            error = columns[observable + "_stderr"]
+            axes.fill_between(t, [a - 2 * e for a, e in zip(y, error)], [a + 2 * e for a, e in zip(y, error)],
+                              color=lines[0].get_color(), alpha=0.25, linewidth=0)
         everything_t += t
         everything_y += y
     times = sorted(set(everything_t))
@@ -100,7 +104,7 @@ def main():
 
     engines = {label: read_csv(path) for label, path in args.series}
     distributions = {label: read_csv(path) for label, path in args.distribution}
-    observables = next(iter(engines.values()))[0][1:]
+    observables = [name for name in next(iter(engines.values()))[0][1:] if not name.endswith("_stderr")]
     panels = len(observables) + (1 if distributions else 0)
     columns = min(3, panels)
     rows = math.ceil(panels / columns)

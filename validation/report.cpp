@@ -42,11 +42,15 @@ void print_report(std::ostream& out, const Scene& scene, const RunResult& result
         << " (largest relative error over the output times)\n";
     out << format("  %-16s %-12s %14s %12s %12s  %s\n", "engine", "observable", "max rel. error", "at t", "tolerance",
                   "result");
-    for (const auto& c : result.comparisons)
+    for (const auto& c : result.comparisons) {
+      std::string tolerance = c.tolerance ? scientific(*c.tolerance) : "-";
+      if (c.stderr_multiple) tolerance += " + " + shortest_text(*c.stderr_multiple) + " se";
+      std::string outcome = !c.tolerance ? "(reported)" : c.pass ? "PASS" : "FAIL";
+      if (!std::isnan(c.max_standard_errors)) outcome += format(" (max %.2f se)", c.max_standard_errors);
       out << format("  %-16s %-12s %14s %12s %12s  %s\n", c.engine.c_str(), c.observable.c_str(),
-                    scientific(c.max_relative_error).c_str(), shortest_text(c.time).c_str(),
-                    c.tolerance ? scientific(*c.tolerance).c_str() : "-",
-                    !c.tolerance ? "(reported)" : c.pass ? "PASS" : "FAIL");
+                    scientific(c.max_relative_error).c_str(), shortest_text(c.time).c_str(), tolerance.c_str(),
+                    outcome.c_str());
+    }
   }
   if (result.plot.status == PlotOutcome::Status::failed) out << "\nplot failed: " << result.plot.message << "\n";
   out << "\n" << (result.pass ? "PASS" : "FAIL") << "  (outputs in " << folder.root().string() << ")\n";

@@ -31,7 +31,10 @@
 //   [compare]                                      optional
 //   reference = "exact"                            an engine label
 //   tolerance = { M0 = 1e-6, M2 = 1e-6 }           max relative error over the output times, per series
-//                                                  observable; observables without one are reported only
+//                                                  observable; observables without one are reported only;
+//                                                  or { M0 = { relative = 0.01, stderr = 3 } }: at each time
+//                                                  |x - x_ref| <= relative |x_ref| + stderr σ, σ the combined
+//                                                  standard error of ensemble engines (dsmc with runs > 1)
 //
 // Unknown keys anywhere are errors.
 #include <filesystem>
@@ -69,7 +72,10 @@ struct Observation {
 
 struct Tolerance {
   std::string observable;  // a name in Observation::series
-  double relative_error;   // the largest allowed max-over-time relative error
+  double relative_error;   // the largest allowed max-over-time relative error (0 if only `stderr` is given)
+  // With `stderr = k`: at each output time |x - x_ref| may also use k combined standard errors
+  // sqrt(σ² + σ_ref²) of the two engines' ensembles (allowed: relative_error |x_ref| + k σ).
+  std::optional<double> standard_errors = std::nullopt;
 };
 
 struct ComparisonPlan {

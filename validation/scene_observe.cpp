@@ -85,7 +85,16 @@ ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
       if (!is_series(scene, name))
         throw InputError(tolerance->key(name), scene_text(value),
                          "tolerances are given for observables in observe.series: " + join(series));
-      plan.tolerances.push_back({name, tolerance->number(name, Bound::non_negative)});
+      if (value.is_table()) {
+        const SceneTable form = tolerance->table(name);
+        form.allow_only({"relative", "stderr"});
+        if (!form.contains("relative") && !form.contains("stderr"))
+          throw InputError(tolerance->key(name), scene_text(value), "a number or { relative = r, stderr = k }");
+        plan.tolerances.push_back({name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
+                                   form.optional_number("stderr", Bound::non_negative)});
+      } else {
+        plan.tolerances.push_back({name, tolerance->number(name, Bound::non_negative), std::nullopt});
+      }
     }
   }
   return plan;

@@ -10,10 +10,15 @@ void write_series_csv(const std::filesystem::path& file, const Observation& obse
   std::ostream& out = csv.stream();
   out << "t";
   for (const auto& observable : observe.series) out << ',' << observable.name();
+  const bool ensemble = !record.standard_errors.empty();
+  if (ensemble)
+    for (const auto& observable : observe.series) out << ',' << observable.name() << "_stderr";
   out << '\n';
   for (std::size_t i = 0; i < record.times.size(); ++i) {
     out << full_precision_text(record.times[i]);
     for (double value : record.values[i]) out << ',' << full_precision_text(value);
+    if (ensemble)
+      for (double error : record.standard_errors[i]) out << ',' << full_precision_text(error);
     out << '\n';
   }
   csv.commit();

@@ -1,5 +1,6 @@
 #pragma once
-// The per-engine output files: <engine>/series.csv (header `t,<observables as written in the scene>`, one
+// The per-engine output files: <engine>/series.csv (header `t,<observables as written in the scene>`, then
+// `<observable>_stderr` for each observable when the engine ran an ensemble of more than one realisation; one
 // row per output time) and <engine>/distribution.csv (`t,k,n`, n_k at each requested time); full precision.
 #include <filesystem>
 

@@ -15,6 +15,10 @@ class SystemState {
   virtual double density(std::size_t k) const = 0;     // n_k (k >= 1)
   virtual double leaked_mass() const = 0;              // mass that left through the truncation so far
   virtual std::vector<double> distribution() const = 0;  // n_1..n_N
+  // A stochastic engine's ensemble: the state above is the mean of `realisations()` independent runs, each
+  // available on its own so that observables get a standard error. A deterministic state is its own only one.
+  virtual std::size_t realisations() const { return 1; }
+  virtual const SystemState& realisation(std::size_t) const { return *this; }
   // Particle-level observables; a state of densities has no particle count or velocities (NaN), and its mean
   // cluster size is the number-average size M1/M0.
   virtual double clusters() const;

@@ -1,0 +1,36 @@
+#pragma once
+// Independent DSMC realisations run side by side in threads. Run r uses the seed run_seed(seed, r)
+// (random.hpp); runs are assigned to threads statically and each owns its generator, so the results do
+// not depend on the number of threads: the same master seed gives the same series bit for bit on the
+// same build. The runs advance together from output time to output time, so only one snapshot per run
+// is held at a time.
+#include <memory>
+#include <vector>
+
+#include "particle/dsmc/simulation.hpp"
+
+namespace aggkit::dsmc {
+
+class Ensemble {
+ public:
+  Ensemble(const AggregationModel& model, const Options& options, double t_end);
+
+  // Advances every realisation to t (in parallel) and returns their states, in run order.
+  std::vector<Snapshot> advance_to(double t);
+  std::size_t runs() const { return runs_.size(); }
+  std::size_t threads() const { return threads_; }
+  const Simulation& run(std::size_t r) const { return *runs_[r]; }
+
+ private:
+  std::vector<std::unique_ptr<Simulation>> runs_;
+  std::size_t threads_ = 1;
+};
+
+// Mean and standard error of the mean (sample standard deviation / sqrt(R); 0 for R = 1).
+struct MeanAndError {
+  double mean;
+  double standard_error;
+};
+MeanAndError mean_and_error(const std::vector<double>& values);
+
+}  // namespace aggkit::dsmc

@@ -1,0 +1,41 @@
+#pragma once
+// Binary indexed tree (Fenwick, Softw. Pract. Exper. 24 (1994) 327) of particle counts per size 1..B:
+// O(log B) count updates and selection of the r-th particle in size order.
+#include <cstdint>
+#include <vector>
+
+namespace aggkit::dsmc {
+
+class Fenwick {
+ public:
+  explicit Fenwick(std::uint64_t n) : tree_(n + 1, 0) {
+    while ((top_ << 1) <= n) top_ <<= 1;
+  }
+  void add(std::uint64_t index, std::int64_t delta) {  // index 1..n
+    for (; index < tree_.size(); index += index & (~index + 1)) tree_[index] += std::uint64_t(delta);
+  }
+  std::uint64_t prefix(std::uint64_t index) const {  // Σ counts[1..index]
+    std::uint64_t sum = 0;
+    for (; index > 0; index &= index - 1) sum += tree_[index];
+    return sum;
+  }
+  // The smallest index whose prefix sum exceeds `rank` (rank < total).
+  std::uint64_t select(std::uint64_t rank) const {
+    std::uint64_t position = 0;
+    for (std::uint64_t step = top_; step > 0; step >>= 1)
+      if (position + step < tree_.size() && tree_[position + step] <= rank) {
+        position += step;
+        rank -= tree_[position];
+      }
+    return position + 1;
+  }
+  void scale(std::uint64_t factor) {  // every count multiplied (the tree is linear in the counts)
+    for (auto& entry : tree_) entry *= factor;
+  }
+
+ private:
+  std::vector<std::uint64_t> tree_;
+  std::uint64_t top_ = 1;
+};
+
+}  // namespace aggkit::dsmc

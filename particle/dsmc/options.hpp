@@ -1,0 +1,30 @@
+#pragma once
+// Options of a DSMC run (DESIGN.md "Stochastic numerics"; Kalinov et al., DSMC with shattering).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace aggkit::dsmc {
+
+enum class Method {
+  acceptance_rejection,  // "ar": random pair from the binned majorant, accepted with K_ij / K̄ (bin pair)
+  fast,                  // "fast": first particle by its exact total rate S_i, partner by K_ij / S_i
+};
+Method method_from_name(const std::string& name);  // throws InputError (key dsmc.method)
+std::string to_string(Method method);
+
+struct Options {
+  Method method = Method::acceptance_rejection;
+  std::uint64_t particles = 100000;  // initial number of particles N(0) (>= 2); the volume is N(0)/Σ n_k(0)
+  std::uint64_t seed = 1;            // master seed of the ensemble (random.hpp: run_seed)
+  std::size_t runs = 1;              // independent realisations
+  std::uint64_t bucket = 1024;       // B: sizes <= B are grouped in per-size buckets, larger ones stored one by one
+  bool truncate = false;             // apply the model's truncation policy and N (default: untruncated system)
+  bool population_control = true;    // duplicate all particles when N(t) < N(0)/2 (volume doubles)
+  std::size_t threads = 0;           // worker threads for an ensemble; 0 = hardware concurrency
+
+  // Throws InputError (keys dsmc.<option>) for particles < 2, runs < 1, bucket < 1.
+  void validate() const;
+};
+
+}  // namespace aggkit::dsmc

@@ -1,0 +1,65 @@
+#pragma once
+// Random numbers for DSMC: xoshiro256** (Blackman & Vigna, "Scrambled linear pseudorandom number
+// generators", ACM TOMS 47 (2021)), seeded through SplitMix64 (Steele, Lea & Flood, OOPSLA 2014).
+// Ensemble seeds: run r of an ensemble with master seed S uses the (r+1)-th output of a SplitMix64 stream
+// started at S (run_seed(S, r)); the generator of a run is then seeded from that value, again through
+// SplitMix64, so neighbouring master seeds give unrelated streams.
+#include <cstdint>
+
+namespace aggkit::dsmc {
+
+// One step of SplitMix64: advances `state` and returns a well-mixed 64-bit value.
+inline std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// The seed of run `run` (0-based) of an ensemble with master seed `master` (see the header comment).
+inline std::uint64_t run_seed(std::uint64_t master, std::uint64_t run) {
+  std::uint64_t state = master;
+  std::uint64_t value = 0;
+  for (std::uint64_t r = 0; r <= run; ++r) value = splitmix64(state);
+  return value;
+}
+
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) {
+    for (auto& word : s_) word = splitmix64(seed);
+  }
+  std::uint64_t next() {  // xoshiro256**
+    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = rotl(s_[3], 45);
+    return result;
+  }
+  // Uniform in [0, 1) with 53 random bits.
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+  // Uniform integer in [0, n), n >= 1, without bias (Lemire, "Fast random integer generation in an
+  // interval", ACM TOMACS 29 (2019)).
+  std::uint64_t below(std::uint64_t n) {
+    unsigned __int128 m = (unsigned __int128)next() * n;
+    std::uint64_t low = std::uint64_t(m);
+    if (low < n) {
+      const std::uint64_t threshold = (0 - n) % n;
+      while (low < threshold) {
+        m = (unsigned __int128)next() * n;
+        low = std::uint64_t(m);
+      }
+    }
+    return std::uint64_t(m >> 64);
+  }
+
+ private:
+  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+  std::uint64_t s_[4];
+};
+
+}  // namespace aggkit::dsmc

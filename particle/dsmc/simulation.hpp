@@ -1,0 +1,70 @@
+#pragma once
+// One DSMC realisation of the aggregation-shattering model (Kalinov et al.): the initial densities become
+// N(0) particles in the volume V = N(0) / Σ_k n_k(0); trials of the chosen method (stepper.hpp) advance
+// the time by τ = 2V / ((1+λ(t)) W) each. Population control (Kalinov et al.; Liffman, J. Comput. Phys.
+// 100 (1992) 116): when N(t) < N(0)/2 every particle is duplicated and V doubles, so densities are
+// unchanged. A population where no pair can interact any more (one cluster left — "extinction" — or,
+// under a cutoff, only pairs beyond it) is frozen and reported, not looped on.
+#include <cstdint>
+#include <memory>
+
+#include "particle/dsmc/options.hpp"
+#include "particle/dsmc/random.hpp"
+#include "particle/dsmc/snapshot.hpp"
+#include "particle/dsmc/stepper.hpp"
+#include "solvers/model.hpp"
+
+namespace aggkit::dsmc {
+
+struct RunStatistics {
+  std::uint64_t trials = 0;
+  std::uint64_t aggregations = 0;
+  std::uint64_t shatterings = 0;
+  std::uint64_t leaks = 0;           // merged clusters removed by a `drop` truncation
+  std::uint64_t doublings = 0;       // population-control duplications
+  bool extinct = false;              // one cluster left
+  bool frozen = false;               // no pair can interact (extinct, or every pair beyond a cutoff)
+  double frozen_time = 0.0;          // when that was found
+  std::uint64_t accepted() const { return aggregations + shatterings + leaks; }
+};
+
+class Simulation {
+ public:
+  // Validates the options (Options::validate) and the model on [0, t_end] (negative λ, bad tables).
+  Simulation(const AggregationModel& model, const Options& options, std::uint64_t seed, double t_end);
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  void advance_to(double t);  // t >= time(); the state at t
+  double time() const { return time_; }
+  Snapshot snapshot() const;
+  const RunStatistics& statistics() const { return statistics_; }
+  double volume() const { return volume_; }
+  std::uint64_t initial_particles() const { return initial_particles_; }
+  // Σ k count_k plus the leaked mass, exact: equals initial mass × 2^doublings at every moment.
+  std::uint64_t mass() const;
+  std::uint64_t initial_mass() const { return initial_mass_; }
+
+ private:
+  bool no_pair_can_interact() const;  // exact check, for the cutoff watchdog
+  void freeze();
+
+  AggregationModel model_;  // owned: the stepper's kernel refers to model_.kernel
+  Options options_;
+  std::unique_ptr<Stepper> stepper_;
+  Random random_;
+  double time_ = 0.0;
+  double volume_ = 1.0;
+  double next_trial_ = -1.0;   // time of the scheduled trial; < time_ when none is scheduled
+  double next_lambda_ = 0.0;   // λ at scheduling
+  std::uint64_t initial_particles_ = 0;
+  std::uint64_t initial_mass_ = 0;
+  std::uint64_t rejections_in_a_row_ = 0;
+  RunStatistics statistics_;
+};
+
+// Integer particle counts for densities n (n[k-1] of size k) scaled to `particles` in total: floor of
+// n_k V, the remainder given to the largest fractional parts (smaller sizes first on ties).
+std::vector<std::uint64_t> initial_counts(const std::vector<double>& n, std::uint64_t particles);
+
+}  // namespace aggkit::dsmc

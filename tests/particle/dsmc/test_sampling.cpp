@@ -1,0 +1,76 @@
+// The pieces of the majorant sampler: size bins tile the sizes, the Fenwick tree selects by rank, and the
+// corner bound of a bin pair is a true upper bound of every built-in kernel (quasi-convexity, see
+// particle/dsmc/acceptance_rejection.hpp).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+#include "particle/dsmc/binned_population.hpp"
+#include "particle/dsmc/fenwick.hpp"
+#include "particle/dsmc/size_bins.hpp"
+#include "solvers/kernels.hpp"
+
+using namespace aggkit;
+
+TEST_CASE("dsmc: size bins tile the sizes with hi/lo < 1.5") {
+  for (std::size_t b = 0; b + 1 < 60; ++b) {
+    CHECK(dsmc::bin_high(b) + 1 == dsmc::bin_low(b + 1));
+    CHECK(double(dsmc::bin_high(b)) < 1.5 * double(dsmc::bin_low(b)));
+  }
+  for (std::uint64_t s : {1ULL, 2ULL, 3ULL, 7ULL, 8ULL, 11ULL, 12ULL, 1000ULL, 123456789ULL, (1ULL << 40) + 5}) {
+    const std::size_t b = dsmc::bin_of(s);
+    CHECK(dsmc::bin_low(b) <= s);
+    CHECK(s <= dsmc::bin_high(b));
+  }
+}
+
+TEST_CASE("dsmc: Fenwick selection returns the size holding a given rank") {
+  dsmc::Fenwick tree(10);
+  const std::vector<std::uint64_t> counts{0, 3, 0, 0, 1, 0, 0, 0, 0, 0, 2};  // sizes 1..10
+  for (std::uint64_t s = 1; s <= 10; ++s) tree.add(s, std::int64_t(counts[s]));
+  const std::vector<std::uint64_t> expected{1, 1, 1, 4, 10, 10};
+  for (std::uint64_t r = 0; r < expected.size(); ++r) CHECK(tree.select(r) == expected[r]);
+  CHECK(tree.prefix(4) == 4);
+  tree.scale(2);
+  CHECK(tree.select(7) == 4);
+}
+
+TEST_CASE("dsmc: the corner bound of every bin pair bounds the kernel inside it") {
+  for (const Kernel& kernel : {Kernel::ballistic(), Kernel::brownian(0.95), Kernel::brownian(0.3), Kernel::sum(),
+                               Kernel::linear(0.5, 0.2), Kernel::generalized_product(0.4)}) {
+    INFO(kernel.describe());
+    double worst = 0.0;
+    for (std::size_t b = 0; b < 24; ++b)
+      for (std::size_t c = 0; c < 24; ++c) {
+        const std::uint64_t bl = dsmc::bin_low(b), bh = dsmc::bin_high(b), cl = dsmc::bin_low(c), ch = dsmc::bin_high(c);
+        const double bound = std::max({kernel(bl, cl), kernel(bl, ch), kernel(bh, cl), kernel(bh, ch)});
+        // Every size pair in small bins, a grid of 17 × 17 in large ones.
+        const std::uint64_t step_b = std::max<std::uint64_t>(1, (bh - bl) / 16), step_c = std::max<std::uint64_t>(1, (ch - cl) / 16);
+        for (std::uint64_t i = bl; i <= bh; i += step_b)
+          for (std::uint64_t j = cl; j <= ch; j += step_c) worst = std::max(worst, kernel(i, j) / bound);
+      }
+    CHECK(worst <= 1.0 + 1e-14);
+  }
+}
+
+TEST_CASE("dsmc: a binned population picks, removes and doubles particles of both kinds") {
+  dsmc::BinnedPopulation population(4);
+  population.add(1, 1000);  // shattering-sized monomer counts are one bucket
+  population.add(6, 1);     // bucketed? no: 6 > B = 4, stored individually
+  population.add(7, 2);
+  population.add(3, 5);
+  CHECK(population.particles() == 1008);
+  const std::size_t bin = dsmc::bin_of(6);  // sizes 6 and 7 share a bin
+  CHECK(population.count(bin) == 3);
+  std::vector<std::uint64_t> sizes;
+  for (std::uint64_t r = 0; r < 3; ++r) sizes.push_back(population.pick(bin, r).size);
+  std::sort(sizes.begin(), sizes.end());
+  CHECK(sizes == std::vector<std::uint64_t>{6, 7, 7});
+  population.remove(population.pick(bin, 2));
+  population.remove(population.pick(dsmc::bin_of(1), 0));
+  CHECK(population.particles() == 1006);
+  population.duplicate();
+  std::uint64_t mass = 0;
+  population.for_each_group([&](std::uint64_t s, std::uint64_t n) { mass += s * n; });
+  CHECK(mass == 2 * (999 + 15 + 13));  // 999 monomers, 5 trimers and two of {6, 7, 7}: 6 + 7
+}
