@@ -19,6 +19,12 @@
 #include "validation/scan_point.hpp"
 #include "validation/text.hpp"
 
+// λ_crit(a) from the Hopf point of the linear stability, where that part of the project is in the build.
+#if __has_include("solvers/stability.hpp")
+#include "solvers/stability.hpp"
+#define AGGKIT_SCAN_HOPF 1
+#endif
+
 namespace aggkit {
 
 namespace {
@@ -152,6 +158,83 @@ class RunCache {
   std::size_t reused_ = 0, computed_ = 0, failed_ = 0;
 };
 
+#ifdef AGGKIT_SCAN_HOPF
+// λ_crit(a) by locate_hopf over the scan's λ range at truncation `size`; cached in DIR/points like the runs.
+void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points, std::vector<LambdaCritRow>& crit,
+                      bool doubled, std::ostream* progress) {
+  const MpiWorld world = mpi_world();
+  const std::size_t size = doubled ? 2 * plan.size() : plan.size();
+  const double lo = plan.lambda.front(), hi = plan.lambda.back();
+  const auto file = [&](double a) {
+    std::string name = "hopf_a";
+    name += shortest_text(a);
+    name += "_lambda" + shortest_text(lo) + "-" + shortest_text(hi) + "_N" + std::to_string(size) + ".csv";
+    return points / name;
+  };
+  const std::string header = "a,found,lambda_crit,lambda_tolerance,omega,note";
+  std::vector<double> todo;
+  for (double a : plan.a)
+    if (read_text(file(a)).rfind(header + "\n", 0) != 0) todo.push_back(a);
+  mpi_barrier();
+  if (progress && world.rank == 0 && !todo.empty())
+    *progress << "aggkit scan: locating the Hopf point lambda_crit(a) at N = " << size << " for " << todo.size()
+              << " values of a\n" << std::flush;
+  long failed = 0;
+  for (std::size_t i = std::size_t(world.rank); i < todo.size(); i += std::size_t(world.size)) {
+    try {
+      const HopfPoint h = locate_hopf(point_model(plan, todo[i], lo, size), todo[i], lo, hi, 1e-3);
+      std::string note = h.note;
+      for (char& c : note)
+        if (c == ',' || c == '\n') c = ';';
+      write_file_atomically(file(todo[i]), header + "\n" + shortest_text(h.a) + "," + (h.found ? "yes" : "no") + "," +
+                                               shortest_text(h.lambda_crit) + "," + shortest_text(h.lambda_tolerance) +
+                                               "," + shortest_text(h.omega) + "," + note + "\n");
+      if (progress)
+        *progress << "aggkit scan: [rank " << world.rank << "] Hopf point a = " << shortest_text(todo[i]) << ", N = " << size
+                  << ": " << (h.found ? "lambda_crit = " + shortest_text(h.lambda_crit) : h.note) << "\n" << std::flush;
+    } catch (const std::exception& e) {
+      ++failed;
+      if (progress) *progress << "aggkit scan: Hopf point a = " << shortest_text(todo[i]) << " failed: " << e.what() << "\n";
+    }
+  }
+  mpi_sum(failed);
+  for (auto& row : crit) {
+    std::istringstream in(read_text(file(row.a)));
+    std::string line, field;
+    std::getline(in, line);
+    if (!std::getline(in, line)) continue;
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    while (std::getline(fields, field, ',')) f.push_back(field);
+    if (f.size() < 5) continue;
+    const bool found = f[1] == "yes";
+    const double lambda_crit = std::stod(f[2]), tolerance = std::stod(f[3]), omega = std::stod(f[4]);
+    const std::string note = f.size() > 5 ? f[5] : "";
+    if (doubled) {
+      if (found && row.method == "hopf") {
+        row.lambda_crit_2N = lambda_crit;
+        row.change_2N = std::abs(lambda_crit - row.lambda_crit) / row.lambda_crit;
+      }
+      continue;
+    }
+    if (!found) {
+      row.note += std::string(row.note.empty() ? "" : "; ") + "Hopf: " + note;
+      continue;
+    }
+    const std::string grid = std::isfinite(row.lambda_crit)
+                                 ? "grid bracket [" + shortest_text(row.lambda_sustained) + " " +
+                                       shortest_text(row.lambda_relaxing) + "]"
+                                 : "grid: " + row.note;
+    row.method = "hopf";
+    row.lambda_crit = lambda_crit;
+    row.error = tolerance;
+    row.period = omega > 0 ? 2 * std::acos(-1.0) / omega : std::nan("");
+    row.lambda_crit_2N = row.change_2N = std::nan("");
+    row.note = grid;
+  }
+}
+#endif
+
 }  // namespace
 
 ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
@@ -238,6 +321,13 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
       }
     }
   }
+
+#ifdef AGGKIT_SCAN_HOPF
+  if (plan.stability) {
+    hopf_lambda_crit(plan, points, crit, false, options.progress);
+    if (plan.check_lambda_crit) hopf_lambda_crit(plan, points, crit, true, options.progress);
+  }
+#endif
 
   ScanOutcome outcome;
   outcome.points = plan.point_count();

@@ -11,7 +11,14 @@ GridLambdaCrit lambda_crit_from_grid(double a, std::vector<ScanRecord> records, 
   GridLambdaCrit result;
   result.a = a;
   // Points without a verdict (irregular) say nothing about the boundary.
-  std::erase_if(records, [](const ScanRecord& r) { return r.regime != "sustained" && r.regime != "damped" && r.regime != "steady"; });
+  // Neither do tentative sustained verdicts (fewer cycles in the tail than the convergence check needs, or
+  // an amplitude still growing or drifting): long-period transients at small λ look like that.
+  const std::size_t before = records.size();
+  std::erase_if(records, [](const ScanRecord& r) {
+    return (r.regime != "sustained" && r.regime != "damped" && r.regime != "steady") ||
+           (r.regime == "sustained" && !r.converged);
+  });
+  const std::size_t unused = before - records.size();
   std::sort(records.begin(), records.end(), [](const ScanRecord& x, const ScanRecord& y) { return x.lambda < y.lambda; });
   if (records.empty()) {
     result.note = "no classified point";
@@ -36,6 +43,9 @@ GridLambdaCrit lambda_crit_from_grid(double a, std::vector<ScanRecord> records, 
   result.error = hi - result.lambda_crit;  // >= λ_crit - lo for both midpoints
   if (std::any_of(records.begin(), below, [&](const ScanRecord& r) { return !sustained(r); }))
     result.note = "not monotone in lambda: relaxing points below the largest sustained one";
+  if (unused > 0)
+    result.note += std::string(result.note.empty() ? "" : "; ") + std::to_string(unused) +
+                   " points without a converged verdict left out";
   return result;
 }
 

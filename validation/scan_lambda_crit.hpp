@@ -2,7 +2,8 @@
 // λ_crit(a) from a scan grid: sustained oscillations for λ < λ_crit (PUBLISHED.md A), so the boundary lies
 // between the largest sustained λ and the next larger λ that relaxes (steady or damped). The estimate is the
 // midpoint of that bracket (geometric for log-spaced λ) and its error the distance to the bracket's ends:
-// the true crossing lies in the bracket as long as the two points are classified right.
+// the true crossing lies in the bracket as long as the two points are classified right. Only converged
+// sustained verdicts count (irregular and tentative points are left out and counted in the note).
 #include <limits>
 #include <string>
 #include <vector>

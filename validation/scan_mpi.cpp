@@ -4,6 +4,11 @@
 
 #include <mpi.h>
 
+#if __has_include("solvers/petsc_session.hpp")
+#include "solvers/petsc_session.hpp"
+#define AGGKIT_SCAN_PETSC 1
+#endif
+
 namespace aggkit {
 
 namespace {
@@ -25,6 +30,9 @@ MpiSession::MpiSession(int* argc, char*** argv) {
 }
 
 MpiSession::~MpiSession() {
+#ifdef AGGKIT_SCAN_PETSC
+  finalize_petsc();  // PETSc runs on MPI_COMM_WORLD: it must end before MPI does
+#endif
   if (initialised_here_ && mpi_active()) MPI_Finalize();
 }
 

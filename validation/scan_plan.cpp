@@ -4,6 +4,8 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -61,7 +63,12 @@ std::vector<double> read_axis(const SceneTable& scan, const std::string& name, b
   if (log_spacing && !(from > 0)) range.fail("from", "> 0 for spacing = \"log\"");
   for (std::size_t i = 0; i < count; ++i) {
     const double s = count == 1 ? 0.0 : double(i) / double(count - 1);
-    values.push_back(log_spacing ? from * std::pow(to / from, s) : from + (to - from) * s);
+    const double value = log_spacing ? from * std::pow(to / from, s) : from + (to - from) * s;
+    // To 12 significant digits: 0.55 + 0.05 k reads as 0.6, not 0.6000000000000001 (in the CSVs and the
+    // names of the finished-point files).
+    char text[32];
+    std::snprintf(text, sizeof text, "%.12g", value);
+    values.push_back(std::strtod(text, nullptr));
   }
   values.back() = to;  // exactly the end of the range, free of round-off
   return values;

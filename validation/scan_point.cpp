@@ -1,11 +1,55 @@
 #include "validation/scan_point.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <complex>
+#include <string>
 #include <vector>
 
 #include "validation/system_state.hpp"
 
+// The steady-state and stability solvers (PETSc SNES, Eigen/Spectra) are built by a parallel part of the
+// project; the scan uses them where they are part of the build.
+#if __has_include("solvers/stability.hpp")
+#include "solvers/stability.hpp"
+#include "solvers/steady_state.hpp"
+#define AGGKIT_SCAN_STABILITY 1
+#endif
+
 namespace aggkit {
+
+bool scan_stability_available() {
+#ifdef AGGKIT_SCAN_STABILITY
+  return true;
+#else
+  return false;
+#endif
+}
+
+namespace {
+
+// Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
+// oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
+void classify_by_stability([[maybe_unused]] const AggregationModel& model, [[maybe_unused]] ScanRecord& r) {
+#ifdef AGGKIT_SCAN_STABILITY
+  const SteadyStateResult steady = solve_steady_state(model);
+  if (!steady.converged) {
+    r.note += std::string(r.note.empty() ? "" : "; ") + "steady state not converged (residual " +
+              std::to_string(steady.relative_residual) + ")";
+    return;
+  }
+  const StabilityResult stability = analyse_stability(model, steady.n);
+  if (stability.rightmost.empty()) return;
+  const std::complex<double> mu = stability.rightmost.front();
+  r.rightmost_real = mu.real();
+  r.rightmost_imag = std::abs(mu.imag());
+  r.regime_stability = !stability.stable ? "sustained" : mu.imag() != 0 ? "damped" : "steady";
+  const bool known = r.regime == "sustained" || r.regime == "damped" || r.regime == "steady";
+  if (known) r.agree = (r.regime == "sustained") == (r.regime_stability == "sustained") ? "yes" : "no";
+#endif
+}
+
+}  // namespace
 
 ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,
                           const std::function<void(double t)>& progress) {
@@ -41,6 +85,7 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   r.cycles = c.cycles;
   r.converged = c.converged;
   r.note = c.note;
+  if (plan.stability) classify_by_stability(run.model, r);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;
 }

@@ -10,6 +10,9 @@
 
 namespace aggkit {
 
+// Whether the steady-state/stability classification is part of this build (regime_stability columns).
+bool scan_stability_available();
+
 // `size` is the truncation N of this run (the scene's, or 2N for the truncation check); `progress` receives
 // the time reached (may be empty). Throws what the integrator throws if the run fails.
 ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,

@@ -166,6 +166,25 @@ TEST_CASE("scan cli: a scan killed while running continues from its finished poi
   CHECK(lines(aggkit::testing::read_text(out / "scan.csv")) == 9);
 }
 
+TEST_CASE("scan cli: the truncation check repeats points and the lambda_crit bracket at 2N") {
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-truncation");
+  // λ grid 0.01, 0.1, 1 at a = 0.9; a synthetic bracket is not needed: the check points are listed.
+  std::string text = small_scan;
+  text += "truncation_check = { points = [[0.9, 0.1], [0.75, 0.05]], lambda_crit = true }\n";
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", text);
+  const Outcome outcome = run(scan_command("", scene, folder / "out"), folder);
+  INFO(outcome.err);
+  REQUIRE(outcome.exit_code == 0);
+  const std::string check = aggkit::testing::read_text(folder / "out" / "truncation_check.csv");
+  CHECK(check.rfind("a,lambda,N,regime,period,amplitude,regime_2N,period_2N,amplitude_2N,period_change,amplitude_change\n", 0) == 0);
+  CHECK(lines(check) == 3);
+  CHECK_THAT(check, Contains("0.9,0.1,128,") && Contains("0.75,0.05,128,"));
+  // (0.9, 0.1) is a grid point: its N = 128 run is the grid's (one file), and its 2N run exists.
+  CHECK(fs::exists(folder / "out" / "points" / "a0.9_lambda0.1_N128.csv"));
+  CHECK(fs::exists(folder / "out" / "points" / "a0.9_lambda0.1_N256.csv"));
+  CHECK_THAT(outcome.err, Contains("12 runs"));  // 9 grid points, (0.9, 0.1) at 2N, (0.75, 0.05) at N and 2N
+}
+
 TEST_CASE("scan cli: bad input exits 2 naming the key and the value") {
   const auto folder = aggkit::testing::scratch_folder("scan-cli-bad");
   const auto replace = [](std::string text, const std::string& from, const std::string& to) {

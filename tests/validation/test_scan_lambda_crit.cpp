@@ -14,6 +14,7 @@ ScanRecord point(double lambda, const char* regime) {
   r.a = 0.9;
   r.lambda = lambda;
   r.regime = regime;
+  r.converged = true;
   return r;
 }
 }  // namespace
@@ -44,4 +45,10 @@ TEST_CASE("scan lambda_crit: no bracket on the grid, and non-monotone grids, are
       0.9, {point(0.01, "damped"), point(0.02, "sustained"), point(0.03, "irregular"), point(0.04, "damped")}, false);
   CHECK(odd.lambda_crit == Approx(0.03).epsilon(1e-14));  // the irregular point says nothing
   CHECK(odd.note.find("not monotone") != std::string::npos);
+  CHECK(odd.note.find("1 points without a converged verdict") != std::string::npos);
+  // A tentative sustained verdict (e.g. a long-period transient with too few cycles) is not a bracket end.
+  ScanRecord tentative = point(0.03, "sustained");
+  tentative.converged = false;
+  const GridLambdaCrit t = lambda_crit_from_grid(0.9, {point(0.01, "sustained"), point(0.02, "damped"), tentative}, false);
+  CHECK(t.lambda_crit == Approx(0.015).epsilon(1e-14));
 }
