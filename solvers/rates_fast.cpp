@@ -115,6 +115,9 @@ class FastRates final : public Rates {
       if (k >= 2) shattered += double(k) * loss;
     }
     Jv[0] += lambda * shattered;
+    // Sizes beyond the active range (n_k ≈ 0) keep the loss -(1+λ) c_k v_k of their own perturbation,
+    // so that J has no spurious zero rows (eigenvalues 0) there.
+    for (std::size_t k = active_ + 1; k <= size_; ++k) Jv[k - 1] -= (1.0 + lambda) * rate_n_[k - 1] * v[k - 1];
   }
 
   void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) override {
@@ -134,6 +137,7 @@ class FastRates final : public Rates {
                                (allowed(k, k - 1) ? loss_factor * n[k - 1] * kernel_subdiagonal_[k - 1] : 0.0);
     }
     J.diagonal[0] += lambda * monomer;
+    for (std::size_t k = active_ + 1; k <= size_; ++k) J.diagonal[k - 1] = -(1.0 + lambda) * rate_n_[k - 1];
   }
 
   double leak_rate(double, std::span<const double> n) override {
@@ -220,7 +224,7 @@ class FastRates final : public Rates {
       plain_length_ = fft_.length_for(plain_support_);
       kernel_.transform(n, plain_support_, plain_length_, fft_, plain_);
     }
-    kernel_.collision_rates(n, active_, cutoff_, rate_n_);
+    kernel_.collision_rates(n, active_, cutoff_, rate_n_, size_);  // c_k for every size (J's diagonal)
   }
 
   const AggregationModel& model_;

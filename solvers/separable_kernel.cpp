@@ -35,8 +35,9 @@ double SeparableKernel::entry(std::size_t i, std::size_t j) const {
 }
 
 void SeparableKernel::collision_rates(std::span<const double> y, std::size_t active, bool cutoff,
-                                      std::vector<double>& rate) {
+                                      std::vector<double>& rate, std::size_t rows) {
   std::fill(rate.begin(), rate.end(), 0.0);
+  if (rows == 0) rows = active;
   if (!cutoff) {  // c_k = Σ_pq C_pq φ_p(k) m_q, m_q = Σ_j φ_q(j) y_j
     moments_.assign(rank(), 0.0);
     for (std::size_t q = 0; q < rank(); ++q) {
@@ -48,7 +49,7 @@ void SeparableKernel::collision_rates(std::span<const double> y, std::size_t act
     for (const auto& [p, q, c] : couplings_) {
       const double* phi = form_.features[p].data();
       const double w = c * moments_[q];
-      for (std::size_t k = 0; k < active; ++k) rate[k] += w * phi[k];
+      for (std::size_t k = 0; k < rows; ++k) rate[k] += w * phi[k];
     }
     return;
   }
@@ -62,7 +63,7 @@ void SeparableKernel::collision_rates(std::span<const double> y, std::size_t act
   for (const auto& [p, q, c] : couplings_) {
     const double* phi = form_.features[p].data();
     const auto& prefix = partial_[q];
-    for (std::size_t k = 1; k <= active; ++k) rate[k - 1] += c * phi[k - 1] * prefix[size_ - k];
+    for (std::size_t k = 1; k <= rows; ++k) rate[k - 1] += c * phi[k - 1] * prefix[size_ - k];
   }
 }
 

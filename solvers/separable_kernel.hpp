@@ -20,8 +20,10 @@ class SeparableKernel {
   std::size_t rank() const { return form_.rank(); }
   double entry(std::size_t i, std::size_t j) const;  // K̃_ij, 1-based sizes
 
-  // rate[k-1] = Σ_{j ≤ active} K̃_kj y_j for k ≤ active (also j ≤ N - k when `cutoff`).
-  void collision_rates(std::span<const double> y, std::size_t active, bool cutoff, std::vector<double>& rate);
+  // rate[k-1] = Σ_{j ≤ active} K̃_kj y_j for k ≤ rows (also j ≤ N - k when `cutoff`); rows = 0 means
+  // rows = active.
+  void collision_rates(std::span<const double> y, std::size_t active, bool cutoff, std::vector<double>& rate,
+                       std::size_t rows = 0);
   // Σ_i i x_i Σ_{N-i < j ≤ active} K̃_ij y_j over i ≤ active: the mass flux out of the truncation.
   double truncation_flux(std::span<const double> x, std::span<const double> y, std::size_t active);
 

@@ -1,0 +1,85 @@
+#include "solvers/mass_constrained_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+double total_mass(std::span<const double> n) {
+  double mass = 0.0;
+  for (std::size_t k = 0; k < n.size(); ++k) mass += double(k + 1) * n[k];
+  return mass;
+}
+
+MassConstrainedSystem::MassConstrainedSystem(const AggregationModel& model, RatesPath path, double lowrank_tolerance)
+    : N_(model.size), mass_row_(model.size - 1), cutoff_(model.truncation == Truncation::cutoff) {
+  model.validate(0.0);
+  if (!model.lambda.is_constant())
+    throw InputError("model.lambda", model.lambda.describe(), "a constant shattering rate for a steady state");
+  lambda_ = model.lambda(0.0);
+  if (cutoff_) {
+    if (N_ < 3) throw InputError("model.size", std::to_string(N_), "at least 3 for a cutoff steady state");
+    mass_row_ = N_ - 2;
+  }
+  std::vector<double> initial = model.initial;
+  initial.resize(N_, 0.0);
+  mass_ = total_mass(std::span<const double>(initial).first(mass_row_ + 1));
+  if (!(mass_ > 0.0))
+    throw InputError("model.initial", "no mass below the absorbing size N",
+                     "a cutoff steady state needs mass in sizes < N");
+  rates_ = make_rates(model, path, lowrank_tolerance, 0.0);
+  state_.assign(N_, 0.0);
+  dndt_.assign(N_, 0.0);
+  std::vector<double> F(N_);
+  residual(initial, F);
+  double norm = 0.0;
+  for (double x : F) norm += x * x;
+  residual_scale_ = std::sqrt(norm) > 0.0 ? std::sqrt(norm) : 1.0;
+}
+
+void MassConstrainedSystem::residual(std::span<const double> n, std::span<double> F) {
+  rates_->evaluate(0.0, n, F);
+  F[mass_row_] = total_mass(n.first(mass_row_ + 1)) - mass_;
+  for (std::size_t k = mass_row_ + 1; k < N_; ++k) F[k] = n[k];
+}
+
+double MassConstrainedSystem::leak_rate(std::span<const double> n) {
+  if (!cutoff_) return rates_->leak_rate(0.0, n);
+  rates_->evaluate(0.0, n, dndt_);  // with n_N = 0, f_N is the gain of the absorbing class
+  return double(N_) * dndt_[N_ - 1];
+}
+
+void MassConstrainedSystem::set_state(std::span<const double> n) {
+  std::copy(n.begin(), n.end(), state_.begin());
+  rates_->jacobian_monomer_coupling(0.0, state_, coupling_);
+}
+
+void MassConstrainedSystem::apply(std::span<const double> v, std::span<double> out, double shift) {
+  rates_->jacobian_times(0.0, state_, v, out);
+  for (std::size_t k = 0; k < mass_row_; ++k) out[k] -= shift * v[k];
+  out[mass_row_] = total_mass(v.first(mass_row_ + 1));
+  for (std::size_t k = mass_row_ + 1; k < N_; ++k) out[k] = v[k];
+}
+
+void MassConstrainedSystem::precondition(std::span<const double> r, std::span<double> z, double shift) const {
+  const auto& D = coupling_.diagonal;
+  const auto& S = coupling_.subdiagonal;
+  const auto& C = coupling_.monomer_column;
+  // A zero pivot (no collisions at all for that size, e.g. cutoff at k = N) falls back to the identity.
+  auto pivot = [&](std::size_t k) {
+    const double d = D[k] - shift;
+    return d != 0.0 ? d : 1.0;
+  };
+  z[0] = r[0] / pivot(0);
+  double mass = z[0];
+  for (std::size_t k = 1; k < mass_row_; ++k) {
+    z[k] = (r[k] - C[k] * z[0] - S[k] * z[k - 1]) / pivot(k);
+    mass += double(k + 1) * z[k];
+  }
+  z[mass_row_] = (r[mass_row_] - mass) / double(mass_row_ + 1);
+  for (std::size_t k = mass_row_ + 1; k < N_; ++k) z[k] = r[k];
+}
+
+}  // namespace aggkit

@@ -1,0 +1,181 @@
+#include "solvers/stability.hpp"
+
+#include <Eigen/Dense>
+#include <Spectra/GenEigsSolver.h>
+#include <petscksp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "analysis/input_error.hpp"
+#include "solvers/mass_constrained_system.hpp"
+#include "solvers/petsc_session.hpp"
+#include "solvers/petsc_shell.hpp"
+
+namespace aggkit {
+
+namespace {
+
+using Complex = std::complex<double>;
+
+void sort_rightmost(std::vector<Complex>& values) {
+  std::sort(values.begin(), values.end(), [](Complex x, Complex y) {
+    return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
+  });
+}
+
+// All eigenvalues of A = J_{<m,<m} + J_{<m,m} t^T (the Jacobian on the mass shell) from the direct
+// dense Jacobian.
+std::vector<Complex> dense_spectrum(const AggregationModel& model, std::span<const double> n, std::size_t m) {
+  const std::size_t N = model.size;
+  std::vector<double> jacobian(N * N);
+  dense_jacobian(model, 0.0, n, jacobian);
+  Eigen::MatrixXd A(m, m);
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t k = 0; k < m; ++k)
+      A(i, k) = jacobian[i * N + k] - jacobian[i * N + m] * double(k + 1) / double(m + 1);
+  Eigen::EigenSolver<Eigen::MatrixXd> solver(A, false);
+  if (solver.info() != Eigen::Success) throw std::runtime_error("dense eigenvalue solver failed (Eigen QR)");
+  std::vector<Complex> values(solver.eigenvalues().begin(), solver.eigenvalues().end());
+  return values;
+}
+
+// (A - σI)^{-1} applied by GMRES on (J_F - σB) v = (b, 0): the operator Spectra iterates on.
+class ShiftInvertOperator {
+ public:
+  using Scalar = double;
+  ShiftInvertOperator(MassConstrainedSystem& system, const StabilityOptions& options)
+      : system_(system), m_(system.mass_row()) {
+    op_.system = &system;
+    op_.shift = options.shift;
+    const PetscInt N = PetscInt(system.size());
+    check_petsc(VecCreateSeq(PETSC_COMM_SELF, N, &rhs_), "VecCreateSeq");
+    check_petsc(VecDuplicate(rhs_, &solution_), "VecDuplicate");
+    matrix_ = make_shell_matrix(op_);
+    check_petsc(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSPCreate");
+    check_petsc(KSPSetOperators(ksp_, matrix_, matrix_), "KSPSetOperators");
+    check_petsc(KSPSetType(ksp_, KSPGMRES), "KSPSetType");
+    check_petsc(KSPGMRESSetRestart(ksp_, 100), "KSPGMRESSetRestart");
+    check_petsc(KSPSetPCSide(ksp_, PC_RIGHT), "KSPSetPCSide");
+    check_petsc(KSPSetTolerances(ksp_, options.linear_tolerance, 1e-300, PETSC_DEFAULT, 5000), "KSPSetTolerances");
+    PC pc = nullptr;
+    check_petsc(KSPGetPC(ksp_, &pc), "KSPGetPC");
+    set_shell_preconditioner(pc, op_, true);
+  }
+  ~ShiftInvertOperator() {
+    KSPDestroy(&ksp_);
+    MatDestroy(&matrix_);
+    VecDestroy(&rhs_);
+    VecDestroy(&solution_);
+  }
+  ShiftInvertOperator(const ShiftInvertOperator&) = delete;
+  ShiftInvertOperator& operator=(const ShiftInvertOperator&) = delete;
+
+  Eigen::Index rows() const { return Eigen::Index(m_); }
+  Eigen::Index cols() const { return Eigen::Index(m_); }
+  void perform_op(const double* x, double* y) const {
+    PetscScalar* b = nullptr;
+    VecGetArray(rhs_, &b);
+    std::copy(x, x + m_, b);
+    std::fill(b + m_, b + system_.size(), 0.0);
+    VecRestoreArray(rhs_, &b);
+    check_petsc(KSPSolve(ksp_, rhs_, solution_), "KSPSolve (shift-invert)");
+    KSPConvergedReason reason;
+    KSPGetConvergedReason(ksp_, &reason);
+    if (reason < 0)
+      throw std::runtime_error(std::string("shift-invert GMRES did not converge: ") + KSPConvergedReasons[reason]);
+    PetscInt iterations = 0;
+    KSPGetIterationNumber(ksp_, &iterations);
+    iterations_ += iterations;
+    ++applications_;
+    const PetscScalar* v = nullptr;
+    VecGetArrayRead(solution_, &v);
+    std::copy(v, v + m_, y);
+    VecRestoreArrayRead(solution_, &v);
+  }
+  long iterations() const { return iterations_; }
+  int applications() const { return applications_; }
+
+ private:
+  MassConstrainedSystem& system_;
+  std::size_t m_;
+  ShellOperator op_;
+  Vec rhs_ = nullptr, solution_ = nullptr;
+  Mat matrix_ = nullptr;
+  KSP ksp_ = nullptr;
+  mutable long iterations_ = 0;
+  mutable int applications_ = 0;
+};
+
+std::vector<Complex> krylov_spectrum(MassConstrainedSystem& system, std::span<const double> n,
+                                     const StabilityOptions& options, int wanted, StabilityResult& result) {
+  ensure_petsc_initialized();
+  system.set_state(n);
+  ShiftInvertOperator op(system, options);
+  const Eigen::Index m = op.rows();
+  const Eigen::Index nev = std::min<Eigen::Index>(std::max(wanted, options.krylov_eigenvalues), m - 2);
+  const Eigen::Index ncv = std::min<Eigen::Index>(std::max<Eigen::Index>(2 * nev + 1, 20), m);
+  Spectra::GenEigsSolver<ShiftInvertOperator> eigs(op, nev, ncv);
+  eigs.init();
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, options.eigen_tolerance);
+  result.linear_iterations = op.iterations();
+  result.operator_applications = op.applications();
+  if (eigs.info() != Spectra::CompInfo::Successful)
+    throw std::runtime_error("Arnoldi (Spectra) did not converge on the shift-invert operator");
+  std::vector<Complex> values;
+  for (const Complex& nu : eigs.eigenvalues())
+    if (nu != Complex(0.0)) values.push_back(options.shift + 1.0 / nu);  // ν = 1/(μ - σ)
+  return values;
+}
+
+}  // namespace
+
+std::complex<double> rightmost_complex_pair(std::span<const std::complex<double>> eigenvalues) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Complex best(nan, nan);
+  for (const Complex& mu : eigenvalues) {
+    // A pair: Im clearly nonzero relative to |μ| (real eigenvalues come out with Im = 0 exactly or ~ε).
+    if (mu.imag() <= 1e-10 * std::abs(mu)) continue;
+    if (std::isnan(best.real()) || mu.real() > best.real()) best = mu;
+  }
+  return best;
+}
+
+StabilityResult analyse_stability(const AggregationModel& model, std::span<const double> steady_state, int count) {
+  return analyse_stability(model, steady_state, count, StabilityOptions{});
+}
+
+StabilityResult analyse_stability(const AggregationModel& model, std::span<const double> steady_state, int count,
+                                  const StabilityOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  if (count < 1) throw InputError("count", std::to_string(count), "at least one eigenvalue");
+  if (steady_state.size() != model.size)
+    throw InputError("steady_state", std::to_string(steady_state.size()) + " entries",
+                     "exactly model.size = " + std::to_string(model.size) + " entries");
+  for (double x : steady_state)
+    if (!std::isfinite(x)) throw InputError("steady_state", format_value(x), "finite densities");
+  if (!std::isfinite(options.shift)) throw InputError("shift", format_value(options.shift), "a finite shift");
+  MassConstrainedSystem system(model, RatesPath::fast, options.lowrank_tolerance);
+  const std::size_t m = system.mass_row();
+  const bool dense = options.method == SpectrumMethod::dense ||
+                     (options.method == SpectrumMethod::automatic && model.size <= options.dense_limit) || m < 8;
+  StabilityResult result;
+  result.method = dense ? "dense" : "krylov";
+  std::vector<Complex> values = dense ? dense_spectrum(model, steady_state, m)
+                                      : krylov_spectrum(system, steady_state, options, count, result);
+  sort_rightmost(values);
+  if (values.size() > std::size_t(count)) {
+    // Keep a conjugate pair together.
+    std::size_t keep = std::size_t(count);
+    if (values[keep - 1].imag() != 0.0 && keep < values.size() && values[keep] == std::conj(values[keep - 1])) ++keep;
+    values.resize(keep);
+  }
+  result.rightmost = std::move(values);
+  result.stable = result.rightmost.empty() || result.rightmost.front().real() < 0.0;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+}  // namespace aggkit

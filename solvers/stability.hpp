@@ -1,0 +1,84 @@
+#pragma once
+// Linear stability of a steady state (solvers/steady_state.hpp): the rightmost eigenvalues of the
+// Jacobian ∂f/∂n on the mass shell, i.e. the finite eigenvalues of the pencil (J_F, B) of
+// solvers/mass_constrained_system.hpp. Eliminating the constrained components (v_m = -Σ_{k<m} (k+1) v_k
+// /(m+1) on the mass row m, pinned components 0) leaves the standard problem A u = μ u,
+// A = J_{<m,<m} + J_{<m,m} t^T with t_k = -(k+1)/(m+1): the trivial mass-conservation mode is gone.
+//   dense:  A formed from the direct Jacobian, all eigenvalues by Eigen (small N);
+//   krylov: Arnoldi (Spectra) on the shift-invert operator (A - σI)^{-1}, each application one GMRES
+//           solve of (J_F - σB) v = (b, 0) with the monomer-attachment preconditioner (PETSc KSP). The
+//           eigenvalues nearest σ come out first; the rightmost are then selected from those, which is
+//           right when the rightmost eigenvalues are also the ones nearest σ (the oscillatory pair of
+//           the aggregation-shattering problem is slow: |μ| ≪ the fast loss rates ~ c_k).
+// locate_hopf finds λ_crit(a) where the rightmost complex pair crosses Re μ = 0 (Kalinov et al.:
+// sustained oscillations for 1/2 < a ≤ 1 and λ < λ_crit(a); PUBLISHED.md section A).
+#include <complex>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "solvers/model.hpp"
+#include "solvers/steady_state.hpp"
+
+namespace aggkit {
+
+enum class SpectrumMethod { automatic, dense, krylov };
+
+struct StabilityOptions {
+  SpectrumMethod method = SpectrumMethod::automatic;
+  std::size_t dense_limit = 800;      // automatic: dense up to this N, Krylov above
+  double shift = 0.0;                 // σ of the shift-invert Krylov path
+  int krylov_eigenvalues = 16;        // how many eigenvalues nearest σ Arnoldi computes (≥ count)
+  double eigen_tolerance = 1e-10;     // Spectra's relative tolerance on the Ritz values of (A - σI)^{-1}
+  double linear_tolerance = 1e-12;    // relative GMRES tolerance of each shift-invert solve
+  double lowrank_tolerance = 1e-12;   // kernels without an exact factorisation
+};
+
+struct StabilityResult {
+  std::vector<std::complex<double>> rightmost;  // rightmost eigenvalues, real part descending
+                                                // (the trivial mass-conservation mode excluded)
+  bool stable = true;                            // Re(rightmost[0]) < 0
+  // Added beyond the shared interface:
+  std::string method;                            // "dense" or "krylov"
+  long linear_iterations = 0;                    // GMRES iterations of the shift-invert solves (krylov)
+  int operator_applications = 0;                 // shift-invert solves (krylov)
+  double seconds = 0;
+};
+
+StabilityResult analyse_stability(const AggregationModel& model, std::span<const double> steady_state,
+                                  int count = 6);
+StabilityResult analyse_stability(const AggregationModel& model, std::span<const double> steady_state, int count,
+                                  const StabilityOptions& options);
+
+// The rightmost complex pair (Im > 0 member) among `eigenvalues`; {NaN, NaN} if there is none.
+std::complex<double> rightmost_complex_pair(std::span<const std::complex<double>> eigenvalues);
+
+struct HopfPoint {
+  double a = 0;
+  bool found = false;            // false: no crossing in [lambda_lo, lambda_hi] (note says which side)
+  double lambda_crit = 0;        // the rightmost complex pair crosses Re = 0 here
+  double lambda_tolerance = 0;   // |lambda_crit - true crossing| bound of the bisection/secant
+  double omega = 0;              // Im of the crossing pair: oscillation period 2π/ω
+  std::string note;
+  // Added beyond the shared interface:
+  int evaluations = 0;           // steady state + spectrum computations
+  double seconds = 0;
+};
+
+struct HopfOptions {
+  SteadyStateOptions steady;
+  StabilityOptions stability;
+};
+
+// λ_crit for the brownian kernel (i/j)^a + (j/i)^a with the other settings of `base` (size N,
+// truncation, initial mass). Sustained oscillations for λ < λ_crit. The growth rate g(λ) = Re μ of the
+// rightmost complex pair is bracketed on [lambda_lo, lambda_hi] and the root is found by the Illinois
+// variant of regula falsi in ln λ (a secant method that keeps a bracket) until the bracket is narrower
+// than relative_tolerance · λ; each steady state starts from the nearest one already found
+// (continuation in λ). Throws InputError for a ∉ [0, 1] or a bad λ range.
+HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,
+                      double relative_tolerance = 1e-3);
+HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,
+                      double relative_tolerance, const HopfOptions& options);
+
+}  // namespace aggkit

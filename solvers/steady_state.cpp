@@ -1,0 +1,262 @@
+#include "solvers/steady_state.hpp"
+
+#include <petscsnes.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+
+#include "analysis/input_error.hpp"
+#include "solvers/cvode_integrator.hpp"
+#include "solvers/mass_constrained_system.hpp"
+#include "solvers/petsc_session.hpp"
+#include "solvers/petsc_shell.hpp"
+
+namespace aggkit {
+
+void SteadyStateOptions::validate() const {
+  auto positive = [](const char* key, double v) {
+    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(key, format_value(v), "a finite number > 0");
+  };
+  positive("engine.tolerance", relative_tolerance);
+  positive("engine.start_time", start_time);
+  positive("engine.start_rtol", start_rtol);
+  positive("engine.linear_tolerance", linear_tolerance);
+  if (max_newton_iterations < 1)
+    throw InputError("engine.max_newton_iterations", std::to_string(max_newton_iterations), "an integer >= 1");
+  if (krylov_restart < 1) throw InputError("engine.krylov_restart", std::to_string(krylov_restart), "an integer >= 1");
+  if (max_krylov_iterations < 1)
+    throw InputError("engine.max_krylov_iterations", std::to_string(max_krylov_iterations), "an integer >= 1");
+  if (start_retries < 0) throw InputError("engine.start_retries", std::to_string(start_retries), "an integer >= 0");
+}
+
+namespace {
+
+struct NewtonContext {
+  MassConstrainedSystem* system = nullptr;
+  ShellOperator op;
+  std::vector<double> history;
+};
+
+PetscErrorCode form_function(SNES, Vec x, Vec f, void* data) {
+  auto* c = static_cast<NewtonContext*>(data);
+  const std::size_t N = c->system->size();
+  const PetscScalar* xx = nullptr;
+  PetscScalar* ff = nullptr;
+  VecGetArrayRead(x, &xx);
+  VecGetArray(f, &ff);
+  PetscErrorCode code = 0;
+  try {
+    c->system->residual({xx, N}, {ff, N});
+  } catch (...) {
+    code = PETSC_ERR_LIB;
+  }
+  VecRestoreArray(f, &ff);
+  VecRestoreArrayRead(x, &xx);
+  return code;
+}
+
+PetscErrorCode form_jacobian(SNES, Vec x, Mat, Mat, void* data) {
+  auto* c = static_cast<NewtonContext*>(data);
+  const PetscScalar* xx = nullptr;
+  VecGetArrayRead(x, &xx);
+  PetscErrorCode code = 0;
+  try {
+    c->system->set_state({xx, c->system->size()});
+  } catch (...) {
+    code = PETSC_ERR_LIB;
+  }
+  VecRestoreArrayRead(x, &xx);
+  return code;
+}
+
+PetscErrorCode record_residual(SNES, PetscInt, PetscReal norm, void* data) {
+  auto* c = static_cast<NewtonContext*>(data);
+  c->history.push_back(norm / c->system->residual_scale());
+  return 0;
+}
+
+// One SNES solve from `guess`; fills the result (n, convergence, counts, history).
+void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, std::span<const double> guess,
+            SteadyStateResult& result) {
+  const PetscInt N = PetscInt(system.size());
+  NewtonContext context;
+  context.system = &system;
+  context.op.system = &system;
+  SNES snes = nullptr;
+  Vec x = nullptr, r = nullptr;
+  Mat J = nullptr;
+  auto cleanup = [&] {
+    if (snes) SNESDestroy(&snes);
+    if (J) MatDestroy(&J);
+    if (x) VecDestroy(&x);
+    if (r) VecDestroy(&r);
+  };
+  try {
+    check_petsc(VecCreateSeq(PETSC_COMM_SELF, N, &x), "VecCreateSeq");
+    check_petsc(VecDuplicate(x, &r), "VecDuplicate");
+    PetscScalar* xx = nullptr;
+    check_petsc(VecGetArray(x, &xx), "VecGetArray");
+    std::copy(guess.begin(), guess.end(), xx);
+    VecRestoreArray(x, &xx);
+    J = make_shell_matrix(context.op);
+    check_petsc(SNESCreate(PETSC_COMM_SELF, &snes), "SNESCreate");
+    check_petsc(SNESSetType(snes, SNESNEWTONLS), "SNESSetType");
+    check_petsc(SNESSetFunction(snes, r, form_function, &context), "SNESSetFunction");
+    check_petsc(SNESSetJacobian(snes, J, J, form_jacobian, &context), "SNESSetJacobian");
+    SNESLineSearch line_search = nullptr;
+    check_petsc(SNESGetLineSearch(snes, &line_search), "SNESGetLineSearch");
+    check_petsc(SNESLineSearchSetType(line_search, SNESLINESEARCHBT), "SNESLineSearchSetType");
+    // Absolute test on the scaled norm; no relative or step-size test (they would stop early).
+    check_petsc(SNESSetTolerances(snes, options.relative_tolerance * system.residual_scale(), 0.0, 0.0,
+                                  options.max_newton_iterations, 100 * options.max_newton_iterations),
+                "SNESSetTolerances");
+    check_petsc(SNESMonitorSet(snes, record_residual, &context, nullptr), "SNESMonitorSet");
+    KSP ksp = nullptr;
+    check_petsc(SNESGetKSP(snes, &ksp), "SNESGetKSP");
+    check_petsc(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+    check_petsc(KSPGMRESSetRestart(ksp, options.krylov_restart), "KSPGMRESSetRestart");
+    check_petsc(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");  // GMRES then minimises the true residual
+    check_petsc(KSPSetTolerances(ksp, options.linear_tolerance, 1e-300, PETSC_DEFAULT, options.max_krylov_iterations),
+                "KSPSetTolerances");
+    PC pc = nullptr;
+    check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+    set_shell_preconditioner(pc, context.op, options.precondition);
+    if (options.eisenstat_walker) check_petsc(SNESKSPSetUseEW(snes, PETSC_TRUE), "SNESKSPSetUseEW");
+    check_petsc(SNESSolve(snes, nullptr, x), "SNESSolve");
+    SNESConvergedReason reason;
+    SNESGetConvergedReason(snes, &reason);
+    PetscInt iterations = 0, linear = 0;
+    SNESGetIterationNumber(snes, &iterations);
+    SNESGetLinearSolveIterations(snes, &linear);
+    result.newton_iterations += int(iterations);
+    result.krylov_iterations += long(linear);
+    result.converged = reason > 0;
+    if (reason <= 0) result.note += std::string("SNES stopped: ") + SNESConvergedReasons[reason] + "; ";
+    const PetscScalar* solution = nullptr;
+    VecGetArrayRead(x, &solution);
+    result.n.assign(solution, solution + N);
+    VecRestoreArrayRead(x, &solution);
+  } catch (...) {
+    cleanup();
+    throw;
+  }
+  cleanup();
+  result.residual_history.insert(result.residual_history.end(), context.history.begin(), context.history.end());
+}
+
+// A steady state must be a density: negative entries beyond round-off mean Newton found another root
+// of the quadratic system.
+double most_negative(std::span<const double> n) {
+  double largest = 0.0, lowest = 0.0;
+  for (double x : n) {
+    largest = std::max(largest, std::abs(x));
+    lowest = std::min(lowest, x);
+  }
+  return largest > 0.0 ? lowest / largest : 0.0;
+}
+constexpr double negative_density_limit = -1e-8;
+
+std::vector<double> cvode_start(const AggregationModel& model, double time, double rtol) {
+  IntegratorOptions integrator;
+  integrator.rtol = rtol;
+  std::vector<double> state;
+  const double times[] = {time};
+  integrate(model, times, integrator, [&](double, std::span<const double> n, double) { state.assign(n.begin(), n.end()); });
+  return state;
+}
+
+}  // namespace
+
+SteadyStateResult solve_steady_state(const AggregationModel& model, const SteadyStateOptions& options,
+                                     std::span<const double> initial_guess) {
+  options.validate();
+  const auto started = std::chrono::steady_clock::now();
+  MassConstrainedSystem system(model, options.rates, options.lowrank_tolerance);
+  if (!initial_guess.empty() && initial_guess.size() != system.size())
+    throw InputError("initial_guess", std::to_string(initial_guess.size()) + " entries",
+                     "exactly model.size = " + std::to_string(system.size()) + " entries");
+  for (double x : initial_guess)
+    if (!std::isfinite(x)) throw InputError("initial_guess", format_value(x), "finite densities");
+  ensure_petsc_initialized();
+
+  SteadyStateResult result;
+  std::vector<double> guess(initial_guess.begin(), initial_guess.end());
+  double start_time = options.start_time;
+  const int attempts = 1 + options.start_retries;
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    if (guess.empty()) {
+      guess = cvode_start(model, start_time, options.start_rtol);
+      result.start_time = start_time;
+      start_time *= 10.0;
+    } else {
+      result.start_time = 0.0;
+    }
+    newton(system, options, guess, result);
+    result.most_negative_density = most_negative(result.n);
+    if (result.converged && result.most_negative_density >= negative_density_limit) break;
+    if (result.converged) {
+      result.converged = false;
+      result.note += "converged to a root with negative densities (min n / max n = " +
+                     format_value(result.most_negative_density) + "); ";
+    }
+    if (attempt + 1 < attempts) result.note += "retrying from a CVODE run to t = " + format_value(start_time) + "; ";
+    guess.clear();
+  }
+  std::vector<double> F(system.size());
+  system.residual(result.n, F);
+  double norm = 0.0;
+  for (double x : F) norm += x * x;
+  result.relative_residual = std::sqrt(norm) / system.residual_scale();
+  result.leak_rate = system.leak_rate(result.n) / system.mass();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+namespace {
+
+// Continuation along a parameter p: model_at(p) builds the model, the guess is the secant extrapolation.
+std::vector<SteadyStateResult> continuation(std::span<const double> parameters,
+                                            const std::function<AggregationModel(double)>& model_at,
+                                            const SteadyStateOptions& options) {
+  std::vector<SteadyStateResult> results;
+  std::vector<double> guess;
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    if (i >= 1 && results[i - 1].converged) {
+      guess = results[i - 1].n;
+      if (i >= 2 && results[i - 2].converged && parameters[i - 1] != parameters[i - 2]) {
+        const double s = (parameters[i] - parameters[i - 1]) / (parameters[i - 1] - parameters[i - 2]);
+        for (std::size_t k = 0; k < guess.size(); ++k) guess[k] += s * (guess[k] - results[i - 2].n[k]);
+      }
+    } else {
+      guess.clear();
+    }
+    results.push_back(solve_steady_state(model_at(parameters[i]), options, guess));
+    // An extrapolated guess that failed gets a second chance from CVODE.
+    if (!results.back().converged && !guess.empty()) results.back() = solve_steady_state(model_at(parameters[i]), options);
+  }
+  return results;
+}
+
+}  // namespace
+
+std::vector<SteadyStateResult> continue_in_lambda(const AggregationModel& base, std::span<const double> lambdas,
+                                                  const SteadyStateOptions& options) {
+  return continuation(lambdas, [&](double lambda) {
+    AggregationModel model = base;
+    model.lambda = ShatteringRate::constant(lambda);
+    return model;
+  }, options);
+}
+
+std::vector<SteadyStateResult> continue_in_a(const AggregationModel& base, std::span<const double> a_values,
+                                             const SteadyStateOptions& options) {
+  return continuation(a_values, [&](double a) {
+    AggregationModel model = base;
+    model.kernel = Kernel::brownian(a);
+    return model;
+  }, options);
+}
+
+}  // namespace aggkit

@@ -1,0 +1,73 @@
+#pragma once
+// Steady states of the truncated aggregation-shattering system by PETSc SNES Newton–Krylov on the
+// mass-constrained equations (solvers/mass_constrained_system.hpp): F_k = f_k (k < N), F_N = Σ k n_k - M.
+// J·v is the exact bilinear form of the fast O(N R log N) rates (a MatShell, no differencing); GMRES is
+// right-preconditioned by the monomer-attachment lower-triangular part of J_F (O(N) per application);
+// backtracking line search; Eisenstat–Walker forcing terms. Without an initial guess the start is the
+// state of a short CVODE run from the model's initial state (retried with a longer run if Newton fails
+// or lands on a root with negative densities). Natural-parameter continuation in λ or in the brownian
+// exponent a reuses (secant-extrapolates) the previous solutions.
+//
+// What the steady state means under truncation: under `cutoff` (mass conserved exactly) it is the exact
+// steady state of the truncated system. Under `drop` every size below N is stationary and the largest
+// class drains at the leak rate / N; `leak_rate` reports the mass flux out of the truncation relative to
+// M, i.e. how far the truncated system is from a true steady state (a well-chosen N makes it tiny).
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "solvers/model.hpp"
+#include "solvers/rates.hpp"
+
+namespace aggkit {
+
+struct SteadyStateOptions {
+  // Convergence: ||F(n)||_2 ≤ relative_tolerance · ||F(n(0))||_2 (n(0) the model's initial state, so the
+  // scale is the rate of the problem and does not depend on how good the start is).
+  double relative_tolerance = 1e-10;
+  int max_newton_iterations = 50;
+  RatesPath rates = RatesPath::fast;
+  double lowrank_tolerance = 1e-12;  // kernels without an exact factorisation (ballistic)
+  bool precondition = true;          // false: plain GMRES (for comparison only)
+  bool eisenstat_walker = true;      // adaptive GMRES tolerances; false: linear_tolerance fixed
+  double linear_tolerance = 1e-4;    // relative GMRES tolerance when eisenstat_walker is false
+  int krylov_restart = 100;
+  int max_krylov_iterations = 2000;  // per Newton step
+  // Start without a guess: CVODE (rtol start_rtol) from n(0) to start_time, then up to `start_retries`
+  // retries each integrating 10x longer.
+  double start_time = 20.0;
+  double start_rtol = 1e-4;
+  int start_retries = 2;
+  void validate() const;  // throws InputError
+};
+
+struct SteadyStateResult {
+  std::vector<double> n;                 // n_1..n_N at the steady state
+  bool converged = false;
+  int newton_iterations = 0;
+  long krylov_iterations = 0;
+  double relative_residual = 0;          // final ||F|| / ||F(n(0))||
+  std::vector<double> residual_history;  // per Newton iteration (the first entry: the start)
+  double seconds = 0;
+  // Added beyond the shared interface:
+  double leak_rate = 0;                  // mass per unit time leaving through N, relative to M (drop)
+  double most_negative_density = 0;      // min(0, min_k n_k) relative to max_k n_k
+  double start_time = 0;                 // CVODE time of the start (0: the caller's guess)
+  std::string note;                      // why it did not converge, retries
+};
+
+// Steady state of model (a serial, PETSC_COMM_SELF solve: each MPI rank solves its own points).
+// λ must be constant in time. Throws InputError on bad options or model.
+SteadyStateResult solve_steady_state(const AggregationModel& model, const SteadyStateOptions& options = {},
+                                     std::span<const double> initial_guess = {});
+
+// Natural-parameter continuation: the steady states of `base` with λ = lambdas[i] (in the given order),
+// each started from the secant extrapolation of the previous two solutions (the first from CVODE).
+std::vector<SteadyStateResult> continue_in_lambda(const AggregationModel& base, std::span<const double> lambdas,
+                                                  const SteadyStateOptions& options = {});
+// The same along the exponent a of the brownian kernel (i/j)^a + (j/i)^a.
+std::vector<SteadyStateResult> continue_in_a(const AggregationModel& base, std::span<const double> a_values,
+                                             const SteadyStateOptions& options = {});
+
+}  // namespace aggkit

@@ -1,0 +1,131 @@
+// SNES steady states (solvers/steady_state.hpp) against closed forms, CVODE and conservation.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "analysis/input_error.hpp"
+#include "analysis/moments.hpp"
+#include "solvers/cvode_integrator.hpp"
+#include "solvers/mass_constrained_system.hpp"
+#include "solvers/steady_state.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+AggregationModel brownian_model(double a, double lambda, std::size_t N, Truncation truncation = Truncation::cutoff) {
+  AggregationModel model;
+  model.kernel = Kernel::brownian(a);
+  model.lambda = ShatteringRate::constant(lambda);
+  model.size = N;
+  model.truncation = truncation;
+  model.initial = monodisperse(N);
+  return model;
+}
+
+}  // namespace
+
+TEST_CASE("K = 2 with shattering: n1 = λ/(1+λ) and M0 = 2λ/(1+2λ)", "[snes][steady]") {
+  // Brownian a = 0 is K_ij = 2. Summing the rate equations with M1 = 1 closes M0 and n_1 (see the
+  // derivation in tests/solvers/test_shattering.cpp; with K = 2 the monomer equation at the fixed point
+  // gives n1 = λ/(1+λ)). The tail decays like e^{-k λ^2} (measured: λ = 0.1 at N = 2048 is still off
+  // by 2e-9), so with λ ≥ 0.2 and N = 2048 the truncation error is below e^{-80}; Newton stops at
+  // ||F|| ≤ 1e-10 ||F(n0)||, which bounds the error of n1, M0 by ~1e-10 / (smallest |eigenvalue| ~ λ).
+  // Tail entries are only determined to that absolute level, hence the looser leak/negativity bounds.
+  for (Truncation truncation : {Truncation::cutoff, Truncation::drop})
+    for (double lambda : {0.2, 0.5, 2.0}) {
+      const SteadyStateResult r = solve_steady_state(brownian_model(0.0, lambda, 2048, truncation));
+      INFO("lambda " << lambda << " " << to_string(truncation) << " " << r.note);
+      REQUIRE(r.converged);
+      CHECK(r.relative_residual <= 1e-10);
+      CHECK(r.n[0] == Approx(lambda / (1 + lambda)).epsilon(1e-9));
+      CHECK(moment(r.n, 0.0) == Approx(2 * lambda / (1 + 2 * lambda)).epsilon(1e-9));
+      CHECK(moment(r.n, 1.0) == Approx(1.0).epsilon(1e-12));  // the constraint
+      CHECK(std::abs(r.leak_rate) < 1e-8);
+      CHECK(r.most_negative_density > -1e-9);
+      CHECK(r.residual_history.size() == std::size_t(r.newton_iterations + 1));
+      CHECK(r.krylov_iterations > 0);
+    }
+}
+
+TEST_CASE("SNES agrees with a long CVODE run", "[snes][steady][cvode]") {
+  // Relaxing cases with fast decay (rightmost eigenvalue ≲ -0.05), so that CVODE at rtol 1e-10 reaches
+  // the steady state to ~1e-9 by t = 600; cutoff at N = 1024 with a small tail for λ ≥ 0.1. CVODE's
+  // absorbing class N (which collides with nothing) is left out of its moments: the steady state pins
+  // it to 0 (solvers/mass_constrained_system.hpp), while mass reaching it over t = 600 weighs N^p.
+  struct Case { double a, lambda, t; };
+  for (const Case c : {Case{0.0, 0.3, 400.0}, Case{0.3, 0.1, 600.0}, Case{0.9, 0.3, 600.0}}) {
+    const AggregationModel model = brownian_model(c.a, c.lambda, 1024);
+    const SteadyStateResult r = solve_steady_state(model);
+    REQUIRE(r.converged);
+    IntegratorOptions options;
+    options.rtol = 1e-10;
+    std::vector<double> late;
+    integrate(model, std::vector<double>{c.t}, options,
+              [&](double, std::span<const double> n, double) { late.assign(n.begin(), n.end()); });
+    INFO("a " << c.a << " lambda " << c.lambda);
+    late.back() = 0.0;
+    INFO("leak " << r.leak_rate);
+    // M3 weighs the sizes near N, where the drain into the absorbing class acts (a 7e-7 shift for
+    // a = 0.3, λ = 0.1 over t = 600): a looser bound there.
+    for (double p : {0.0, 2.0}) CHECK(moment(r.n, p) == Approx(moment(late, p)).epsilon(2e-7));
+    CHECK(moment(r.n, 3.0) == Approx(moment(late, 3.0)).epsilon(2e-6));
+    CHECK(r.n[0] == Approx(late[0]).epsilon(2e-7));
+  }
+}
+
+TEST_CASE("continuation in lambda and in a reuses the previous solution", "[snes][steady]") {
+  const AggregationModel base = brownian_model(0.0, 1.0, 1024);
+  const std::vector<double> lambdas{1.0, 0.7, 0.5, 0.35};
+  const auto path = continue_in_lambda(base, lambdas);
+  REQUIRE(path.size() == lambdas.size());
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    REQUIRE(path[i].converged);
+    CHECK(path[i].n[0] == Approx(lambdas[i] / (1 + lambdas[i])).epsilon(1e-9));
+    if (i >= 1) {
+      CHECK(path[i].start_time == 0.0);  // started from the previous solutions, not from CVODE
+      CHECK(path[i].newton_iterations <= 5);
+    }
+  }
+  const std::vector<double> as{0.5, 0.55, 0.6};
+  const auto along_a = continue_in_a(brownian_model(0.5, 0.5, 1024), as);
+  for (std::size_t i = 0; i < along_a.size(); ++i) {
+    REQUIRE(along_a[i].converged);
+    const SteadyStateResult direct = solve_steady_state(brownian_model(as[i], 0.5, 1024));
+    CHECK(moment(along_a[i].n, 0.0) == Approx(moment(direct.n, 0.0)).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("the preconditioner keeps GMRES iterations low", "[snes][steady]") {
+  // Monomer-attachment lower-triangular preconditioner against plain GMRES on the same problem.
+  SteadyStateOptions plain;
+  plain.precondition = false;
+  const AggregationModel model = brownian_model(0.5, 0.1, 2048);
+  const SteadyStateResult with = solve_steady_state(model);
+  const SteadyStateResult without = solve_steady_state(model, plain);
+  REQUIRE(with.converged);
+  INFO("preconditioned " << with.krylov_iterations << ", plain " << without.krylov_iterations);
+  CHECK(with.krylov_iterations * 3 < without.krylov_iterations);
+}
+
+TEST_CASE("steady-state bad input", "[snes][steady][input]") {
+  AggregationModel model = brownian_model(0.5, 0.1, 64);
+  model.lambda = ShatteringRate::linear(0.1, 0.01);
+  CHECK_THROWS_AS(solve_steady_state(model), InputError);
+  model = brownian_model(0.5, 0.1, 64);
+  SteadyStateOptions options;
+  options.relative_tolerance = -1.0;
+  CHECK_THROWS_AS(solve_steady_state(model, options), InputError);
+  options = {};
+  options.max_newton_iterations = 0;
+  CHECK_THROWS_AS(solve_steady_state(model, options), InputError);
+  const std::vector<double> short_guess(10, 0.1);
+  CHECK_THROWS_AS(solve_steady_state(model, {}, short_guess), InputError);
+  std::vector<double> nan_guess(64, 0.0);
+  nan_guess[3] = NAN;
+  CHECK_THROWS_AS(solve_steady_state(model, {}, nan_guess), InputError);
+  model.initial.assign(64, 0.0);
+  model.initial[63] = 1.0;  // all mass in the absorbing class of the cutoff
+  CHECK_THROWS_AS(solve_steady_state(model), InputError);
+}
