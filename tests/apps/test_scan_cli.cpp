@@ -68,7 +68,9 @@ lambda = { from = 0.01, to = 1.0, count = 3, spacing = "log" }
 std::map<std::string, std::string> point_files(const fs::path& out) {
   std::map<std::string, std::string> files;
   for (const auto& entry : fs::directory_iterator(out / "points"))
-    if (entry.path().extension() == ".csv") files[entry.path().filename().string()] = aggkit::testing::read_text(entry.path());
+    // Grid points only: with the stability solvers in the build the scan also keeps hopf_*.csv files.
+    if (entry.path().extension() == ".csv" && !entry.path().filename().string().starts_with("hopf_"))
+      files[entry.path().filename().string()] = aggkit::testing::read_text(entry.path());
   return files;
 }
 
