@@ -8,10 +8,11 @@ EngineType cvode_engine_type();
 EngineType exact_engine_type();
 EngineType dsmc_engine_type();
 EngineType ed_engine_type();
+EngineType snes_engine_type();
 
 const std::vector<EngineType>& engine_types() {
   static const std::vector<EngineType> types{cvode_engine_type(), exact_engine_type(), dsmc_engine_type(),
-                                             ed_engine_type()};
+                                             ed_engine_type(), snes_engine_type()};
   return types;
 }
 

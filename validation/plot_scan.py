@@ -39,12 +39,17 @@ def main():
     with open(args.lambda_crit, newline="") as f:
         crit = list(csv.DictReader(f))
 
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = plt.subplots(figsize=(9, 5))
     for regime, style in STYLE.items():
-        xs = [number(p["a"]) for p in points if p["regime"] == regime]
-        ys = [number(p["lambda"]) for p in points if p["regime"] == regime]
-        if xs:
-            ax.scatter(xs, ys, s=28, color=style["color"], marker=style["marker"], label=style["label"])
+        for converged in (True, False):
+            # Tentative verdicts (the classifier's convergence check failed) are drawn hollow.
+            chosen = [p for p in points if p["regime"] == regime and (p["converged"] == "yes") == converged]
+            if not chosen:
+                continue
+            label = style["label"] if converged else style["label"] + " (not converged)"
+            ax.scatter([number(p["a"]) for p in chosen], [number(p["lambda"]) for p in chosen], s=28,
+                       marker=style["marker"], label=label, edgecolors=style["color"],
+                       facecolors=style["color"] if converged else "none")
     rows = [r for r in crit if not math.isnan(number(r["lambda_crit"]))]
     if rows:
         a = [number(r["a"]) for r in rows]
@@ -59,7 +64,7 @@ def main():
     ax.set_xlabel("a  (kernel (i/j)^a + (j/i)^a)")
     ax.set_ylabel("lambda (shattering rate)")
     ax.set_title(args.title)
-    ax.legend(fontsize=8, loc="best")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(args.output, dpi=120, format="png")

@@ -19,11 +19,7 @@
 #include "validation/scan_point.hpp"
 #include "validation/text.hpp"
 
-// λ_crit(a) from the Hopf point of the linear stability, where that part of the project is in the build.
-#if __has_include("solvers/stability.hpp")
 #include "solvers/stability.hpp"
-#define AGGKIT_SCAN_HOPF 1
-#endif
 
 namespace aggkit {
 
@@ -158,7 +154,6 @@ class RunCache {
   std::size_t reused_ = 0, computed_ = 0, failed_ = 0;
 };
 
-#ifdef AGGKIT_SCAN_HOPF
 // λ_crit(a) by locate_hopf over the scan's λ range at truncation `size`; cached in DIR/points like the runs.
 void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points, std::vector<LambdaCritRow>& crit,
                       bool doubled, std::ostream* progress) {
@@ -233,7 +228,6 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
     row.note = grid;
   }
 }
-#endif
 
 }  // namespace
 
@@ -322,12 +316,12 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
     }
   }
 
-#ifdef AGGKIT_SCAN_HOPF
+  // λ_crit(a) from the Hopf point of the linear stability (solvers/stability.hpp), where the grid gave only
+  // a bracket.
   if (plan.stability) {
     hopf_lambda_crit(plan, points, crit, false, options.progress);
     if (plan.check_lambda_crit) hopf_lambda_crit(plan, points, crit, true, options.progress);
   }
-#endif
 
   ScanOutcome outcome;
   outcome.points = plan.point_count();

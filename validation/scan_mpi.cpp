@@ -4,10 +4,7 @@
 
 #include <mpi.h>
 
-#if __has_include("solvers/petsc_session.hpp")
 #include "solvers/petsc_session.hpp"
-#define AGGKIT_SCAN_PETSC 1
-#endif
 
 namespace aggkit {
 
@@ -30,9 +27,7 @@ MpiSession::MpiSession(int* argc, char*** argv) {
 }
 
 MpiSession::~MpiSession() {
-#ifdef AGGKIT_SCAN_PETSC
   finalize_petsc();  // PETSc runs on MPI_COMM_WORLD: it must end before MPI does
-#endif
   if (initialised_here_ && mpi_active()) MPI_Finalize();
 }
 

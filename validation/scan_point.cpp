@@ -7,35 +7,24 @@
 #include <vector>
 
 #include "validation/system_state.hpp"
+#include "validation/text.hpp"
 
-// The steady-state and stability solvers (PETSc SNES, Eigen/Spectra) are built by a parallel part of the
-// project; the scan uses them where they are part of the build.
-#if __has_include("solvers/stability.hpp")
 #include "solvers/stability.hpp"
 #include "solvers/steady_state.hpp"
-#define AGGKIT_SCAN_STABILITY 1
-#endif
 
 namespace aggkit {
 
-bool scan_stability_available() {
-#ifdef AGGKIT_SCAN_STABILITY
-  return true;
-#else
-  return false;
-#endif
-}
+bool scan_stability_available() { return true; }
 
 namespace {
 
 // Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
 // oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
-void classify_by_stability([[maybe_unused]] const AggregationModel& model, [[maybe_unused]] ScanRecord& r) {
-#ifdef AGGKIT_SCAN_STABILITY
+void classify_by_stability(const AggregationModel& model, ScanRecord& r) {
   const SteadyStateResult steady = solve_steady_state(model);
   if (!steady.converged) {
     r.note += std::string(r.note.empty() ? "" : "; ") + "steady state not converged (residual " +
-              std::to_string(steady.relative_residual) + ")";
+              shortest_text(steady.relative_residual) + ")";
     return;
   }
   const StabilityResult stability = analyse_stability(model, steady.n);
@@ -46,7 +35,6 @@ void classify_by_stability([[maybe_unused]] const AggregationModel& model, [[may
   r.regime_stability = !stability.stable ? "sustained" : mu.imag() != 0 ? "damped" : "steady";
   const bool known = r.regime == "sustained" || r.regime == "damped" || r.regime == "steady";
   if (known) r.agree = (r.regime == "sustained") == (r.regime_stability == "sustained") ? "yes" : "no";
-#endif
 }
 
 }  // namespace

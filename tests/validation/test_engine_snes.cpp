@@ -1,0 +1,61 @@
+// Engine "snes" in the harness: the shipped scene brownian-steady (K = 2, λ = 0.5) against the closed
+// form n1 = λ/(1+λ), M0 = 2λ/(1+2λ), its distribution.csv, summary statistics and bad options.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/input_error.hpp"
+#include "tests/validation/scene_fixture.hpp"
+#include "validation/harness.hpp"
+#include "validation/scene.hpp"
+
+using namespace aggkit;
+
+TEST_CASE("engine snes: the shipped steady-state scene passes and writes the distribution", "[snes][harness]") {
+  const auto out = aggkit::testing::scratch_folder("engine-snes") / "out";
+  RunOptions options;
+  options.out = out;
+  options.plot = false;
+  options.report = nullptr;
+  options.progress = nullptr;
+  options.warnings = nullptr;
+  const RunResult result = run_scene(load_scene(aggkit::testing::shipped_scene("brownian-steady.toml")), options);
+  CHECK(result.pass);
+  std::ifstream csv(out / "snes" / "distribution.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  CHECK(header == "k,n");
+  REQUIRE(row.rfind("1,", 0) == 0);
+  // Newton's tolerance 1e-10 on ||F|| bounds the error of n1 by ~1e-10/λ (test_steady_state.cpp).
+  CHECK(std::stod(row.substr(2)) == Approx(0.5 / 1.5).epsilon(1e-8));
+  const auto summary = nlohmann::json::parse(aggkit::testing::read_text(out / "summary.json"));
+  const std::string dump = summary.dump();
+  CHECK(dump.find("steady_M0") != std::string::npos);
+  CHECK(dump.find("newton_iterations") != std::string::npos);
+}
+
+TEST_CASE("engine snes: bad options name the key", "[snes][harness][input]") {
+  const std::string scene = R"(name = "s"
+[model]
+kernel = { name = "brownian", a = 0.5 }
+lambda = 0.5
+size = 64
+truncation = "cutoff"
+initial = { kind = "monodisperse" }
+[time]
+end = 1.0
+outputs = [1.0]
+[[engine]]
+name = "snes"
+)";
+  CHECK_THROWS_WITH(parse_scene(scene + "tolerance = -1.0\n"), Catch::Contains("tolerance") && Catch::Contains("-1"));
+  CHECK_THROWS_WITH(parse_scene(scene + "rhs = \"fft\"\n"), Catch::Contains("rhs"));
+  CHECK_THROWS_WITH(parse_scene(scene + "max_newton_iterations = 0\n"), Catch::Contains("max_newton_iterations"));
+  std::string driven = scene;
+  driven.replace(driven.find("lambda = 0.5"), 12, "lambda = { kind = \"linear\", initial = 0.1, slope = 0.01 }");
+  CHECK_THROWS_AS(parse_scene(driven), InputError);
+}
