@@ -156,7 +156,15 @@ FractalFit box_counting_dimension(std::span<const std::array<double, 3>> points,
     valid.push_back(ok);
   }
   std::size_t first = 0, last = 0;
-  if (!longest_run(valid, true, first, last)) return fit;
+  fit.rule = "plateaus";
+  if (!longest_run(valid, true, first, last)) {
+    if (!(box_side > 0)) return fit;
+    // Degond et al. (PUBLISHED.md B): fit over 3R <= s <= L/2 whatever the plateaus say.
+    for (std::size_t m = 0; m < valid.size(); ++m)
+      valid[m] = fit.scale[m] >= 3 * radius && fit.scale[m] <= side / 2;
+    if (!longest_run(valid, true, first, last)) return fit;
+    fit.rule = "published_range";
+  }
   fit_log_log(log_scale, log_count, first, last, -1.0, fit);
   fit.fit_max = fit.scale[first];  // coarse levels come first
   fit.fit_min = fit.scale[last];

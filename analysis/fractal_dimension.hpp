@@ -7,6 +7,7 @@
 // across periodic boundaries (analysis/clusters.hpp, unwrap_cluster).
 #include <array>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace aggkit {
@@ -17,6 +18,7 @@ struct FractalFit {
   double fit_min = 0, fit_max = 0;               // the scales (lengths) bounding the fit range
   std::vector<double> scale, count;              // the measured curve (log-log fitted between plateaus)
   int fit_points = 0;                            // scales inside the fit range
+  std::string rule;                              // the fit-range rule used: "plateaus" or "published_range"
 };
 
 // Box counting on grids of side L/2^m, m = 0, 1, ... down to a side <= R/2 (L = the given box side, or if
@@ -26,6 +28,9 @@ struct FractalFit {
 // from the large-scale plateau C -> 1) and on average at least four particles per occupied box (away from
 // the small-scale plateau C = N); with a given box side also C <= half the 2^(m d) cells (away from the
 // box-filling regime C = 2^(m d) of a configuration that fills its box). Ties: the finer run.
+// Fallback (box side given, fewer than 3 levels left, typical of dense aggregates that fill their box):
+// the fixed range 3R <= s <= L/2 of Degond, Dimarco, Ferreira & Hecht (PUBLISHED.md B), rule
+// "published_range" — comparable with their D_f, but it mixes the fractal and box-filling regimes.
 // Cost: one sort of N Morton codes, then O(N) per level.
 FractalFit box_counting_dimension(std::span<const std::array<double, 3>> points, int dimension,
                                   double radius, double box_side = 0);

@@ -51,6 +51,21 @@ TEST_CASE("fractal dimension: box counting is exact on sets aligned with the dya
   CHECK(cube.dimension == Approx(3).epsilon(1e-12));
 }
 
+TEST_CASE("fractal dimension: box counting falls back to the published range for a box-filling set") {
+  // 64 x 64 discs of spacing 2R fill a box of side 128R: every level is box-filling (C = 4^m), so the
+  // plateau rule keeps no level; the fallback fits 3R <= s <= L/2 (s = 64R..4R, five levels, C = 4^m)
+  // and must give D = 2 to round-off. Without a box side there is no fallback rule to apply.
+  const auto filled = box_counting_dimension(shapes::cubic_lattice(64, 64, 1, 1.0), 2, 1.0, 128.0);
+  describe("box-filling square", filled);
+  CHECK(filled.rule == "published_range");
+  CHECK(filled.dimension == Approx(2).epsilon(1e-12));
+  CHECK(filled.fit_max == Approx(64.0));
+  CHECK(filled.fit_min == Approx(4.0));
+  CHECK(filled.fit_points == 5);
+  const auto free = box_counting_dimension(shapes::cubic_lattice(64, 64, 1, 1.0), 2, 1.0);
+  CHECK(free.rule == "plateaus");
+}
+
 TEST_CASE("fractal dimension: box counting on sets not aligned with the grid") {
   // A 100 x 100 lattice still fills its bounding square: all 4^m boxes are occupied, D = 2 exactly.
   const auto square = box_counting_dimension(shapes::cubic_lattice(100, 100, 1, 1.0), 2, 1.0);
@@ -72,15 +87,33 @@ TEST_CASE("fractal dimension: box counting on sets not aligned with the grid") {
 
 TEST_CASE("fractal dimension: a gas filling its box has no fractal range") {
   // Poisson points fill every box before the boxes hold 4 particles on average, so no level is both
-  // beyond the small-scale plateau (C <= N/4) and short of box filling (C <= half the boxes): NaN.
+  // beyond the small-scale plateau (C <= N/4) and short of box filling (C <= half the boxes).
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> u(0, 200);
   std::vector<std::array<double, 3>> p;
   for (int i = 0; i < 20000; ++i) p.push_back({u(rng), u(rng), 0});
+  // The plateau rule's verdict shows as the fallback rule being used (its value is tested below).
   const auto gas = box_counting_dimension(p, 2, 0.5, 200);
-  CHECK(std::isnan(gas.dimension));
-  CHECK(gas.fit_points == 0);
+  CHECK(gas.rule == "published_range");
   CHECK_FALSE(gas.scale.empty());
+}
+
+TEST_CASE("fractal dimension: the published-range fallback on a box-filling gas") {
+  // Points in [R, L - R] so that the grid (anchored at the lowest point - R) matches the box. The plateau
+  // rule keeps no level (above); the fallback fits s = L/2 .. 3R (100 .. 1.5625, 7 levels). The gas is
+  // space-filling there except at the two finest levels: 1.22 and 4.9 points per box on average leave
+  // 1 - e^-1.22 = 70 % and 99 % of boxes occupied. Least squares over 7 equally spaced log-scales moves
+  // the slope by log2(0.70)·3/28 + log2(0.99)·2/28 ≈ -0.055, so D ≈ 1.945; allow [1.9, 2].
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(0.5, 199.5);
+  std::vector<std::array<double, 3>> p;
+  for (int i = 0; i < 20000; ++i) p.push_back({u(rng), u(rng), 0});
+  const auto gas = box_counting_dimension(p, 2, 0.5, 200);
+  describe("gas", gas);
+  CHECK(gas.rule == "published_range");
+  CHECK(gas.fit_points == 7);
+  CHECK(gas.dimension > 1.9);
+  CHECK(gas.dimension <= 2.0 + 1e-12);
 }
 
 TEST_CASE("fractal dimension: mass-radius on a filled lattice and on Sierpinski triangles") {
