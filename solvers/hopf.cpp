@@ -82,12 +82,20 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
   point.a = a;
   GrowthRate growth(base, a, options);
   // Stable end first: its steady state is the easiest start (CVODE relaxes to it).
-  Sample upper = growth.at(std::log(lambda_hi), point);
-  Sample lower = growth.at(std::log(lambda_lo), point);
   auto finish = [&] {
     point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return point;
   };
+  Sample upper = growth.at(std::log(lambda_hi), point);
+  Sample lower;
+  try {
+    lower = growth.at(std::log(lambda_lo), point);
+  } catch (const std::runtime_error& e) {
+    // Small λ with a short truncation: the quasi-steady state may have no positive root (a larger N is
+    // needed); the bracket cannot be closed, which is a result, not a failure of the search.
+    point.note += std::string("no steady state at lambda_lo (raise lambda_lo or N): ") + e.what();
+    return finish();
+  }
   if (upper.growth >= 0.0) {
     point.note += "unstable at lambda_hi = " + format_value(lambda_hi) + ": lambda_crit > lambda_hi";
     return finish();

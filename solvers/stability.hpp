@@ -75,7 +75,8 @@ struct HopfOptions {
 // rightmost complex pair is bracketed on [lambda_lo, lambda_hi] and the root is found by the Illinois
 // variant of regula falsi in ln λ (a secant method that keeps a bracket) until the bracket is narrower
 // than relative_tolerance · λ; each steady state starts from the nearest one already found
-// (continuation in λ). Throws InputError for a ∉ [0, 1] or a bad λ range.
+// (continuation in λ). Throws InputError for a ∉ [0, 1] or a bad λ range. If no steady state exists at
+// lambda_lo (too short a truncation for that λ), found = false and the note says so.
 HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,
                       double relative_tolerance = 1e-3);
 HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,

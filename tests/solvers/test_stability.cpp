@@ -167,3 +167,10 @@ TEST_CASE("stability bad input", "[stability][input]") {
   CHECK_THROWS_AS(locate_hopf(model, 0.9, -1.0, 0.01), InputError);
   CHECK_THROWS_AS(locate_hopf(model, 0.9, 0.001, 0.1, 0.0), InputError);
 }
+
+TEST_CASE("locate_hopf reports a missing steady state at lambda_lo instead of failing", "[stability][hopf]") {
+  // λ = 1e-4 needs sizes far beyond N = 300 (at N = 8192 too there is no positive quasi-steady state).
+  const HopfPoint p = locate_hopf(brownian_model(0.95, 0.05, 300), 0.95, 1e-4, 0.05, 1e-2);
+  CHECK_FALSE(p.found);
+  CHECK(p.note.find("no steady state at lambda_lo") != std::string::npos);
+}
