@@ -99,21 +99,10 @@ void check_lambda(const std::string& key, double lambda) {
     throw InputError(key, shortest_text(lambda), "the shattering rate λ must be finite and > 0");
 }
 
-toml::table parse_toml(std::string_view text, const std::string& source) {
-  try {
-    return toml::parse(text, std::string_view(source));
-  } catch (const toml::parse_error& e) {
-    const auto& where = e.source().begin;
-    throw InputError("scene", source,
-                     "malformed TOML at line " + std::to_string(where.line) + ", column " + std::to_string(where.column) +
-                         ": " + std::string(e.description()));
-  }
-}
-
 }  // namespace
 
 ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
-  toml::table document = parse_toml(text, source);
+  toml::table document = parse_toml_text(text, source);
   const SceneTable root(document, "");
   root.allow_only({"name", "model", "time", "engine", "scan"});
   if (!root.contains("scan")) root.fail("scan", "required in a scan scene: [scan] with a = .. and lambda = ..");

@@ -41,20 +41,9 @@ Scene read_scene(const toml::table& document) {
   return scene;
 }
 
-toml::table parse_toml(std::string_view text, const std::string& source) {
-  try {
-    return toml::parse(text, std::string_view(source));
-  } catch (const toml::parse_error& e) {
-    const auto& where = e.source().begin;
-    throw InputError("scene", source,
-                     "malformed TOML at line " + std::to_string(where.line) + ", column " + std::to_string(where.column) +
-                         ": " + std::string(e.description()));
-  }
-}
-
 }  // namespace
 
-Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml(text, source)); }
+Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml_text(text, source)); }
 
 Scene load_scene(const std::filesystem::path& path) {
   const std::string shown = path.string();

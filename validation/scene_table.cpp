@@ -238,4 +238,15 @@ std::optional<SceneTable> SceneTable::optional_table(std::string_view name) cons
   return table(name);
 }
 
+toml::table parse_toml_text(std::string_view text, const std::string& source) {
+  try {
+    return toml::parse(text, std::string_view(source));
+  } catch (const toml::parse_error& e) {
+    const auto& where = e.source().begin;
+    throw InputError("scene", source,
+                     "malformed TOML at line " + std::to_string(where.line) + ", column " + std::to_string(where.column) +
+                         ": " + std::string(e.description()));
+  }
+}
+
 }  // namespace aggkit

@@ -26,6 +26,10 @@ enum class Bound {
   positive,      // finite and > 0
 };
 
+// Parses TOML text (a scene file's contents; `source` names it in messages); malformed TOML is an InputError
+// naming the line and column.
+toml::table parse_toml_text(std::string_view text, const std::string& source);
+
 class SceneTable {
  public:
   // `path` is the dotted key of the table itself: "" for the root, "model", "engine[0]".

@@ -67,18 +67,10 @@ void EventDrivenAggregation::thermalize(std::size_t collisions) {
   // factor for cell crossings and walls before declaring that it cannot finish (e.g. a lone particle).
   const std::uint64_t budget = counters_.events() + 10'000 * (collisions + 1) * particles() + 1'000'000;
   while (thermal_pending_ > 0) {
-    if (queue_.empty() || counters_.events() > budget)
+    if (!skip_stale_events() || counters_.events() > budget)
       throw std::runtime_error("thermalisation cannot finish: " + std::to_string(thermal_pending_) +
                                " particles never reach " + std::to_string(collisions) + " collisions");
-    const Event e = queue_.top();
-    queue_.pop();
-    if (!valid(e)) {
-      ++counters_.stale_events;
-      continue;
-    }
-    now_ = std::max(now_, e.time);
-    process(e);
-    maybe_compact();
+    execute_next_event();
   }
   thermal_target_ = 0;
   sticking_ = sticking;
@@ -89,36 +81,34 @@ EdStop EventDrivenAggregation::advance(double t, std::size_t target_clusters) {
   const long double end = clock_origin_ + (long double)t;
   while (true) {
     if (sticking_ && members_.clusters() <= target_clusters) return EdStop::clusters_reached;
-    if (queue_.empty() || queue_.top().time > end) {
+    if (!skip_stale_events() || queue_.top().time > end) {
       now_ = std::max(now_, end);
       return EdStop::time_reached;
     }
-    const Event e = queue_.top();
-    queue_.pop();
-    if (!valid(e)) {
-      ++counters_.stale_events;
-      continue;
-    }
-    now_ = std::max(now_, e.time);
-    process(e);
-    maybe_compact();
+    execute_next_event();
   }
 }
 
 bool EventDrivenAggregation::step() {
-  while (!queue_.empty()) {
-    const Event e = queue_.top();
+  if (!skip_stale_events()) return false;
+  execute_next_event();
+  return true;
+}
+
+bool EventDrivenAggregation::skip_stale_events() {
+  while (!queue_.empty() && !valid(queue_.top())) {
     queue_.pop();
-    if (!valid(e)) {
-      ++counters_.stale_events;
-      continue;
-    }
-    now_ = std::max(now_, e.time);
-    process(e);
-    maybe_compact();
-    return true;
+    ++counters_.stale_events;
   }
-  return false;
+  return !queue_.empty();
+}
+
+void EventDrivenAggregation::execute_next_event() {
+  const Event e = queue_.top();
+  queue_.pop();
+  now_ = std::max(now_, e.time);
+  process(e);
+  maybe_compact();
 }
 
 void EventDrivenAggregation::maybe_compact() {

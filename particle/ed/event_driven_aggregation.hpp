@@ -85,6 +85,8 @@ class EventDrivenAggregation {
   void bring_to_now(std::uint32_t cluster);
   std::uint64_t new_stamp() { return next_stamp_++; }
   bool valid(const Event& e) const;
+  bool skip_stale_events();   // pops invalidated events off the top; false if the queue is then empty
+  void execute_next_event();  // pops the (valid) top event, advances the clock to it and processes it
   void process(const Event& e);
   void collide(std::uint32_t i, std::uint32_t j);
   void merge(std::uint32_t i, std::uint32_t j, const Vector3& contact);
