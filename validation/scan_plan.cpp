@@ -2,12 +2,9 @@
 // run-scene parser (scene.cpp), so they are validated exactly as for `aggkit run`.
 #include "validation/scan_plan.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "validation/scene_table.hpp"
@@ -193,14 +190,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
 }
 
 ScanPlan load_scan_plan(const std::filesystem::path& path) {
-  const std::string shown = path.string();
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) throw InputError("scene", shown, "a TOML file, not a folder");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << file.rdbuf();
-  ScanPlan plan = parse_scan_plan(text.str(), shown);
+  ScanPlan plan = parse_scan_plan(read_scene_file(path), path.string());
   plan.scene.path = path;
   return plan;
 }

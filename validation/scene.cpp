@@ -1,10 +1,5 @@
 #include "validation/scene.hpp"
 
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-#include <sstream>
-
 #include "validation/scene_sections.hpp"
 
 namespace aggkit {
@@ -46,15 +41,7 @@ Scene read_scene(const toml::table& document) {
 Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml_text(text, source)); }
 
 Scene load_scene(const std::filesystem::path& path) {
-  const std::string shown = path.string();
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) throw InputError("scene", shown, "a TOML file, not a folder");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
-  Scene scene = parse_scene(text.str(), shown);
+  Scene scene = parse_scene(read_scene_file(path), path.string());
   scene.path = path;
   return scene;
 }

@@ -1,6 +1,9 @@
 #include "validation/scene_table.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -247,6 +250,18 @@ toml::table parse_toml_text(std::string_view text, const std::string& source) {
                      "malformed TOML at line " + std::to_string(where.line) + ", column " + std::to_string(where.column) +
                          ": " + std::string(e.description()));
   }
+}
+
+std::string read_scene_file(const std::filesystem::path& path) {
+  const std::string shown = path.string();
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) throw InputError("scene", shown, "a TOML file, not a folder");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
+  return text.str();
 }
 
 }  // namespace aggkit

@@ -11,6 +11,9 @@
 #include <string_view>
 #include <vector>
 
+#include <filesystem>
+#include <string>
+
 #include <toml++/toml.h>
 
 #include "analysis/input_error.hpp"
@@ -29,6 +32,8 @@ enum class Bound {
 // Parses TOML text (a scene file's contents; `source` names it in messages); malformed TOML is an InputError
 // naming the line and column.
 toml::table parse_toml_text(std::string_view text, const std::string& source);
+// The text of a scene file; InputError (key "scene") for a folder, a missing or an unreadable file.
+std::string read_scene_file(const std::filesystem::path& path);
 
 class SceneTable {
  public:

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "analysis/input_error.hpp"
+#include "particle/common/seeds.hpp"
 
 namespace aggkit {
 
@@ -28,12 +29,7 @@ void ParticleSystem::validate() const {
 }
 
 std::vector<Vector3> ParticleSystem::initial_velocities(std::size_t realization) const {
-  // splitmix64 of (seed, r): well separated streams for consecutive realizations.
-  std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * (realization + 1);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return aggkit::initial_velocities(box.dimension, count, velocities, speed, z);
+  return aggkit::initial_velocities(box.dimension, count, velocities, speed, run_seed(seed, realization));
 }
 
 std::string ParticleSystem::describe() const {

@@ -1,28 +1,16 @@
 #pragma once
 // Random numbers for DSMC: xoshiro256** (Blackman & Vigna, "Scrambled linear pseudorandom number
 // generators", ACM TOMS 47 (2021)), seeded through SplitMix64 (Steele, Lea & Flood, OOPSLA 2014).
-// Ensemble seeds: run r of an ensemble with master seed S uses the (r+1)-th output of a SplitMix64 stream
-// started at S (run_seed(S, r)); the generator of a run is then seeded from that value, again through
-// SplitMix64, so neighbouring master seeds give unrelated streams.
+// Ensemble seeds: run_seed(S, r) of particle/common/seeds.hpp; the generator of a run is then seeded from
+// that value, again through SplitMix64.
 #include <cstdint>
+
+#include "particle/common/seeds.hpp"
 
 namespace aggkit::dsmc {
 
-// One step of SplitMix64: advances `state` and returns a well-mixed 64-bit value.
-inline std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-// The seed of run `run` (0-based) of an ensemble with master seed `master` (see the header comment).
-inline std::uint64_t run_seed(std::uint64_t master, std::uint64_t run) {
-  std::uint64_t state = master;
-  std::uint64_t value = 0;
-  for (std::uint64_t r = 0; r <= run; ++r) value = splitmix64(state);
-  return value;
-}
+using aggkit::run_seed;
+using aggkit::splitmix64;
 
 class Random {
  public:

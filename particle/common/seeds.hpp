@@ -1,0 +1,25 @@
+#pragma once
+// Seeds of independent realizations, shared by the particle engines: SplitMix64 (Steele, Lea & Flood,
+// OOPSLA 2014). Run r of an ensemble with master seed S uses the (r+1)-th output of a SplitMix64 stream
+// started at S, so consecutive runs and neighbouring master seeds get unrelated streams.
+#include <cstdint>
+
+namespace aggkit {
+
+// One step of SplitMix64: advances `state` and returns a well-mixed 64-bit value.
+inline std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// The seed of run `run` (0-based) of an ensemble with master seed `master`.
+inline std::uint64_t run_seed(std::uint64_t master, std::uint64_t run) {
+  std::uint64_t state = master;
+  std::uint64_t value = 0;
+  for (std::uint64_t r = 0; r <= run; ++r) value = splitmix64(state);
+  return value;
+}
+
+}  // namespace aggkit
