@@ -1,4 +1,5 @@
-// Event handling of the ED engine: sticking (merge) or elastic collisions, cell crossings, wall contacts.
+// Event handling of the ED engine: sticking (merge) or elastic collisions, broad-phase crossings, pair
+// checks, wall contacts.
 #include <algorithm>
 #include <cmath>
 
@@ -9,8 +10,9 @@ namespace aggkit {
 void EventDrivenAggregation::process(const Event& e) {
   switch (e.kind) {
     case EventKind::collision: collide(e.a, e.b); break;
-    case EventKind::cell_crossing: cross(e.a, e.axis, e.direction); break;
+    case EventKind::cell_crossing: cross(e.a, e.level, e.axis, int(e.b), e.direction); break;
     case EventKind::wall: reflect(e.a, e.axis); break;
+    case EventKind::pair_check: check_pair(e.a, e.b); break;
   }
 }
 
@@ -19,7 +21,7 @@ void EventDrivenAggregation::collide(std::uint32_t i, std::uint32_t j) {
   bring_to_now(ci);
   bring_to_now(cj);
   // At contact |Δx| = 2R <= L/3 (CellGrid), so the minimum image is the contact image.
-  const Vector3 dx = box().minimum_image(position(j) - position(i));
+  const Vector3 dx = box_.minimum_image(position(j) - position(i));
   if (sticking_) {
     merge(i, j, dx);
     return;
@@ -52,10 +54,18 @@ void EventDrivenAggregation::merge(std::uint32_t i, std::uint32_t j, const Vecto
   const double ms = double(members_.size(survivor)), ma = double(members_.size(absorbed));
   const Vector3 v = (1.0 / (ms + ma)) * (ms * velocity_[survivor] + ma * velocity_[absorbed]);
   const Vector3 displacement = origin_[absorbed] + shift - origin_[survivor];
+  unregister_cluster(survivor);
+  unregister_cluster(absorbed);
+  const std::uint32_t at = alive_at_[absorbed], moved = alive_.back();
+  alive_[at] = moved;
+  alive_at_[moved] = at;
+  alive_.pop_back();
   Vector3& low = low_[survivor];
   Vector3& high = high_[survivor];
   members_.merge(survivor, absorbed, [&](std::uint32_t p) {
+    index_.erase(absorbed, p, offset_[p]);
     offset_[p] = offset_[p] + displacement;
+    index_.insert(survivor, p, offset_[p]);
     for (int a = 0; a < 3; ++a) {
       low[a] = std::min(low[a], offset_[p][a]);
       high[a] = std::max(high[a], offset_[p][a]);
@@ -66,23 +76,40 @@ void EventDrivenAggregation::merge(std::uint32_t i, std::uint32_t j, const Vecto
   stamp_[survivor] = new_stamp();
   stamp_[absorbed] = new_stamp();
   ++counters_.merges;
+  register_cluster(survivor);
   predict_cluster(survivor);
 }
 
-void EventDrivenAggregation::cross(std::uint32_t p, int axis, int direction) {
-  CellCoords c = cell_[p];
-  c[axis] += direction;
-  const int n = grid_.counts()[axis];
-  if (c[axis] < 0 || c[axis] >= n) {
-    if (box().boundary != Boundary::periodic) return;  // cannot happen: walls come first
-    c[axis] = (c[axis] + n) % n;
-  }
-  cell_[p] = c;
-  cells_.move(p, grid_.index(c));
+// A face of cluster c's inflated box crossed a grid line at `level`: its registration there moves by one cell
+// along `axis`; clusters in the newly covered cells that were not candidates before become candidates.
+void EventDrivenAggregation::cross(std::uint32_t c, int level, int axis, int face, int direction) {
   ++counters_.cell_crossings;
-  predict_crossing(p);
-  // Pairs with the cells that were already neighbours are predicted; only the new layer is new.
-  predict_collisions(p, axis, direction);
+  const HierarchicalGrid::Range old = grid_.range(c, level);
+  HierarchicalGrid::Range moved = old;
+  (face ? moved.hi : moved.lo)[axis] += direction;
+  std::array<std::uint32_t, 8> old_cells, new_cells;
+  const int n_old = grid_.cells(level, old, old_cells), n_new = grid_.cells(level, moved, new_cells);
+  grid_.place(c, level, moved);
+  ++epoch_;
+  seen_[c] = epoch_;
+  for (int k = 0; k < n_new; ++k) {
+    if (std::find(old_cells.begin(), old_cells.begin() + n_old, new_cells[k]) != old_cells.begin() + n_old) continue;
+    for (const auto& e : grid_.entries(level, new_cells[k])) {
+      const std::uint32_t y = e.cluster;
+      if (seen_[y] == epoch_ || !(level == level_[c] || level_[y] == level)) continue;
+      seen_[y] = epoch_;
+      if (grid_.share_cell(level, old, grid_.range(y, level))) continue;  // already candidates
+      predict_pair(c, y);
+    }
+  }
+  predict_crossing(c);
+}
+
+// The overlap window of candidates x, y opens or closes: predict again while they are still candidates (else
+// a later crossing makes them candidates again).
+void EventDrivenAggregation::check_pair(std::uint32_t x, std::uint32_t y) {
+  ++counters_.pair_checks;
+  if (candidates(x, y)) predict_pair(x, y);
 }
 
 // The cluster touches the wall across `axis`: that velocity component is reversed for the whole cluster.
@@ -92,7 +119,7 @@ void EventDrivenAggregation::reflect(std::uint32_t c, int axis) {
   bring_to_now(c);
   const double m = double(members_.size(c));
   const double v = velocity_[c][axis];
-  const double side = box().side[axis];
+  const double side = box_.side[axis];
   const double gap_after = v < 0 ? side - radius_ - (origin_[c][axis] + high_[c][axis])
                                  : origin_[c][axis] + low_[c][axis] - radius_;
   const bool wedged = gap_after <= overlap_tolerance * radius_;

@@ -8,27 +8,34 @@
 #include <string>
 
 #include "analysis/input_error.hpp"
+#include "particle/common/cell_grid.hpp"
+#include "particle/common/cell_list.hpp"
 
 namespace aggkit {
 
 EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, std::span<const Vector3> positions,
                                                std::span<const Vector3> velocities, bool sticking, std::size_t cells)
-    : grid_(box, 2 * radius, cells ? cells : positions.size()),
+    : box_(box),
       radius_(radius),
+      margin_(1e-6 * radius),
       sticking_(sticking),
-      cells_(grid_.size(), positions.size()),
       members_(positions.size()),
+      index_(box, 2 * radius, positions.size()),
+      grid_(box, (2 * radius + 2e-6 * radius) * (1 + 1e-8), cells ? cells : positions.size(), positions.size()),
       offset_(positions.size(), Vector3{0, 0, 0}),
-      cell_(positions.size()),
       collisions_(positions.size(), 0),
       origin_(positions.begin(), positions.end()),
       velocity_(velocities.begin(), velocities.end()),
       low_(positions.size(), Vector3{0, 0, 0}),
       high_(positions.size(), Vector3{0, 0, 0}),
       clock_(positions.size(), 0.0L),
-      stamp_(positions.size()) {
+      stamp_(positions.size()),
+      level_(positions.size(), 0),
+      alive_at_(positions.size()),
+      top_at_(positions.size()),
+      seen_(positions.size(), 0) {
   if (!(radius > 0) || !std::isfinite(radius)) throw InputError("radius", format_value(radius), "a finite radius > 0");
-  if (positions.size() < 1 || positions.size() >= CellList::none)
+  if (positions.size() < 1 || positions.size() >= ClusterIndex::none)
     throw InputError("count", std::to_string(positions.size()), "1 <= N < 2^32 - 1");
   if (velocities.size() != positions.size())
     throw InputError("velocities", std::to_string(velocities.size()), "one velocity per particle");
@@ -42,17 +49,15 @@ EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, st
     }
     for (int d = box.dimension; d < 3; ++d) origin_[p][d] = velocity_[p][d] = 0.0;
     origin_[p] = box.wrap(origin_[p]);
-    cell_[p] = grid_.coords_of(origin_[p]);
-    cells_.insert(p, grid_.index(cell_[p]));
     stamp_[p] = new_stamp();
+    index_.insert(p, p, offset_[p]);
+    alive_at_[p] = p;
+    alive_.push_back(p);
   }
   if (largest_overlap() > overlap_tolerance)
     throw InputError("positions", "overlapping", "initial positions with no two particles closer than 2R");
-  for (std::uint32_t p = 0; p < positions.size(); ++p) {
-    predict_crossing(p);
-    predict_collisions(p, -1, 0, /*higher_only=*/true);
-    predict_wall(p);
-  }
+  for (std::uint32_t p = 0; p < positions.size(); ++p) register_cluster(p);
+  for (std::uint32_t p = 0; p < positions.size(); ++p) predict_cluster(p, /*higher_only=*/true);
   compact_at_ = std::max<std::size_t>(1u << 16, 8 * positions.size());
 }
 
@@ -121,8 +126,9 @@ bool EventDrivenAggregation::valid(const Event& e) const {
   switch (e.kind) {
     case EventKind::collision:
       return stamp_[members_.cluster_of(e.a)] == e.stamp_a && stamp_[members_.cluster_of(e.b)] == e.stamp_b;
-    case EventKind::cell_crossing: return stamp_[members_.cluster_of(e.a)] == e.stamp_a;
+    case EventKind::cell_crossing:
     case EventKind::wall: return stamp_[e.a] == e.stamp_a;
+    case EventKind::pair_check: return stamp_[e.a] == e.stamp_a && stamp_[e.b] == e.stamp_b;
   }
   return false;
 }
@@ -191,16 +197,29 @@ std::vector<Vector3> EventDrivenAggregation::cluster_positions(std::uint32_t clu
 }
 
 double EventDrivenAggregation::largest_overlap() const {
-  double worst = 0;
   const double sigma = 2 * radius_;
+  const CellGrid grid(box_, sigma, particles());
+  CellList cells(grid.size(), particles());
+  std::vector<Vector3> x(particles());
+  std::vector<CellCoords> cell(particles());
+  for (std::uint32_t p = 0; p < particles(); ++p) {
+    x[p] = box_.wrap(position(p));
+    cell[p] = grid.coords_of(x[p]);
+    cells.insert(p, grid.index(cell[p]));
+  }
+  // Along periodic axes the image is the one nearest to the stencil offset (>= 3 cells per axis).
+  double worst = 0;
   for (std::uint32_t i = 0; i < particles(); ++i) {
-    const Vector3 xi = position(i);
-    for (const CellCoords& o : grid_.stencil()) {
-      const auto cell = grid_.neighbour(cell_[i], o);
-      if (!cell) continue;
-      for (std::uint32_t j = cells_.first(grid_.index(*cell)); j != CellList::none; j = cells_.next(j)) {
+    for (const CellCoords& o : grid.stencil()) {
+      const auto c = grid.neighbour(cell[i], o);
+      if (!c) continue;
+      for (std::uint32_t j = cells.first(grid.index(*c)); j != CellList::none; j = cells.next(j)) {
         if (j <= i) continue;
-        worst = std::max(worst, 1 - norm(separation(i, xi, j, o)) / sigma);
+        Vector3 d = x[j] - x[i];
+        if (box_.boundary == Boundary::periodic)
+          for (int a = 0; a < box_.dimension; ++a)
+            d[a] -= box_.side[a] * std::nearbyint((d[a] - o[a] * grid.cell_side()[a]) / box_.side[a]);
+        worst = std::max(worst, 1 - norm(d) / sigma);
       }
     }
   }

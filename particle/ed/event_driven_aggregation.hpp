@@ -7,31 +7,40 @@
 // Walls: periodic, or reflecting (a cluster touching a wall has that velocity component reversed as a whole).
 //
 // Exactness and cost: only exact events are processed — contacts between particles of different clusters,
-// cell crossings of particles, wall contacts of clusters — from a heap with lazy invalidation (event_queue.hpp).
-// A particle's position is its cluster's origin advanced in free flight plus a fixed offset, so nothing is
-// updated per event beyond the clusters involved; a merge relabels the smaller cluster and re-predicts the
-// merged cluster's particles only. Time is kept in long double: positions at 1e9 collision times still
-// resolve contacts to ~1e-10 R.
+// broad-phase grid crossings of cluster bounding boxes, pair checks, wall contacts of clusters — from a heap
+// with lazy invalidation (event_queue.hpp). Everything is cluster-level, so moving a rigid cluster costs
+// nothing per member: a particle's position is its cluster's origin advanced in free flight plus a fixed
+// offset, each cluster indexes its members in its own frame (cluster_index.hpp), and the broad phase is a
+// hierarchical grid of cluster bounding boxes (hierarchical_grid.hpp) whose crossings are per cluster.
+// For a candidate pair the first time their inflated boxes overlap is found in O(1) (overlap_window.hpp);
+// only while they overlap is the exact first contact searched, by casting the smaller cluster's members,
+// moving with the relative velocity, through the larger one's index (a DDA over its cells, front-first,
+// stopping at the best contact found). Predictions are made at velocity changes (merges, walls, elastic
+// collisions), when a pair becomes a candidate and when an overlap window opens or closes. A merge moves the
+// smaller cluster's members into the larger one's index. Time is kept in long double: positions at 1e9
+// collision times still resolve contacts to ~1e-10 R.
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "particle/common/box.hpp"
-#include "particle/common/cell_grid.hpp"
-#include "particle/common/cell_list.hpp"
 #include "particle/common/cluster_membership.hpp"
+#include "particle/ed/cluster_index.hpp"
 #include "particle/ed/event_queue.hpp"
+#include "particle/ed/hierarchical_grid.hpp"
 
 namespace aggkit {
 
 struct EdCounters {
   std::uint64_t merges = 0;              // sticking collisions
   std::uint64_t elastic_collisions = 0;  // collisions with sticking off
-  std::uint64_t cell_crossings = 0;
+  std::uint64_t cell_crossings = 0;      // broad-phase grid crossings of cluster bounding boxes
   std::uint64_t wall_contacts = 0;
+  std::uint64_t pair_checks = 0;         // overlap windows of candidate pairs opening or closing
   std::uint64_t stale_events = 0;        // invalidated events popped and skipped
-  std::uint64_t events() const { return merges + elastic_collisions + cell_crossings + wall_contacts; }
+  std::uint64_t events() const { return merges + elastic_collisions + cell_crossings + wall_contacts + pair_checks; }
 };
 
 enum class EdStop { time_reached, clusters_reached };
@@ -44,7 +53,7 @@ class EventDrivenAggregation {
 
   // Positions inside the box (reflecting: at least R from every wall), pairwise not overlapping; one velocity
   // per particle. `sticking` false: every collision is elastic (no aggregation). `cells` is the wanted number
-  // of cells (0: about one per particle); cells are never narrower than a contact distance 2R.
+  // of finest broad-phase cells (0: about one per particle); cells are never narrower than a contact distance.
   EventDrivenAggregation(const Box& box, double radius, std::span<const Vector3> positions,
                          std::span<const Vector3> velocities, bool sticking = true, std::size_t cells = 0);
 
@@ -60,7 +69,7 @@ class EventDrivenAggregation {
   double time() const { return double(now_ - clock_origin_); }
   std::size_t particles() const { return offset_.size(); }
   std::size_t clusters() const { return members_.clusters(); }
-  const Box& box() const { return grid_.box(); }
+  const Box& box() const { return box_; }
   double radius() const { return radius_; }
   const EdCounters& counters() const { return counters_; }
   std::size_t queued_events() const { return queue_.size(); }
@@ -77,10 +86,14 @@ class EventDrivenAggregation {
   std::uint32_t largest_cluster() const;                   // a cluster id
   std::vector<Vector3> cluster_positions(std::uint32_t cluster) const;  // contiguous (unwrapped)
   std::uint32_t cluster_of(std::uint32_t particle) const { return members_.cluster_of(particle); }
-  // max over all pairs of 1 − |Δx|/2R (0 if no pair overlaps); O(N) with the cell list.
+  // max over all pairs of 1 − |Δx|/2R (0 if no pair overlaps); O(N) with a cell list built for the call.
   double largest_overlap() const;
 
  private:
+  struct Contact {
+    double time;  // from now
+    std::uint32_t a, b;
+  };
   Vector3 cluster_origin(std::uint32_t cluster) const;  // origin at time now_
   void bring_to_now(std::uint32_t cluster);
   std::uint64_t new_stamp() { return next_stamp_++; }
@@ -90,30 +103,48 @@ class EventDrivenAggregation {
   void process(const Event& e);
   void collide(std::uint32_t i, std::uint32_t j);
   void merge(std::uint32_t i, std::uint32_t j, const Vector3& contact);
-  void cross(std::uint32_t particle, int axis, int direction);
+  void cross(std::uint32_t cluster, int level, int axis, int face, int direction);
+  void check_pair(std::uint32_t x, std::uint32_t y);
   void reflect(std::uint32_t cluster, int axis);
-  void predict_cluster(std::uint32_t cluster);
-  void predict_crossing(std::uint32_t particle);
-  // Contacts of `particle` with particles of other clusters in the stencil cells (only those on side
-  // `direction` of `axis` when axis >= 0; only partners > particle when `higher_only`).
-  void predict_collisions(std::uint32_t particle, int axis = -1, int direction = 0, bool higher_only = false);
+  // Broad phase (ed_broad_phase.cpp).
+  Vector3 extent(std::uint32_t cluster) const;  // inflated bounding-box extent
+  void register_cluster(std::uint32_t cluster);
+  void unregister_cluster(std::uint32_t cluster);
+  bool candidates(std::uint32_t x, std::uint32_t y) const;
+  // Predictions (ed_prediction.cpp).
+  void predict_cluster(std::uint32_t cluster, bool higher_only = false);
+  void predict_crossing(std::uint32_t cluster);
   void predict_wall(std::uint32_t cluster);
-  Vector3 separation(std::uint32_t i, const Vector3& xi, std::uint32_t j, const CellCoords& offset) const;
+  void predict_pair(std::uint32_t x, std::uint32_t y);
+  Contact first_contact(std::uint32_t x, std::uint32_t y, double horizon);
+  void cast(std::uint32_t owner, const Vector3& start, const Vector3& w, double from, double to, std::uint32_t ray,
+            Contact& best) const;
   void maybe_compact();
 
-  CellGrid grid_;
+  Box box_;
   double radius_;
+  double margin_;  // broad-phase inflation beyond R (round-off guard)
   bool sticking_;
-  CellList cells_;
   ClusterMembership members_;
-  // Per particle: offset from its cluster's origin, cell, collisions so far (thermalisation).
+  ClusterIndex index_;
+  HierarchicalGrid grid_;
+  // Per particle: offset from its cluster's origin, collisions so far (thermalisation).
   std::vector<Vector3> offset_;
-  std::vector<CellCoords> cell_;
   std::vector<std::uint32_t> collisions_;
-  // Per cluster (id = a particle id): origin at time clock_, velocity, stamp, extent of the offsets.
+  // Per cluster (id = a particle id): origin at time clock_, velocity, stamp, extent of the offsets, level.
   std::vector<Vector3> origin_, velocity_, low_, high_;
   std::vector<long double> clock_;
   std::vector<std::uint64_t> stamp_;
+  std::vector<int> level_;
+  // Live clusters and the top-level ones (candidates of everyone), with positions for O(1) removal.
+  std::vector<std::uint32_t> alive_, alive_at_, top_, top_at_;
+  std::vector<std::uint32_t> seen_;  // per cluster: epoch of the last candidate enumeration that met it
+  std::uint32_t epoch_ = 0;
+  struct Ray {
+    double begin, end;  // window in which the member can touch the other cluster (from now)
+    std::uint32_t particle;
+  };
+  std::vector<Ray> rays_;  // scratch of first_contact
   std::uint64_t next_stamp_ = 1;
   EventQueue queue_;
   std::size_t compact_at_ = 0;

@@ -9,17 +9,18 @@
 
 namespace aggkit {
 
-enum class EventKind : std::uint8_t { collision, cell_crossing, wall };
+enum class EventKind : std::uint8_t { collision, cell_crossing, wall, pair_check };
 
 struct Event {
   long double time;          // absolute engine time
   std::uint64_t stamp_a;     // stamp of the cluster of `a` at prediction
   std::uint64_t stamp_b;     // stamp of the cluster of `b` (collisions only)
-  std::uint32_t a;           // particle (collision, crossing) or cluster (wall)
-  std::uint32_t b;           // partner particle (collision)
+  std::uint32_t a;           // particle (collision) or cluster (crossing, wall, pair check)
+  std::uint32_t b;           // partner particle (collision), partner cluster (pair check), face (crossing)
   EventKind kind;
   std::uint8_t axis;         // crossing / wall axis
   std::int8_t direction;     // crossing: +1 or -1
+  std::uint8_t level = 0;    // crossing: broad-phase grid level
 };
 
 class EventQueue {

@@ -1,0 +1,73 @@
+// Broad phase of the ED engine: clusters' inflated bounding boxes registered in the hierarchical grid,
+// the candidate relation, and the enumeration of a cluster's candidates after its velocity changed.
+#include "particle/ed/event_driven_aggregation.hpp"
+
+namespace aggkit {
+
+Vector3 EventDrivenAggregation::extent(std::uint32_t c) const {
+  const double pad = 2 * (radius_ + margin_);
+  return {high_[c][0] - low_[c][0] + pad, high_[c][1] - low_[c][1] + pad, high_[c][2] - low_[c][2] + pad};
+}
+
+void EventDrivenAggregation::register_cluster(std::uint32_t c) {
+  level_[c] = grid_.level_for(extent(c));
+  if (level_[c] == grid_.top()) {
+    top_at_[c] = std::uint32_t(top_.size());
+    top_.push_back(c);
+    return;
+  }
+  const Vector3 origin = cluster_origin(c);
+  const double pad = radius_ + margin_;
+  Vector3 lo{0, 0, 0}, hi{0, 0, 0};
+  for (int a = 0; a < box_.dimension; ++a) {
+    lo[a] = origin[a] + low_[c][a] - pad;
+    hi[a] = origin[a] + high_[c][a] + pad;
+  }
+  for (int l = level_[c]; l < grid_.top(); ++l) grid_.place(c, l, grid_.range_of(l, lo, hi));
+}
+
+void EventDrivenAggregation::unregister_cluster(std::uint32_t c) {
+  if (level_[c] == grid_.top()) {
+    const std::uint32_t at = top_at_[c], moved = top_.back();
+    top_[at] = moved;
+    top_at_[moved] = at;
+    top_.pop_back();
+    return;
+  }
+  for (int l = level_[c]; l < grid_.top(); ++l) grid_.remove(c, l);
+}
+
+bool EventDrivenAggregation::candidates(std::uint32_t x, std::uint32_t y) const {
+  const int m = std::max(level_[x], level_[y]);
+  if (m == grid_.top()) return true;
+  return grid_.share_cell(m, grid_.range(x, m), grid_.range(y, m));
+}
+
+// Every candidate of `c` (once each): at c's own level everything in its cells, at coarser levels the
+// clusters that live there, and the top-level clusters; all live clusters if c is itself at the top.
+void EventDrivenAggregation::predict_cluster(std::uint32_t c, bool higher_only) {
+  predict_wall(c);
+  predict_crossing(c);
+  ++epoch_;
+  seen_[c] = epoch_;
+  auto visit = [&](std::uint32_t y) {
+    if (seen_[y] == epoch_) return;
+    seen_[y] = epoch_;
+    if (higher_only && y < c) return;
+    predict_pair(c, y);
+  };
+  if (level_[c] == grid_.top()) {
+    for (std::uint32_t y : alive_) visit(y);
+    return;
+  }
+  std::array<std::uint32_t, 8> cells;
+  for (int l = level_[c]; l < grid_.top(); ++l) {
+    const int n = grid_.cells(l, grid_.range(c, l), cells);
+    for (int k = 0; k < n; ++k)
+      for (const auto& e : grid_.entries(l, cells[k]))
+        if (l == level_[c] || level_[e.cluster] == l) visit(e.cluster);
+  }
+  for (std::uint32_t y : top_) visit(y);
+}
+
+}  // namespace aggkit
