@@ -20,7 +20,7 @@ using namespace aggkit;
 namespace {
 
 struct Measured {
-  double setup = 0, run = 0, collisions = 0, events = 0, drift = 0;
+  double setup = 0, run = 0, collisions = 0, events = 0, crossings = 0, stale = 0, drift = 0;
   double rate() const { return collisions / run; }
 };
 
@@ -45,6 +45,8 @@ Measured run_gas(int dimension, std::size_t n, double nu, double per_particle, d
   m.run = bench::seconds_since(start);
   m.collisions = double(gas->counters().collisions - c0.collisions);
   m.events = double(gas->counters().events() - c0.events());
+  m.crossings = double(gas->counters().cell_crossings - c0.cell_crossings);
+  m.stale = double(gas->counters().stale_events - c0.stale_events);
   m.drift = std::abs(gas->kinetic_energy() - e0) / e0;
   return m;
 }
@@ -90,15 +92,16 @@ int main(int argc, char** argv) {
   bench::print_load();
   std::printf("# elastic, dim %d periodic nu %g, %g collisions per particle timed (baseline %g), per-cell %g\n",
               dimension, nu, per_particle, baseline, per_cell);
-  std::printf("%10s %8s %10s %12s %14s %12s %10s %14s %8s\n", "N", "setup_s", "run_s", "collisions",
-              "collisions/s", "events/coll", "drift", "baseline_c/s", "ratio");
+  std::printf("%10s %8s %10s %12s %14s %12s %10s %10s %10s %14s %8s\n", "N", "setup_s", "run_s", "collisions",
+              "collisions/s", "events/coll", "cross/coll", "stale/coll", "drift", "baseline_c/s", "ratio");
   for (std::size_t k = 3; k < args.size(); ++k) {
     const auto n = std::size_t(std::atof(args[k]));
     const Measured gas = run_gas(dimension, n, nu, per_particle, per_cell);
     Measured base;
     if (baseline > 0) base = run_baseline(dimension, n, nu, baseline);
-    std::printf("%10zu %8.2f %10.2f %12.0f %14.3g %12.2f %10.1e %14.3g %8.1f\n", n, gas.setup, gas.run, gas.collisions,
-                gas.rate(), gas.events / gas.collisions, gas.drift, baseline > 0 ? base.rate() : 0.0,
+    std::printf("%10zu %8.2f %10.2f %12.0f %14.3g %12.2f %10.2f %10.2f %10.1e %14.3g %8.1f\n", n, gas.setup, gas.run,
+                gas.collisions, gas.rate(), gas.events / gas.collisions, gas.crossings / gas.collisions,
+                gas.stale / gas.collisions, gas.drift, baseline > 0 ? base.rate() : 0.0,
                 baseline > 0 ? gas.rate() / base.rate() : 0.0);
     std::fflush(stdout);
   }

@@ -159,7 +159,7 @@ TEST_CASE("elastic gas: thermalisation gives every particle its collisions", "[e
 }
 
 TEST_CASE("elastic gas: the clock renormalisation is invisible in long runs", "[ed][elastic_gas]") {
-  // 100 particles: the clock is renormalised and the particles re-sorted every 32 N + 1e5 events, i.e.
+  // 100 particles: the clock is renormalised and the particles re-sorted every 8 N + 1e5 events, i.e.
   // several times here; energy, momentum and overlaps are checked at the end.
   const Start s = lattice_start(2, 100, 0.1, Boundary::periodic);
   auto gas = make_elastic_gas(s.box, 0.5, s.x, s.v);
@@ -169,6 +169,51 @@ TEST_CASE("elastic gas: the clock renormalisation is invisible in long runs", "[
   CHECK(gas->time() == Approx(30000.0).epsilon(1e-15));
   CHECK(std::abs(gas->kinetic_energy() - e0) <= 1e-11 * e0);
   CHECK(gas->largest_overlap() <= ElasticGas::overlap_tolerance);
+}
+
+TEST_CASE("elastic gas: particles keep their identity through the re-sorting", "[ed][elastic_gas]") {
+  // All particles move with one velocity, so none ever collides and each position is known exactly:
+  // x(t) = x(0) + v t (mod L). Over t = 6e4 the run passes >4e5 cell crossings and so several
+  // renormalisations with re-sorting; round-off grows by ~1e-16 L per event, hence the 1e-8 tolerance.
+  const Start s = lattice_start(2, 49, 0.05, Boundary::periodic);
+  const std::vector<Vector3> v(49, Vector3{1.0, 0.37, 0.0});
+  auto gas = make_elastic_gas(s.box, 0.5, s.x, v, 0.25);
+  const double t = 6e4;
+  gas->advance(t);
+  CHECK(gas->counters().cell_crossings > 400000);  // four renormalisations at least
+  CHECK(gas->counters().collisions == 0);
+  const auto x = gas->positions();
+  for (std::size_t p = 0; p < x.size(); ++p) {
+    const Vector3 expected = s.box.wrap(s.x[p] + t * v[p]);
+    CHECK(norm(s.box.minimum_image(x[p] - expected)) < 1e-8);
+  }
+}
+
+TEST_CASE("elastic gas: a crowded cell grows the cell table", "[ed][elastic_gas]") {
+  // Cells of side 200/6 = 33.3 (36 particles in 36 cells), tables of 16 entries. Group A
+  // (12 discs, moving +x) catches up with the cell of group B (12 discs at rest, other rows of the same
+  // cell row), so one cell must hold 24: the table grows. Nothing collides; every position stays exact.
+  std::vector<Vector3> x, v;
+  for (int k = 0; k < 12; ++k) {
+    x.push_back({2.0 + 1.5 * (k % 4), 2.0 + 1.5 * (k / 4), 0});
+    v.push_back({1.0, 0.0, 0.0});
+  }
+  for (int k = 0; k < 12; ++k) {
+    x.push_back({70.0 + 1.5 * (k % 4), 20.0 + 1.5 * (k / 4), 0});
+    v.push_back({0.0, 0.0, 0.0});
+  }
+  for (int k = 0; k < 12; ++k) {  // the rest of the gas, at rest in other cell rows
+    x.push_back({10.0 + 15.0 * k, 120.0, 0});
+    v.push_back({0.0, 0.0, 0.0});
+  }
+  const Box box = cube(2, 200, Boundary::periodic);
+  auto gas = make_elastic_gas(box, 0.5, x, v, 0.9);  // side sqrt(200² · 0.9 / 36) = 31.6 → 6 cells per axis
+  gas->advance(70.0);  // group A now spans x in [72, 78.5]: inside B's cell (x in [66.7, 100))
+  CHECK(gas->counters().collisions == 0);
+  CHECK(gas->largest_overlap() <= ElasticGas::overlap_tolerance);
+  const auto xs = gas->positions();
+  for (std::size_t p = 0; p < x.size(); ++p)
+    CHECK(norm(box.minimum_image(xs[p] - box.wrap(x[p] + 70.0 * v[p]))) < 1e-10);
 }
 
 TEST_CASE("elastic gas: bad input is named", "[ed][elastic_gas]") {
