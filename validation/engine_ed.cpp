@@ -5,7 +5,9 @@
 // Outputs: the series at the output times (a realization that has stopped holds its final state for the
 // later output times — exact for "one_cluster": nothing changes any more but the position), averaged over
 // the realizations; <label>/final.json with the requested observe.final values plus events, wall_seconds,
-// momentum_drift and stop_time (means; with several realizations also <name>_stderr); and with
+// momentum_drift and stop_time (means; with several realizations also <name>_stderr), and with
+// particles.thermalize the collisions of the elastic stage (run on particle/ed/elastic_gas.hpp, after which
+// the clock restarts at 0) as thermalization_collisions; and with
 // observe.snapshots the first realization's final configuration as final.vtu and final.png.
 #include <chrono>
 #include <cmath>
@@ -14,6 +16,7 @@
 
 #include "analysis/particle_configuration.hpp"
 #include "particle/ed/ed_configuration.hpp"
+#include "particle/ed/elastic_gas.hpp"
 #include "validation/atomic_file.hpp"
 #include "validation/particle_final_state.hpp"
 #include "validation/particle_snapshot.hpp"
@@ -86,9 +89,21 @@ class EdEngine final : public Engine {
     std::string picture = "not requested";
     for (std::size_t r = 0; r < system.realizations; ++r) {
       const auto started = std::chrono::steady_clock::now();
-      const std::vector<Vector3> x = system.initial_positions(), v = system.initial_velocities(r);
+      std::vector<Vector3> x = system.initial_positions(), v = system.initial_velocities(r);
+      double thermal_collisions = 0;
+      if (system.thermalize > 0) {
+        // Elastic stage on the fast elastic gas; sticking then starts from its state with the clock at 0.
+        const auto gas = make_elastic_gas(system.box, system.radius, x, v);
+        gas->thermalize(system.thermalize);
+        x = gas->positions();
+        v = gas->velocities();
+        thermal_collisions = double(gas->counters().collisions);
+        total.elastic_collisions += gas->counters().collisions;
+        total.cell_crossings += gas->counters().cell_crossings;
+        total.wall_contacts += gas->counters().wall_contacts;
+        total.stale_events += gas->counters().stale_events;
+      }
       EventDrivenAggregation ed(system.box, system.radius, x, v, true, options_.cells);
-      ed.thermalize(system.thermalize);
       const Vector3 p0 = ed.momentum() + ed.wall_impulse();
       double momentum_scale = 0;
       for (std::uint32_t p = 0; p < ed.particles(); ++p) momentum_scale += norm(ed.velocity(p));
@@ -107,6 +122,7 @@ class EdEngine final : public Engine {
       const FinalConfiguration final{config, labels, largest, ed.kinetic_energy()};
       for (const auto& [key, value] : final_state_values(scene.observe.final_state, final)) final_values.add(key, value);
       final_values.add("events", double(ed.counters().events()));
+      if (system.thermalize > 0) final_values.add("thermalization_collisions", thermal_collisions);
       final_values.add("wall_seconds", wall);
       final_values.add("momentum_drift", norm(ed.momentum() + ed.wall_impulse() - p0) / momentum_scale);
       final_values.add("stop_time", ed.time());

@@ -84,6 +84,23 @@ TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed]
   CHECK_FALSE(std::filesystem::exists(out / "ed" / "final.vtu"));  // snapshots not requested
 }
 
+TEST_CASE("ed: thermalize runs the elastic stage first, then sticking from t = 0", "[ed][harness]") {
+  const auto out = aggkit::testing::scratch_folder("ed-thermalize");
+  const RunResult result =
+      run_scene(parse_scene(ed_scene("thermalize = 4\n", "stop = \"one_cluster\"\n",
+                                     "series = [\"clusters\", \"kinetic_energy\"]\nfinal = [\"clusters\"]\n")),
+                quiet(out));
+  REQUIRE(result.records[0].completed());
+  // Elastic collisions conserve energy, so sticking starts with ½ N v² = 50 and loses energy from there.
+  CHECK(result.records[0].values.front()[1] < 50.0);
+  std::ifstream in(out / "ed" / "final.json");
+  const auto final = nlohmann::json::parse(in);
+  CHECK(final["clusters"].get<double>() == 1.0);
+  // Every one of the 100 particles collided at least 4 times, two particles per collision.
+  CHECK(final["thermalization_collisions"].get<double>() >= 4 * 100 / 2);
+  CHECK(final["momentum_drift"].get<double>() < 1e-13);
+}
+
 TEST_CASE("ed: without stop the run ends at time.end; { clusters = K } stops at K", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-stop");
   const RunResult by_time = run_scene(parse_scene(ed_scene("", "", "series = [\"clusters\"]\n")), quiet(out));
