@@ -65,6 +65,9 @@ class EventDrivenAggregation {
   EdStop advance(double t, std::size_t target_clusters = 1);
   // Processes the next valid event, whatever its time; false if there is none (for tests and diagnostics).
   bool step();
+  // True when no event remains: nothing will ever change again (e.g. clusters at rest relative to each other).
+  // Events can be far apart (cluster-level broad phase), so a stretch of time without any proves nothing.
+  bool exhausted() { return !skip_stale_events(); }
 
   double time() const { return double(now_ - clock_origin_); }
   std::size_t particles() const { return offset_.size(); }
