@@ -1,8 +1,9 @@
 // ED aggregation throughput (issue 5): events per second and time to one cluster as functions of N and the
 // volume fraction ν, 2-D or 3-D, periodic or reflecting.
 //   bench_ed_throughput DIM BOUNDARY NU N1 [N2 ...]    e.g. bench_ed_throughput 2 periodic 0.01 1e4 1e5 1e6
-// Prints one line per N: set-up seconds, seconds to one cluster, events (merges, crossings, walls), events/s,
-// and the cost exponent between consecutive N (log t2/t1 / log N2/N1).
+// Prints one line per N: set-up seconds, seconds to one cluster, events (merges, broad-phase crossings of
+// cluster boxes, pair checks, walls), stale events skipped, events/s, and the cost exponent between
+// consecutive N (log t2/t1 / log N2/N1).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -22,8 +23,8 @@ int main(int argc, char** argv) {
   const double nu = std::atof(argv[3]);
   bench::print_load();
   std::printf("# dim %d %s nu %g, unit speed uniform directions, run to one cluster\n", dimension, argv[2], nu);
-  std::printf("%10s %8s %10s %12s %12s %12s %10s %12s %8s\n", "N", "setup_s", "run_s", "events", "merges",
-              "crossings", "walls", "events/s", "exponent");
+  std::printf("%10s %8s %10s %12s %12s %12s %12s %10s %12s %12s %8s\n", "N", "setup_s", "run_s", "events", "merges",
+              "crossings", "pair_checks", "walls", "stale", "events/s", "exponent");
   double previous_n = 0, previous_t = 0;
   for (int k = 4; k < argc; ++k) {
     const auto n = std::size_t(std::atof(argv[k]));
@@ -35,9 +36,10 @@ int main(int argc, char** argv) {
     const double run = bench::seconds_since(start);
     const auto& c = ed.counters();
     const double exponent = previous_n > 0 ? std::log(run / previous_t) / std::log(double(n) / previous_n) : NAN;
-    std::printf("%10zu %8.2f %10.2f %12llu %12llu %12llu %10llu %12.3g %8.2f\n", n, setup, run,
+    std::printf("%10zu %8.2f %10.2f %12llu %12llu %12llu %12llu %10llu %12llu %12.3g %8.2f\n", n, setup, run,
                 (unsigned long long)c.events(), (unsigned long long)c.merges, (unsigned long long)c.cell_crossings,
-                (unsigned long long)c.wall_contacts, double(c.events()) / run, exponent);
+                (unsigned long long)c.pair_checks, (unsigned long long)c.wall_contacts,
+                (unsigned long long)c.stale_events, double(c.events()) / run, exponent);
     std::fflush(stdout);
     previous_n = double(n);
     previous_t = run;

@@ -23,7 +23,7 @@ void EventDrivenAggregation::register_cluster(std::uint32_t c) {
     lo[a] = origin[a] + low_[c][a] - pad;
     hi[a] = origin[a] + high_[c][a] + pad;
   }
-  for (int l = level_[c]; l < grid_.top(); ++l) grid_.place(c, l, grid_.range_of(l, lo, hi));
+  for (int l = level_[c]; l < grid_.top(); ++l) grid_.place(c, l, grid_.range_of(l, lo, hi), l == level_[c]);
 }
 
 void EventDrivenAggregation::unregister_cluster(std::uint32_t c) {
@@ -34,7 +34,7 @@ void EventDrivenAggregation::unregister_cluster(std::uint32_t c) {
     top_.pop_back();
     return;
   }
-  for (int l = level_[c]; l < grid_.top(); ++l) grid_.remove(c, l);
+  for (int l = level_[c]; l < grid_.top(); ++l) grid_.remove(c, l, l == level_[c]);
 }
 
 bool EventDrivenAggregation::candidates(std::uint32_t x, std::uint32_t y) const {
@@ -63,9 +63,11 @@ void EventDrivenAggregation::predict_cluster(std::uint32_t c, bool higher_only) 
   std::array<std::uint32_t, 8> cells;
   for (int l = level_[c]; l < grid_.top(); ++l) {
     const int n = grid_.cells(l, grid_.range(c, l), cells);
-    for (int k = 0; k < n; ++k)
-      for (const auto& e : grid_.entries(l, cells[k]))
-        if (l == level_[c] || level_[e.cluster] == l) visit(e.cluster);
+    for (int k = 0; k < n; ++k) {
+      for (const auto& e : grid_.owners(l, cells[k])) visit(e.cluster);
+      if (l == level_[c])
+        for (const auto& e : grid_.passengers(l, cells[k])) visit(e.cluster);
+    }
   }
   for (std::uint32_t y : top_) visit(y);
 }

@@ -89,18 +89,21 @@ void EventDrivenAggregation::cross(std::uint32_t c, int level, int axis, int fac
   (face ? moved.hi : moved.lo)[axis] += direction;
   std::array<std::uint32_t, 8> old_cells, new_cells;
   const int n_old = grid_.cells(level, old, old_cells), n_new = grid_.cells(level, moved, new_cells);
-  grid_.place(c, level, moved);
+  const bool owner = level == level_[c];
+  grid_.place(c, level, moved, owner);
   ++epoch_;
   seen_[c] = epoch_;
+  auto meet = [&](std::uint32_t y) {
+    if (seen_[y] == epoch_) return;
+    seen_[y] = epoch_;
+    if (grid_.share_cell(level, old, grid_.range(y, level))) return;  // already candidates
+    predict_pair(c, y);
+  };
   for (int k = 0; k < n_new; ++k) {
     if (std::find(old_cells.begin(), old_cells.begin() + n_old, new_cells[k]) != old_cells.begin() + n_old) continue;
-    for (const auto& e : grid_.entries(level, new_cells[k])) {
-      const std::uint32_t y = e.cluster;
-      if (seen_[y] == epoch_ || !(level == level_[c] || level_[y] == level)) continue;
-      seen_[y] = epoch_;
-      if (grid_.share_cell(level, old, grid_.range(y, level))) continue;  // already candidates
-      predict_pair(c, y);
-    }
+    for (const auto& e : grid_.owners(level, new_cells[k])) meet(e.cluster);
+    if (owner)
+      for (const auto& e : grid_.passengers(level, new_cells[k])) meet(e.cluster);
   }
   predict_crossing(c);
 }

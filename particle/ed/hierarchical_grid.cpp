@@ -95,27 +95,28 @@ bool HierarchicalGrid::share_cell(int level, const Range& a, const Range& b) con
   return false;
 }
 
-void HierarchicalGrid::place(std::uint32_t cluster, int level, const Range& r) {
-  remove(cluster, level);
+void HierarchicalGrid::place(std::uint32_t cluster, int level, const Range& r, bool owner) {
+  remove(cluster, level, owner);
   const std::size_t base = cluster * std::size_t(top_) + level;
   range_[base] = r;
   for (int s = 0; s < slots_; ++s) {
     bool valid;
     const std::uint32_t c = cell_at(level, r, s, valid);
     if (!valid) continue;
-    auto& list = cells_[level][c];
+    auto& list = owner ? cells_[level][c].owners : cells_[level][c].passengers;
     where_[base * slots_ + s] = std::uint32_t(list.size());
     list.push_back({cluster, std::uint32_t(s)});
   }
 }
 
-void HierarchicalGrid::remove(std::uint32_t cluster, int level) {
+void HierarchicalGrid::remove(std::uint32_t cluster, int level, bool owner) {
   const std::size_t base = cluster * std::size_t(top_) + level;
   for (int s = 0; s < slots_; ++s) {
     std::uint32_t& w = where_[base * slots_ + s];
     if (w == none) continue;
     bool valid;
-    auto& list = cells_[level][cell_at(level, range_[base], s, valid)];
+    Cell& cell = cells_[level][cell_at(level, range_[base], s, valid)];
+    auto& list = owner ? cell.owners : cell.passengers;
     const Entry moved = list.back();
     list[w] = moved;
     where_[(moved.cluster * std::size_t(top_) + level) * slots_ + moved.slot] = w;

@@ -39,13 +39,16 @@ class HierarchicalGrid {
   Range range_of(int level, const Vector3& low, const Vector3& high) const;
   const Range& range(std::uint32_t cluster, int level) const { return range_[cluster * std::size_t(top_) + level]; }
 
-  void place(std::uint32_t cluster, int level, const Range& r);  // (re)registers at `level`
-  void remove(std::uint32_t cluster, int level);                 // no-op if not registered there
+  // (Re)registers at `level`, as an owner (the cluster's own level) or a passenger (a coarser level).
+  void place(std::uint32_t cluster, int level, const Range& r, bool owner);
+  void remove(std::uint32_t cluster, int level, bool owner);  // no-op if not registered there
 
   // Distinct cell indices covered by a range at a level; returns their number (<= 2^d).
   int cells(int level, const Range& r, std::array<std::uint32_t, 8>& out) const;
   bool share_cell(int level, const Range& a, const Range& b) const;
-  const std::vector<Entry>& entries(int level, std::uint32_t cell) const { return cells_[level][cell]; }
+  // Clusters living at `level` (owners) or at a finer level (passengers) in a cell.
+  const std::vector<Entry>& owners(int level, std::uint32_t cell) const { return cells_[level][cell].owners; }
+  const std::vector<Entry>& passengers(int level, std::uint32_t cell) const { return cells_[level][cell].passengers; }
 
  private:
   int wrap(int level, int axis, std::int64_t i) const;
@@ -56,7 +59,10 @@ class HierarchicalGrid {
   int top_ = 0;
   std::vector<std::array<int, 3>> counts_;
   std::vector<Vector3> side_;
-  std::vector<std::vector<std::vector<Entry>>> cells_;  // [level][cell]
+  struct Cell {
+    std::vector<Entry> owners, passengers;
+  };
+  std::vector<std::vector<Cell>> cells_;  // [level][cell]
   std::vector<Range> range_;                             // [cluster * top + level]
   std::vector<std::uint32_t> where_;                     // [(cluster * top + level) * slots + slot]
 };
