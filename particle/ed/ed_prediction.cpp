@@ -13,6 +13,7 @@ namespace aggkit {
 
 namespace {
 constexpr double never = std::numeric_limits<double>::infinity();
+constexpr double cast_reach = 4;  // index cells of relative displacement searched per prediction
 }
 
 // The next time a face of the cluster's inflated box crosses a grid line at any level it is registered at.
@@ -93,9 +94,12 @@ void EventDrivenAggregation::predict_pair(std::uint32_t x, std::uint32_t y) {
     queue_.push({now_ + (long double)window.begin, stamp_[x], stamp_[y], x, y, EventKind::pair_check, 0, 0});
     return;
   }
+  // The search stops after a relative displacement of a few index cells (then a pair check goes on): big
+  // clusters change velocity often (every absorbed monomer), and a long cast would mostly be thrown away.
   double shortest = box_.side[0];
   for (int a = 1; a < box_.dimension; ++a) shortest = std::min(shortest, box_.side[a]);
-  const double horizon = std::min(window.end, 0.5 * shortest / speed);
+  const double reach = std::min(0.5 * shortest, cast_reach * index_.grid().cell_side()[0]);
+  const double horizon = std::min(window.end, reach / speed);
   const Contact contact = first_contact(x, y, horizon);
   if (contact.a != ClusterIndex::none) {
     queue_.push({now_ + (long double)contact.time, stamp_[members_.cluster_of(contact.a)],
