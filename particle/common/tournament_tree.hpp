@@ -39,6 +39,15 @@ class TournamentTree {
   std::size_t slots() const { return slots_; }
   double time(std::uint32_t slot) const { return times_[slot]; }
   double top_time() const { return nodes_[1].time; }
+  // The earliest slot of each of the 2^depth subtrees at that depth (fewer when the tree is smaller): the
+  // next few events are most likely among them, so their data can be fetched ahead.
+  template <class F>
+  void for_each_subtree_winner(int depth, F&& f) const {
+    std::size_t first = std::size_t(1) << depth;
+    if (first >= 2 * leaves_) first = leaves_;
+    for (std::size_t n = first; n < 2 * first && n < 2 * leaves_; ++n)
+      if (nodes_[n].time != never) f(nodes_[n].slot);
+  }
   std::uint32_t top_slot() const { return nodes_[1].slot; }
 
   void set(std::uint32_t slot, double time) {

@@ -486,11 +486,14 @@ bool ElasticGasIn<D>::step() {
     schedule(i);
   }
   if (counters_.events() >= rebase_at_) rebase();
-  // Memory latency bounds the run: start fetching what the next event will read first.
-  const std::uint32_t j = tree_.top_slot();
-  __builtin_prefetch(&next_[j]);
-  __builtin_prefetch(&state_[j]);
-  __builtin_prefetch(&cell_of_[j]);
+  // Memory latency bounds the run: start fetching what the next events will read first.
+  // The next few events are most likely among the 16 subtree winners of the queue: fetching their slots
+  // ahead measured +12 % in 2-D at N = 10^6 (depths 4–6 alike, 2–3 no gain; 3-D within the noise).
+  tree_.for_each_subtree_winner(4, [&](std::uint32_t j) {
+    __builtin_prefetch(&next_[j]);
+    __builtin_prefetch(&state_[j]);
+    __builtin_prefetch(&cell_of_[j]);
+  });
   return true;
 }
 
