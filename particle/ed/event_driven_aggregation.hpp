@@ -57,8 +57,9 @@ class EventDrivenAggregation {
   EventDrivenAggregation(const Box& box, double radius, std::span<const Vector3> positions,
                          std::span<const Vector3> velocities, bool sticking = true, std::size_t cells = 0);
 
-  // Elastic collisions (sticking off) until every particle has collided at least `collisions` times; then
-  // sticking is switched on and the clock restarts at t = 0. Throws std::runtime_error if it cannot finish.
+  // Elastic collisions (sticking off) until every particle has collided at least `collisions` times (run on
+  // the elastic gas, particle/ed/elastic_gas.hpp); then sticking is switched on and the clock restarts at
+  // t = 0. Only before any merge (std::logic_error otherwise); std::runtime_error if it cannot finish.
   void thermalize(std::size_t collisions);
   // Runs until time t (since the start, or since the end of thermalisation) or until at most
   // `target_clusters` clusters remain (sticking runs only), whichever comes first.
@@ -128,6 +129,7 @@ class EventDrivenAggregation {
   double radius_;
   double margin_;  // broad-phase inflation beyond R (round-off guard)
   bool sticking_;
+  std::size_t requested_cells_ = 0;  // the constructor's `cells` (kept for the rebuild after thermalize)
   ClusterMembership members_;
   ClusterIndex index_;
   HierarchicalGrid grid_;
