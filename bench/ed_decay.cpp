@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "bench/ed_common.hpp"
-#include "particle/ed/elastic_gas.hpp"
 
 using namespace aggkit;
 
@@ -49,20 +48,9 @@ int main(int argc, char** argv) {
   const double t1 = std::atof(argv[4]), t2 = std::atof(argv[5]);
   const std::uint64_t seed = argc > 6 ? std::uint64_t(std::atoll(argv[6])) : 1;
   bench::print_load();
+  auto ed = bench::make_ed(2, n, nu, Boundary::periodic, true, seed, VelocityLaw::uniform_components);
   const auto start = std::chrono::steady_clock::now();
-  // Elastic stage on the elastic gas, then sticking from its state with the clock at 0 (as the harness does).
-  const double radius = 0.5;
-  const double side = box_side_for_volume_fraction(2, n, radius, nu);
-  const Box box{2, {side, side, 0.0}, Boundary::periodic};
-  std::vector<Vector3> x = lattice_positions(box, n, radius);
-  std::vector<Vector3> v = initial_velocities(2, n, VelocityLaw::uniform_components, 1.0, seed);
-  if (thermalize > 0) {
-    const auto gas = make_elastic_gas(box, radius, x, v);
-    gas->thermalize(thermalize);
-    x = gas->positions();
-    v = gas->velocities();
-  }
-  EventDrivenAggregation ed(box, radius, x, v, true);
+  ed.thermalize(thermalize);  // on the elastic gas, then sticking from t = 0
   const double e0 = ed.kinetic_energy();
   std::printf("# N %zu nu %g periodic, thermalised %zu collisions/particle; t E/E0 S=N/C\n", n, nu, thermalize);
   std::vector<double> ts, es, ss;

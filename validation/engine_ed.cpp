@@ -16,7 +16,6 @@
 
 #include "analysis/particle_configuration.hpp"
 #include "particle/ed/ed_configuration.hpp"
-#include "particle/ed/elastic_gas.hpp"
 #include "validation/atomic_file.hpp"
 #include "validation/particle_final_state.hpp"
 #include "validation/particle_snapshot.hpp"
@@ -89,21 +88,10 @@ class EdEngine final : public Engine {
     std::string picture = "not requested";
     for (std::size_t r = 0; r < system.realizations; ++r) {
       const auto started = std::chrono::steady_clock::now();
-      std::vector<Vector3> x = system.initial_positions(), v = system.initial_velocities(r);
-      double thermal_collisions = 0;
-      if (system.thermalize > 0) {
-        // Elastic stage on the fast elastic gas; sticking then starts from its state with the clock at 0.
-        const auto gas = make_elastic_gas(system.box, system.radius, x, v);
-        gas->thermalize(system.thermalize);
-        x = gas->positions();
-        v = gas->velocities();
-        thermal_collisions = double(gas->counters().collisions);
-        total.elastic_collisions += gas->counters().collisions;
-        total.cell_crossings += gas->counters().cell_crossings;
-        total.wall_contacts += gas->counters().wall_contacts;
-        total.stale_events += gas->counters().stale_events;
-      }
+      const std::vector<Vector3> x = system.initial_positions(), v = system.initial_velocities(r);
       EventDrivenAggregation ed(system.box, system.radius, x, v, true, options_.cells);
+      ed.thermalize(system.thermalize);  // on the elastic gas; the clock restarts at 0
+      const double thermal_collisions = double(ed.counters().elastic_collisions);
       const Vector3 p0 = ed.momentum() + ed.wall_impulse();
       double momentum_scale = 0;
       for (std::uint32_t p = 0; p < ed.particles(); ++p) momentum_scale += norm(ed.velocity(p));

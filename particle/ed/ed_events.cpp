@@ -35,8 +35,6 @@ void EventDrivenAggregation::collide(std::uint32_t i, std::uint32_t j) {
   stamp_[ci] = new_stamp();
   stamp_[cj] = new_stamp();
   ++counters_.elastic_collisions;
-  for (std::uint32_t p : {i, j})
-    if (thermal_target_ > 0 && ++collisions_[p] == thermal_target_) --thermal_pending_;
   predict_cluster(ci);
   predict_cluster(cj);
 }

@@ -36,7 +36,6 @@ EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, st
       index_(box, index_cell_side(box, radius), positions.size()),
       grid_(box, (2 * radius + 2e-6 * radius) * (1 + 1e-8), cells ? cells : positions.size(), positions.size()),
       offset_(positions.size(), Vector3{0, 0, 0}),
-      collisions_(positions.size(), 0),
       origin_(positions.begin(), positions.end()),
       velocity_(velocities.begin(), velocities.end()),
       low_(positions.size(), Vector3{0, 0, 0}),

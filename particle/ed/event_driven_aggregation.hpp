@@ -133,9 +133,8 @@ class EventDrivenAggregation {
   ClusterMembership members_;
   ClusterIndex index_;
   HierarchicalGrid grid_;
-  // Per particle: offset from its cluster's origin, collisions so far (thermalisation).
+  // Per particle: offset from its cluster's origin.
   std::vector<Vector3> offset_;
-  std::vector<std::uint32_t> collisions_;
   // Per cluster (id = a particle id): origin at time clock_, velocity, stamp, extent of the offsets, level.
   std::vector<Vector3> origin_, velocity_, low_, high_;
   std::vector<long double> clock_;
@@ -155,7 +154,6 @@ class EventDrivenAggregation {
   std::size_t compact_at_ = 0;
   long double now_ = 0, clock_origin_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
-  std::size_t thermal_target_ = 0, thermal_pending_ = 0;
   EdCounters counters_;
 };
 
