@@ -8,7 +8,20 @@
 #include <string>
 #include <vector>
 
+#include "validation/harness.hpp"
+
 namespace aggkit::testing {
+
+// Run options writing into `out` with no plots, report, progress or warnings (silent test runs).
+inline RunOptions quiet_run(const std::filesystem::path& out) {
+  RunOptions options;
+  options.out = out;
+  options.plot = false;
+  options.report = nullptr;
+  options.progress = nullptr;
+  options.warnings = nullptr;
+  return options;
+}
 
 // A valid scene: constant kernel, N = 64, t in (0, 2], cvode against the exact solution. Each member is
 // the body of one section; set one to a bad value to test a message.

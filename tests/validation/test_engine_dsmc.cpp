@@ -29,12 +29,7 @@ EngineRecord record(std::string label, std::vector<std::vector<double>> values,
 
 TEST_CASE("harness: the shipped DSMC scene passes with ar, fast and cvode agreeing") {
   const auto out = aggkit::testing::scratch_folder("dsmc-scene");
-  RunOptions options;
-  options.out = out;
-  options.plot = false;
-  options.report = nullptr;
-  options.progress = nullptr;
-  options.warnings = nullptr;
+  const RunOptions options = aggkit::testing::quiet_run(out);
   const Scene scene = load_scene(aggkit::testing::shipped_scene("dsmc-ballistic.toml"));
   const RunResult result = run_scene(scene, options);
   CHECK(result.exit_code == 0);

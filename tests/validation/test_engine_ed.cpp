@@ -25,15 +25,7 @@ std::string ed_scene(const std::string& particles_extra = "", const std::string&
          "\n[observe]\n" + observe;
 }
 
-RunOptions quiet(const std::filesystem::path& out) {
-  RunOptions options;
-  options.out = out;
-  options.plot = false;
-  options.report = nullptr;
-  options.progress = nullptr;
-  options.warnings = nullptr;
-  return options;
-}
+RunOptions quiet(const std::filesystem::path& out) { return aggkit::testing::quiet_run(out); }
 
 void check_bad(const std::string& text, const std::string& key, const std::string& value) {
   INFO(text);

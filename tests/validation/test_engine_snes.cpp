@@ -16,12 +16,7 @@ using namespace aggkit;
 
 TEST_CASE("engine snes: the shipped steady-state scene passes and writes the distribution", "[snes][harness]") {
   const auto out = aggkit::testing::scratch_folder("engine-snes") / "out";
-  RunOptions options;
-  options.out = out;
-  options.plot = false;
-  options.report = nullptr;
-  options.progress = nullptr;
-  options.warnings = nullptr;
+  const RunOptions options = aggkit::testing::quiet_run(out);
   const RunResult result = run_scene(load_scene(aggkit::testing::shipped_scene("brownian-steady.toml")), options);
   CHECK(result.pass);
   std::ifstream csv(out / "snes" / "distribution.csv");

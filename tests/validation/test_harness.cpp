@@ -19,12 +19,8 @@ using Catch::Matchers::Contains;
 namespace {
 
 RunOptions quiet_options(const std::filesystem::path& out, std::ostream* report = nullptr) {
-  RunOptions options;
-  options.out = out;
-  options.plot = false;
+  RunOptions options = aggkit::testing::quiet_run(out);
   options.report = report;
-  options.progress = nullptr;
-  options.warnings = nullptr;
   return options;
 }
 
