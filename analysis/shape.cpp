@@ -86,7 +86,7 @@ Gyration gyration(std::span<const std::array<double, 3>> points, int dimension) 
   return g;
 }
 
-double relative_contacts(const ParticleConfiguration& config, double factor) {
+double relative_contacts(const ParticleConfiguration& config, double factor, ContactCounting counting) {
   check_configuration(config);
   if (!(factor > 0) || !std::isfinite(factor))
     throw InputError("factor", format_value(factor), "the contact range factor·R needs a positive factor");
@@ -95,7 +95,9 @@ double relative_contacts(const ParticleConfiguration& config, double factor) {
   NeighbourGrid grid(config.positions, config.dimension, factor * config.radius, config.box, config.periodic);
   grid.for_each_pair([&](std::size_t, std::size_t, const auto&, double) { ++pairs; });
   const double n_max = config.dimension == 2 ? 6.0 : 12.0;  // kissing numbers
-  return 2.0 * double(pairs) / (double(config.positions.size()) * n_max);  // Σ_{i≠j} counts each pair twice
+  const double n = double(config.positions.size());
+  const double self = counting == ContactCounting::with_self ? n : 0.0;  // the N terms i = j
+  return (2.0 * double(pairs) + self) / (n * n_max);  // Σ_{i≠j} counts each pair twice
 }
 
 PairDistribution pair_distribution(const ParticleConfiguration& config, std::span<const double> r) {

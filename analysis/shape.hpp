@@ -24,7 +24,14 @@ Gyration gyration(std::span<const std::array<double, 3>> points, int dimension);
 // N_c = (1/N)(1/N_max) Σ_{i≠j} 1{|Xi−Xj| ≤ factor·R}, N_max = 6 (2-D) or 12 (3-D): the mean number of
 // neighbours within factor·R relative to the densest packing's (issue 5, Degond et al.). O(N) by a
 // neighbour grid; minimum image when periodic. 0 for an empty configuration.
-double relative_contacts(const ParticleConfiguration& config, double factor = 2.1);
+//
+// ContactCounting::with_self sums over all (i, j), i = j included, which adds exactly 1/N_max. That is
+// the reading under which Degond et al.'s published N_c ≈ 0.5 (PUBLISHED.md B) is what hit-and-stick
+// gives: each merge makes one contact, the contact graph is a tree with mean degree 2(N−1)/N, and
+// (2(N−1)/N + 1)/6 → 0.5, whereas the i ≠ j sum gives 1/3 (issue-5 notes, bench/RESULTS.md).
+enum class ContactCounting { other_particles, with_self };
+double relative_contacts(const ParticleConfiguration& config, double factor = 2.1,
+                         ContactCounting counting = ContactCounting::other_particles);
 
 // P(r) = (1/N) Σ_{i≠j} 1{|Xi−Xj| ≤ r} at the given radii (any order, positive), the mean number of other
 // particles within r (issue 5, Degond et al.; used for 2R < r < 20R). O(N · pairs within max r) by a

@@ -13,7 +13,7 @@ namespace aggkit {
 const std::vector<std::string>& final_state_observables() {
   static const std::vector<std::string> names{
       "clusters",     "mean_cluster_size", "largest_cluster",    "kinetic_energy",        "contacts",
-      "aspect_ratio", "orientation",       "radius_of_gyration", "fractal_dimension_box", "fractal_dimension_mass"};
+      "contacts_with_self", "aspect_ratio", "orientation",       "radius_of_gyration", "fractal_dimension_box", "fractal_dimension_mass"};
   return names;
 }
 
@@ -41,6 +41,8 @@ std::vector<std::pair<std::string, double>> final_state_values(std::span<const s
     else if (name == "largest_cluster") values.emplace_back(name, double(final.largest_cluster.size()));
     else if (name == "kinetic_energy") values.emplace_back(name, final.kinetic_energy);
     else if (name == "contacts") values.emplace_back(name, relative_contacts(config, 2.1));
+    else if (name == "contacts_with_self")
+      values.emplace_back(name, relative_contacts(config, 2.1, ContactCounting::with_self));
     else if (name == "aspect_ratio") values.emplace_back(name, gyration_of_largest().aspect_ratio);
     else if (name == "orientation") values.emplace_back(name, gyration_of_largest().orientation);
     else if (name == "radius_of_gyration") values.emplace_back(name, gyration_of_largest().radius_of_gyration);

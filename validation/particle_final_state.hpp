@@ -3,6 +3,8 @@
 // <engine>/final.json:
 //   clusters, mean_cluster_size, largest_cluster (its particle count), kinetic_energy
 //   contacts                 relative contacts per sphere N_c (α_R = 2.1, N_max = 6 or 12; analysis/shape.hpp)
+//   contacts_with_self       N_c with the i = j terms counted (+1/N_max): the reading under which Degond et
+//                            al.'s published N_c ≈ 0.5 matches hit-and-stick aggregates (analysis/shape.hpp)
 //   aspect_ratio, orientation, radius_of_gyration   gyration tensor of the largest cluster
 //   fractal_dimension_box    box counting of the largest cluster (grid L/2^m over the box side for reflecting
 //                            walls, as in Degond et al.; over its own bounding square/cube when periodic)

@@ -104,6 +104,8 @@ TEST_CASE("shape: N_c of a full hexagonal patch matches the count of its nearest
     const double n = 3.0 * s * (s - 1) + 1;
     REQUIRE(c.positions.size() == std::size_t(n));
     CHECK(relative_contacts(c) == Approx(1 - (2.0 * s - 1) / n).epsilon(1e-14));
+    // Counting i = j as well adds one to every particle's neighbour count.
+    CHECK(relative_contacts(c, 2.1, ContactCounting::with_self) == Approx(1 - (2.0 * s - 1) / n + 1.0 / 6).epsilon(1e-14));
   }
 }
 
@@ -111,6 +113,7 @@ TEST_CASE("shape: N_c of a cubic lattice and of a periodic square lattice") {
   // n³ simple cubic block (3-D, N_max = 12): 3n²(n-1) bonds, N_c = 2·3n²(n-1)/(12 n³) = (n-1)/(2n).
   const auto cube = configuration(aggkit::testing::cubic_lattice(6, 6, 6, 1.0), 3);
   CHECK(relative_contacts(cube) == Approx(5.0 / 12).epsilon(1e-14));
+  CHECK(relative_contacts(cube, 2.1, ContactCounting::with_self) == Approx(6.0 / 12).epsilon(1e-14));
   // 10 x 10 square lattice filling a periodic box of side 20: every particle has 4 neighbours, N_c = 4/6.
   auto square = configuration(aggkit::testing::cubic_lattice(10, 10, 1, 1.0, {0.5, 0.5, 0}), 2);
   square.periodic = true;

@@ -18,7 +18,7 @@ namespace {
 
 std::string ed_scene(const std::string& particles_extra = "", const std::string& engine_extra = "stop = \"one_cluster\"\n",
                      const std::string& observe = "series = [\"clusters\", \"kinetic_energy\", \"mean_cluster_size\", \"M0\", \"M1\"]\n"
-                                                  "final = [\"clusters\", \"contacts\", \"fractal_dimension_mass\", \"aspect_ratio\"]\n") {
+                                                  "final = [\"clusters\", \"contacts\", \"contacts_with_self\", \"fractal_dimension_mass\", \"aspect_ratio\"]\n") {
   return "name = \"ed-test\"\n[particles]\ndimension = 2\ncount = 100\nradius = 0.5\nvolume_fraction = 0.2\n"
          "boundary = \"reflecting\"\ninitial = { lattice = \"square\", speed = 1.0, directions = \"uniform\" }\n" +
          particles_extra + "\n[time]\nend = 5.0\noutputs = [1.0, 2.0, 5.0]\n\n[[engine]]\nname = \"ed\"\n" + engine_extra +
@@ -73,6 +73,8 @@ TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed]
   CHECK(final["momentum_drift"].get<double>() < 1e-13);
   // Hit-and-stick merging makes one contact per merge: at least the tree value 2(N−1)/(N·6) = 0.33.
   CHECK(final["contacts"].get<double>() >= 2.0 * 99 / 100 / 6 - 1e-12);
+  // The published reading (i = j counted, analysis/shape.hpp) adds exactly 1/N_max to each realization.
+  CHECK(final["contacts_with_self"].get<double>() == Approx(final["contacts"].get<double>() + 1.0 / 6).epsilon(1e-12));
   CHECK_FALSE(std::filesystem::exists(out / "ed" / "final.vtu"));  // snapshots not requested
 }
 
