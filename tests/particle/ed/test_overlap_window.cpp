@@ -74,3 +74,38 @@ TEST_CASE("overlap windows agree with a direct scan", "[ed][overlap_window]") {
     CHECK(overlapping(dimension, y0, w, s, period, 0.5 * (window.begin + std::min(window.end, window.begin + 1))));
   }
 }
+
+TEST_CASE("overlap windows: a bounded search returns the same window or a recheck no later than it", "[ed][overlap_window]") {
+  // The engine bounds the search by steps (pair predictions) or by a horizon (contact casts); either way a
+  // recheck must be a lower bound of the unbounded answer, or a contact could be skipped.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int rechecks = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int dimension = trial % 2 ? 3 : 2;
+    Vector3 y0{0, 0, 0}, w{0, 0, 0}, s{0, 0, 0}, period{0, 0, 0};
+    for (int a = 0; a < dimension; ++a) {
+      y0[a] = 40 * u(rng);
+      w[a] = u(rng);
+      s[a] = 0.5 + 0.4 * u(rng);  // small boxes in a period of 100: windows rarely coincide
+      period[a] = 100;
+    }
+    const OverlapWindow full = first_overlap(dimension, y0, w, s, period, 1e-12);
+    const double horizon = 50 * (1 + u(rng));
+    for (const OverlapWindow bounded : {first_overlap(dimension, y0, w, s, period, 1e-12, 3),
+                                        first_overlap(dimension, y0, w, s, period, 1e-12, 64, horizon)}) {
+      INFO("trial " << trial);
+      if (bounded.kind == OverlapWindow::recheck) {
+        ++rechecks;
+        if (full.kind != OverlapWindow::none) CHECK(bounded.begin <= full.begin);
+        continue;
+      }
+      CHECK(bounded.kind == full.kind);
+      if (full.kind == OverlapWindow::overlap) {
+        CHECK(bounded.begin == full.begin);
+        CHECK(bounded.end == full.end);
+      }
+    }
+  }
+  CHECK(rechecks > 100);  // the bounds did cut searches short
+}
