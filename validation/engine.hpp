@@ -29,6 +29,7 @@ using EngineStatistics = std::vector<EngineStatistic>;
 struct EngineObserver {
   std::function<void(double t, const SystemState& state)> output;  // at each output time, in order
   std::function<void(double t)> progress;                           // the time reached, as often as it likes
+  std::function<void(const std::string& what)> status;              // a stage or count in words, as often as it likes
   std::filesystem::path folder;  // the engine's output folder (exists), for files beyond the series (final.json)
 };
 

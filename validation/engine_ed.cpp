@@ -11,6 +11,8 @@
 // observe.snapshots the first realization's final configuration as final.vtu and final.png.
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -90,18 +92,34 @@ class EdEngine final : public Engine {
       const auto started = std::chrono::steady_clock::now();
       const std::vector<Vector3> x = system.initial_positions(), v = system.initial_velocities(r);
       EventDrivenAggregation ed(system.box, system.radius, x, v, true, options_.cells);
-      ed.thermalize(system.thermalize);  // on the elastic gas; the clock restarts at 0
+      // Progress in words for the long stretches between output times (at most about once a second).
+      const std::string run = system.realizations > 1 ? "realization " + std::to_string(r + 1) + "/" +
+                                                            std::to_string(system.realizations) + ", "
+                                                      : "";
+      const auto thermalizing = [&](std::size_t pending) {
+        if (observer.status)
+          observer.status(run + "thermalising: " + std::to_string(ed.particles() - pending) + " of " +
+                          std::to_string(ed.particles()) + " particles have " + std::to_string(system.thermalize) +
+                          " collisions");
+      };
+      const auto aggregating = [&] {
+        if (!observer.status) return;
+        char t[32];
+        std::snprintf(t, sizeof t, "%.6g", ed.time());
+        observer.status(run + "t = " + t + ", " + std::to_string(ed.clusters()) + " clusters");
+      };
+      ed.thermalize(system.thermalize, thermalizing);  // on the elastic gas; the clock restarts at 0
       const double thermal_collisions = double(ed.counters().elastic_collisions);
       const Vector3 p0 = ed.momentum() + ed.wall_impulse();
       double momentum_scale = 0;
       for (std::uint32_t p = 0; p < ed.particles(); ++p) momentum_scale += norm(ed.velocity(p));
       bool stopped = false;
       for (std::size_t k = 0; k < outputs.size(); ++k) {
-        if (!stopped) stopped = ed.advance(outputs[k], options_.target_clusters) == EdStop::clusters_reached;
+        if (!stopped) stopped = ed.advance(outputs[k], options_.target_clusters, aggregating) == EdStop::clusters_reached;
         states[k] += state_of(ed);
         if (r == 0 && observer.progress) observer.progress(outputs[k]);
       }
-      run_to_target(ed, stopped, scene.time.end);
+      run_to_target(ed, stopped, scene.time.end, aggregating);
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
       const ParticleConfiguration config = configuration(ed);
@@ -153,11 +171,11 @@ class EdEngine final : public Engine {
   // With a cluster target not reached by time.end, runs on in chunks of time.end until it is, or until
   // no event remains (nothing will ever change: the engine's events can be far apart, so a quiet chunk alone
   // proves nothing).
-  void run_to_target(EventDrivenAggregation& ed, bool stopped, double chunk) const {
+  void run_to_target(EventDrivenAggregation& ed, bool stopped, double chunk, const std::function<void()>& progress) const {
     if (stopped || options_.target_clusters == 0) return;
     while (ed.clusters() > options_.target_clusters) {
       const auto before = ed.counters().events();
-      if (ed.advance(ed.time() + chunk, options_.target_clusters) == EdStop::clusters_reached) return;
+      if (ed.advance(ed.time() + chunk, options_.target_clusters, progress) == EdStop::clusters_reached) return;
       if (ed.counters().events() == before && ed.exhausted()) return;
     }
   }

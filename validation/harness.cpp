@@ -29,6 +29,7 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
     progress.reached(t);
   };
   observer.progress = [&](double t) { progress.reached(t); };
+  observer.status = [&](const std::string& what) { progress.note(what); };
   observer.folder = folder.engine_folder(engine.label());
   try {
     record.statistics = engine.run(scene, observer);

@@ -17,16 +17,28 @@ void Progress::start(const std::string& engine, std::size_t index, std::size_t c
   printed_ = false;
 }
 
-void Progress::reached(double t) {
-  if (!out_) return;
+bool Progress::due() {
+  if (!out_) return false;
   const auto now = Clock::now();
-  if (now - last_ < interval_) return;
+  if (now - last_ < interval_) return false;
   last_ = now;
   printed_ = true;
+  return true;
+}
+
+void Progress::reached(double t) {
+  if (!due()) return;
   char line[256];
   std::snprintf(line, sizeof line, "aggkit: engine %zu/%zu %s: t = %.6g / %.6g (%.0f%%), %.1f s\n", index_, count_,
                 engine_.c_str(), t, end_, end_ > 0 ? 100.0 * t / end_ : 100.0, elapsed());
   *out_ << line << std::flush;
+}
+
+void Progress::note(const std::string& what) {
+  if (!due()) return;
+  char line[64];
+  std::snprintf(line, sizeof line, ", %.1f s\n", elapsed());
+  *out_ << "aggkit: engine " << index_ << '/' << count_ << ' ' << engine_ << ": " << what << line << std::flush;
 }
 
 void Progress::finish() {

@@ -14,11 +14,13 @@ class Progress {
 
   void start(const std::string& engine, std::size_t index, std::size_t count, double end);
   void reached(double t);  // prints if `interval` has passed since the start or the last line
+  void note(const std::string& what);  // the same for a line in words (a stage, a count)
   void finish();           // the total time, if anything was printed for this engine
 
  private:
   using Clock = std::chrono::steady_clock;
   double elapsed() const;
+  bool due();  // `interval` has passed since the start or the last line: then true, and the clock restarts
   std::ostream* out_;
   std::chrono::duration<double> interval_;
   std::string engine_;

@@ -100,7 +100,7 @@ void ElasticGasIn<D>::advance(double t) {
 }
 
 template <int D>
-void ElasticGasIn<D>::thermalize(std::size_t collisions) {
+void ElasticGasIn<D>::thermalize(std::size_t collisions, const std::function<void(std::size_t pending)>& progress) {
   if (collisions == 0) return;
   thermal_target_ = collisions;
   thermal_pending_ = 0;
@@ -112,6 +112,7 @@ void ElasticGasIn<D>::thermalize(std::size_t collisions) {
     if (counters_.events() > budget || !step())
       throw std::runtime_error("thermalisation cannot finish: " + std::to_string(thermal_pending_) +
                                " particles never reach " + std::to_string(collisions) + " collisions");
+    if (progress && (counters_.events() & 0xffff) == 0) progress(thermal_pending_);
   }
   thermal_target_ = 0;
 }

@@ -17,6 +17,7 @@
 // by more than `overlap_tolerance` of a diameter (tested over whole runs).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -42,8 +43,9 @@ class ElasticGas {
   // Runs until time t (since the start).
   virtual void advance(double t) = 0;
   // Runs until every particle has collided at least `collisions` times in total; throws std::runtime_error
-  // when that cannot happen (e.g. a particle that never meets another).
-  virtual void thermalize(std::size_t collisions) = 0;
+  // when that cannot happen (e.g. a particle that never meets another). `progress`, if given, is called every
+  // 2^16 events with the number of particles still short of `collisions`.
+  virtual void thermalize(std::size_t collisions, const std::function<void(std::size_t pending)>& progress = {}) = 0;
   // Processes the next event (collision, crossing, wall or stale collision); false if there is none.
   virtual bool step() = 0;
 

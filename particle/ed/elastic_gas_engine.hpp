@@ -29,7 +29,7 @@ class ElasticGasIn final : public ElasticGas {
                double particles_per_cell);
 
   void advance(double t) override;
-  void thermalize(std::size_t collisions) override;
+  void thermalize(std::size_t collisions, const std::function<void(std::size_t pending)>& progress) override;
   bool step() override;
 
   double time() const override { return double(epoch_ + (long double)now_); }

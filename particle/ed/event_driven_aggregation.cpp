@@ -75,12 +75,12 @@ EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, st
 
 // The elastic stage runs on the elastic gas (particle/ed/elastic_gas.hpp, an order of magnitude faster than
 // this engine with sticking off); the engine is then rebuilt from the gas's state with the clock at 0.
-void EventDrivenAggregation::thermalize(std::size_t collisions) {
+void EventDrivenAggregation::thermalize(std::size_t collisions, const std::function<void(std::size_t)>& progress) {
   if (collisions == 0) return;
   if (members_.clusters() != particles())
     throw std::logic_error("thermalize: only before any merge (every cluster a single particle)");
   const auto gas = make_elastic_gas(box(), radius_, positions(), velocities());
-  gas->thermalize(collisions);  // std::runtime_error when it cannot finish
+  gas->thermalize(collisions, progress);  // std::runtime_error when it cannot finish
   EdCounters counters = counters_;
   counters.elastic_collisions += gas->counters().collisions;
   counters.cell_crossings += gas->counters().cell_crossings;
@@ -92,15 +92,16 @@ void EventDrivenAggregation::thermalize(std::size_t collisions) {
   wall_impulse_ = impulse;
 }
 
-EdStop EventDrivenAggregation::advance(double t, std::size_t target_clusters) {
+EdStop EventDrivenAggregation::advance(double t, std::size_t target_clusters, const std::function<void()>& progress) {
   const long double end = clock_origin_ + (long double)t;
-  while (true) {
+  for (std::uint64_t executed = 1;; ++executed) {
     if (sticking_ && members_.clusters() <= target_clusters) return EdStop::clusters_reached;
     if (!skip_stale_events() || queue_.top().time > end) {
       now_ = std::max(now_, end);
       return EdStop::time_reached;
     }
     execute_next_event();
+    if (progress && (executed & 0xffff) == 0) progress();
   }
 }
 

@@ -21,6 +21,7 @@
 // collision times still resolve contacts to ~1e-10 R.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -60,10 +61,12 @@ class EventDrivenAggregation {
   // Elastic collisions (sticking off) until every particle has collided at least `collisions` times (run on
   // the elastic gas, particle/ed/elastic_gas.hpp); then sticking is switched on and the clock restarts at
   // t = 0. Only before any merge (std::logic_error otherwise); std::runtime_error if it cannot finish.
-  void thermalize(std::size_t collisions);
+  // `progress`, if given, is called every 2^16 events with the number of particles still short of it.
+  void thermalize(std::size_t collisions, const std::function<void(std::size_t pending)>& progress = {});
   // Runs until time t (since the start, or since the end of thermalisation) or until at most
-  // `target_clusters` clusters remain (sticking runs only), whichever comes first.
-  EdStop advance(double t, std::size_t target_clusters = 1);
+  // `target_clusters` clusters remain (sticking runs only), whichever comes first. `progress`, if given, is
+  // called every 2^16 events (it may read time() and clusters()).
+  EdStop advance(double t, std::size_t target_clusters = 1, const std::function<void()>& progress = {});
   // Processes the next valid event, whatever its time; false if there is none (for tests and diagnostics).
   bool step();
   // True when no event remains: nothing will ever change again (e.g. clusters at rest relative to each other).

@@ -16,10 +16,18 @@ TEST_CASE("harness: progress names the engine and the time reached, and is silen
   progress.finish();
   CHECK_THAT(out.str(), Contains("engine 1/2 cvode") && Contains("t = 25 / 100 (25%)") && Contains("done in"));
 
+  std::ostringstream words;
+  Progress stages(&words, std::chrono::seconds(0));
+  stages.start("ed", 1, 1, 10.0);
+  stages.note("thermalising: 12 of 100 particles have 10 collisions");
+  CHECK_THAT(words.str(), Contains("aggkit: engine 1/1 ed: thermalising: 12 of 100 particles have 10 collisions, ") &&
+                              Contains(" s\n"));
+
   std::ostringstream throttled;
   Progress slow(&throttled, std::chrono::hours(1));
   slow.start("exact", 2, 2, 1.0);
   slow.reached(0.5);
+  slow.note("a stage");
   slow.finish();
   CHECK(throttled.str().empty());  // short runs print nothing
 

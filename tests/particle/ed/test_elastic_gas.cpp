@@ -3,6 +3,7 @@
 // independent implementation (the ED aggregation engine in elastic mode), thermalisation and bad input.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
@@ -151,6 +152,15 @@ TEST_CASE("elastic gas: thermalisation gives every particle its collisions", "[e
   const auto before = gas->counters().collisions;
   gas->advance(gas->time() + 5.0);
   CHECK(gas->counters().collisions > before);
+
+  // Progress: called every 2^16 events with the particles still short, which never grows and ends at 0
+  // particles short only when the stage is done (500 particles × 300 collisions: ~3e5 events).
+  std::vector<std::size_t> pending;
+  gas->thermalize(300, [&](std::size_t left) { pending.push_back(left); });
+  REQUIRE(pending.size() >= 2);
+  CHECK(pending.front() <= 500);
+  CHECK(std::is_sorted(pending.rbegin(), pending.rend()));
+  for (std::uint32_t p = 0; p < 500; ++p) CHECK(gas->collisions_of(p) >= 300);
 
   // A lone particle never collides: the thermalisation says so instead of running forever.
   const std::vector<Vector3> x{{2, 2, 0}}, v{{1, 0.3, 0}};

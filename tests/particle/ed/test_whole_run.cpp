@@ -103,3 +103,17 @@ TEST_CASE("thermalisation: every particle collides enough, then the clock restar
   CHECK(ed.clusters() == 1);
   CHECK(ed.counters().merges == 99);
 }
+
+TEST_CASE("progress callbacks of a long advance see the clock run and the clusters fall", "[ed][whole_run]") {
+  auto ed = make_run(2, 4000, 0.01, Boundary::periodic, VelocityLaw::fixed_speed);
+  std::vector<std::pair<double, std::size_t>> seen;
+  REQUIRE(ed.advance(1e9, 1, [&] { seen.emplace_back(ed.time(), ed.clusters()); }) == EdStop::clusters_reached);
+  // One call per 2^16 events: ~35 events per particle to one cluster here.
+  REQUIRE(seen.size() >= 1);
+  CHECK(seen.size() == ed.counters().events() / 65536);  // executed events; stale ones are skipped, not counted
+  for (std::size_t k = 1; k < seen.size(); ++k) {
+    CHECK(seen[k].first >= seen[k - 1].first);
+    CHECK(seen[k].second <= seen[k - 1].second);
+  }
+  CHECK(seen.back().second > 1);
+}
