@@ -12,8 +12,9 @@ namespace aggkit {
 
 const std::vector<std::string>& final_state_observables() {
   static const std::vector<std::string> names{
-      "clusters",     "mean_cluster_size", "largest_cluster",    "kinetic_energy",        "contacts",
-      "contacts_with_self", "aspect_ratio", "orientation",       "radius_of_gyration", "fractal_dimension_box", "fractal_dimension_mass"};
+      "clusters",           "mean_cluster_size", "largest_cluster", "kinetic_energy",
+      "contacts",           "contacts_with_self", "aspect_ratio",   "orientation",
+      "radius_of_gyration", "fractal_dimension_box", "fractal_dimension_mass"};
   return names;
 }
 
