@@ -27,11 +27,17 @@ void write_series_csv(const std::filesystem::path& file, const Observation& obse
 void write_distribution_csv(const std::filesystem::path& file, const EngineRecord& record) {
   AtomicFile csv(file);
   std::ostream& out = csv.stream();
-  out << "t,k,n\n";
+  out << "t,k,n,cdf\n";
   for (const auto& distribution : record.distributions) {
     const std::string t = full_precision_text(distribution.t);
-    for (std::size_t k = 1; k <= distribution.n.size(); ++k)
-      out << t << ',' << k << ',' << full_precision_text(distribution.n[k - 1]) << '\n';
+    double total = 0;
+    for (double n : distribution.n) total += n;
+    double below = 0;  // Σ_{j<=k} n_j: the cdf is the fraction of clusters of size <= k
+    for (std::size_t k = 1; k <= distribution.n.size(); ++k) {
+      below += distribution.n[k - 1];
+      out << t << ',' << k << ',' << full_precision_text(distribution.n[k - 1]) << ','
+          << full_precision_text(total != 0 ? below / total : 0.0) << '\n';
+    }
   }
   csv.commit();
 }

@@ -1,7 +1,8 @@
 #pragma once
 // The per-engine output files: <engine>/series.csv (header `t,<observables as written in the scene>`, then
 // `<observable>_stderr` for each observable when the engine ran an ensemble of more than one realisation; one
-// row per output time) and <engine>/distribution.csv (`t,k,n`, n_k at each requested time); full precision.
+// row per output time) and <engine>/distribution.csv (`t,k,n,cdf`: n_k at each requested time and the
+// fraction of clusters of size <= k, Σ_{j<=k} n_j / Σ_j n_j); full precision.
 #include <filesystem>
 
 #include "validation/engine_record.hpp"

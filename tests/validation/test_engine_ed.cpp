@@ -78,6 +78,51 @@ TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed]
   CHECK_FALSE(std::filesystem::exists(out / "ed" / "final.vtu"));  // snapshots not requested
 }
 
+TEST_CASE("ed: size distribution (PDF and CDF) at a chosen time", "[ed][harness]") {
+  const auto out = aggkit::testing::scratch_folder("ed-distribution");
+  run_scene(parse_scene(ed_scene("seed = 2\n", "stop = \"one_cluster\"\n",
+                                 "series = [\"M0\"]\ndistributions = [1.0]\nfinal = [\"clusters\"]\n")),
+            quiet(out));
+  CHECK(aggkit::testing::first_line(out / "ed" / "distribution.csv") == "t,k,n,cdf");
+  std::ifstream in(out / "ed" / "distribution.csv");
+  std::string line;
+  std::getline(in, line);
+  // n_k per initial particle at t = 1 up to the largest size: Σ k n_k = 1 (mass), Σ n_k = M0 = C/N as in series.csv,
+  // and the CDF is the running sum of n_k over M0, rising to 1.
+  std::vector<double> n, cdf;
+  while (std::getline(in, line)) {
+    double t, nk, fk;
+    std::size_t k;
+    REQUIRE(std::sscanf(line.c_str(), "%lf,%zu,%lf,%lf", &t, &k, &nk, &fk) == 4);
+    CHECK(t == 1.0);
+    CHECK(k == n.size() + 1);
+    n.push_back(nk);
+    cdf.push_back(fk);
+  }
+  REQUIRE(n.size() >= 2);  // rows k = 1 .. the largest cluster's size
+  CHECK(n.back() > 0);
+  double mass = 0, m0 = 0;
+  for (std::size_t k = 1; k <= n.size(); ++k) {
+    mass += double(k) * n[k - 1];
+    m0 += n[k - 1];
+  }
+  CHECK(mass == Approx(1.0).epsilon(1e-12));
+  CHECK(n[0] < m0);  // some clusters have formed by t = 1 at ν = 0.2
+  double running = 0;
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    running += n[k];
+    CHECK(cdf[k] == Approx(running / m0).epsilon(1e-12));
+  }
+  CHECK(cdf.back() == Approx(1.0).epsilon(1e-12));
+  std::ifstream series(out / "ed" / "series.csv");
+  std::getline(series, line);
+  std::getline(series, line);  // t = 1
+  double t, series_m0;
+  REQUIRE(std::sscanf(line.c_str(), "%lf,%lf", &t, &series_m0) == 2);
+  CHECK(t == 1.0);
+  CHECK(series_m0 == Approx(m0).epsilon(1e-12));
+}
+
 TEST_CASE("ed: thermalize runs the elastic stage first, then sticking from t = 0", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-thermalize");
   const RunResult result =

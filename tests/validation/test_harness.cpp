@@ -71,12 +71,15 @@ TEST_CASE("harness: constant kernel against the exact solution writes every outp
       CHECK(std::abs(row[5]) < 1e-12);  // (t+2)^-2 (t/(t+2))^64 ~ 1e-20: nothing leaves by t = 2
     }
     // Distribution at t = 1: one row per size, n_k = 4/9 (1/3)^{k-1}.
-    CHECK(aggkit::testing::first_line(out / engine / "distribution.csv") == "t,k,n");
+    CHECK(aggkit::testing::first_line(out / engine / "distribution.csv") == "t,k,n,cdf");
     const auto distribution = csv_rows(out / engine / "distribution.csv");
     REQUIRE(distribution.size() == 64);
     CHECK(distribution[2][0] == 1.0);
     CHECK(distribution[2][1] == 3.0);
     CHECK(distribution[2][2] == Approx(4.0 / 9.0 / 9.0).epsilon(1e-7));
+    // CDF of the geometric n_k over the 64 sizes: (1 − 3^-k)/(1 − 3^-64).
+    CHECK(distribution[2][3] == Approx(1.0 - 1.0 / 27.0).epsilon(1e-7));
+    CHECK(distribution[63][3] == Approx(1.0).epsilon(1e-14));
   }
   CHECK(aggkit::testing::count_files_named(out, "summary.json") == 1);
 
