@@ -7,7 +7,8 @@
 // the realizations; <label>/final.json with the requested observe.final values plus events, wall_seconds,
 // momentum_drift and stop_time (means; with several realizations also <name>_stderr), and with
 // particles.thermalize the collisions of the elastic stage (run on particle/ed/elastic_gas.hpp, after which
-// the clock restarts at 0) as thermalization_collisions; and with
+// the clock restarts at 0) as thermalization_collisions; the requested profiles (pair_distribution) as
+// <label>/<name>.csv; and with
 // observe.snapshots the first realization's final configuration as final.vtu and final.png.
 #include <chrono>
 #include <cmath>
@@ -86,6 +87,7 @@ class EdEngine final : public Engine {
     const std::vector<double>& outputs = scene.time.outputs;
     std::vector<ParticleState> states(outputs.size());
     FinalAverages final_values;
+    std::vector<std::vector<FinalProfile>> profiles;  // per realization
     EdCounters total;
     std::string picture = "not requested";
     for (std::size_t r = 0; r < system.realizations; ++r) {
@@ -127,6 +129,7 @@ class EdEngine final : public Engine {
       const std::vector<Vector3> largest = ed.cluster_positions(ed.largest_cluster());
       const FinalConfiguration final{config, labels, largest, ed.kinetic_energy()};
       for (const auto& [key, value] : final_state_values(scene.observe.final_state, final)) final_values.add(key, value);
+      profiles.push_back(final_profiles(scene.observe.final_state, final));
       final_values.add("events", double(ed.counters().events()));
       if (system.thermalize > 0) final_values.add("thermalization_collisions", thermal_collisions);
       final_values.add("wall_seconds", wall);
@@ -146,6 +149,7 @@ class EdEngine final : public Engine {
       observer.output(outputs[k], states[k]);
     }
     write_file_atomically(observer.folder / "final.json", final_values.json(system.realizations));
+    write_final_profiles(observer.folder, profiles);
     return {
         {"particles", system.describe()},
         {"realizations", std::int64_t(system.realizations)},

@@ -11,8 +11,13 @@
 //   fractal_dimension_mass   mass–radius N(r) of the largest cluster around interior particles
 // The fractal dimensions also give <name>_error (standard error of the fitted slope) and the fit range
 // <name>_fit_min, <name>_fit_max (lengths).
+// Function-valued ones (profiles) go to <engine>/<name>.csv instead, the mean over the realizations and,
+// with several, <column>_stderr:
+//   pair_distribution        columns r, P: P(r) = (1/N) Σ_{i≠j} 1{|Xi−Xj| <= r} over all particles at 90
+//                            radii evenly spaced on (2R, 20R] (Degond et al.; analysis/shape.hpp)
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <span>
 #include <string>
 #include <utility>
@@ -31,8 +36,19 @@ struct FinalConfiguration {
   double kinetic_energy = 0;
 };
 
-// (key, value) for each requested name, in order, with the extra fit keys after a fractal dimension.
+// (key, value) for each requested scalar name, in order, with the extra fit keys after a fractal dimension.
 std::vector<std::pair<std::string, double>> final_state_values(std::span<const std::string> names,
                                                                const FinalConfiguration& final);
+
+// One profile of one realization: y against x.
+struct FinalProfile {
+  std::string name, x_name, y_name;
+  std::vector<double> x, y;
+};
+// The requested profiles, in order (the scalar names are skipped).
+std::vector<FinalProfile> final_profiles(std::span<const std::string> names, const FinalConfiguration& final);
+// Writes <folder>/<name>.csv for each profile from its realizations (same x in each): x, mean y and, with
+// more than one realization, y_stderr. `realizations[r]` is final_profiles' result for realization r.
+void write_final_profiles(const std::filesystem::path& folder, const std::vector<std::vector<FinalProfile>>& realizations);
 
 }  // namespace aggkit

@@ -2,7 +2,9 @@
 // (series.csv header and values, final.json keys, stderr with realizations) and the physics it reports.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -18,7 +20,7 @@ namespace {
 
 std::string ed_scene(const std::string& particles_extra = "", const std::string& engine_extra = "stop = \"one_cluster\"\n",
                      const std::string& observe = "series = [\"clusters\", \"kinetic_energy\", \"mean_cluster_size\", \"M0\", \"M1\"]\n"
-                                                  "final = [\"clusters\", \"contacts\", \"contacts_with_self\", \"fractal_dimension_mass\", \"aspect_ratio\"]\n") {
+                                                  "final = [\"clusters\", \"contacts\", \"contacts_with_self\", \"fractal_dimension_mass\", \"aspect_ratio\", \"pair_distribution\"]\n") {
   return "name = \"ed-test\"\n[particles]\ndimension = 2\ncount = 100\nradius = 0.5\nvolume_fraction = 0.2\n"
          "boundary = \"reflecting\"\ninitial = { lattice = \"square\", speed = 1.0, directions = \"uniform\" }\n" +
          particles_extra + "\n[time]\nend = 5.0\noutputs = [1.0, 2.0, 5.0]\n\n[[engine]]\nname = \"ed\"\n" + engine_extra +
@@ -76,6 +78,28 @@ TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed]
   // The published reading (i = j counted, analysis/shape.hpp) adds exactly 1/N_max to each realization.
   CHECK(final["contacts_with_self"].get<double>() == Approx(final["contacts"].get<double>() + 1.0 / 6).epsilon(1e-12));
   CHECK_FALSE(std::filesystem::exists(out / "ed" / "final.vtu"));  // snapshots not requested
+  // The pair distribution, a profile: its own CSV (mean of the 3 realizations and its standard error).
+  CHECK_FALSE(final.contains("pair_distribution"));
+  CHECK(aggkit::testing::first_line(out / "ed" / "pair_distribution.csv") == "r,P,P_stderr");
+  std::ifstream csv(out / "ed" / "pair_distribution.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::vector<double> r, p;
+  while (std::getline(csv, line)) {
+    double ri, pi, ei;
+    REQUIRE(std::sscanf(line.c_str(), "%lf,%lf,%lf", &ri, &pi, &ei) == 3);
+    CHECK(ei >= 0);
+    r.push_back(ri);
+    p.push_back(pi);
+  }
+  REQUIRE(r.size() == 90);
+  CHECK(r.front() == Approx(0.5 * (2 + 18.0 / 90)).epsilon(1e-12));  // R = 0.5: radii on (2R, 20R]
+  CHECK(r.back() == Approx(0.5 * 20).epsilon(1e-12));
+  CHECK(std::is_sorted(p.begin(), p.end()));
+  // One cluster of N = 100 from hit-and-stick: at least its N − 1 contacts within 2.2R, i.e. P ≥ 2(N−1)/N,
+  // and never more than the N − 1 other particles.
+  CHECK(p.front() >= 2.0 * 99 / 100 - 1e-12);
+  CHECK(p.back() <= 99.0);
 }
 
 TEST_CASE("ed: size distribution (PDF and CDF) at a chosen time", "[ed][harness]") {
