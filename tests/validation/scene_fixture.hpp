@@ -159,6 +159,22 @@ inline std::string first_line(const std::filesystem::path& file) {
 }
 
 // Files under `folder` whose name is `name` (searched recursively).
+// Rows of a CSV file after its header, as numbers.
+inline std::vector<std::vector<double>> csv_rows(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 inline int count_files_named(const std::filesystem::path& folder, const std::string& name) {
   int count = 0;
   if (!std::filesystem::exists(folder)) return 0;

@@ -81,16 +81,12 @@ TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed]
   // The pair distribution, a profile: its own CSV (mean of the 3 realizations and its standard error).
   CHECK_FALSE(final.contains("pair_distribution"));
   CHECK(aggkit::testing::first_line(out / "ed" / "pair_distribution.csv") == "r,P,P_stderr");
-  std::ifstream csv(out / "ed" / "pair_distribution.csv");
-  std::string line;
-  std::getline(csv, line);
   std::vector<double> r, p;
-  while (std::getline(csv, line)) {
-    double ri, pi, ei;
-    REQUIRE(std::sscanf(line.c_str(), "%lf,%lf,%lf", &ri, &pi, &ei) == 3);
-    CHECK(ei >= 0);
-    r.push_back(ri);
-    p.push_back(pi);
+  for (const auto& row : aggkit::testing::csv_rows(out / "ed" / "pair_distribution.csv")) {
+    REQUIRE(row.size() == 3);
+    CHECK(row[2] >= 0);
+    r.push_back(row[0]);
+    p.push_back(row[1]);
   }
   REQUIRE(r.size() == 90);
   CHECK(r.front() == Approx(0.5 * (2 + 18.0 / 90)).epsilon(1e-12));  // R = 0.5: radii on (2R, 20R]
@@ -108,20 +104,15 @@ TEST_CASE("ed: size distribution (PDF and CDF) at a chosen time", "[ed][harness]
                                  "series = [\"M0\"]\ndistributions = [1.0]\nfinal = [\"clusters\"]\n")),
             quiet(out));
   CHECK(aggkit::testing::first_line(out / "ed" / "distribution.csv") == "t,k,n,cdf");
-  std::ifstream in(out / "ed" / "distribution.csv");
-  std::string line;
-  std::getline(in, line);
   // n_k per initial particle at t = 1 up to the largest size: Σ k n_k = 1 (mass), Σ n_k = M0 = C/N as in series.csv,
   // and the CDF is the running sum of n_k over M0, rising to 1.
   std::vector<double> n, cdf;
-  while (std::getline(in, line)) {
-    double t, nk, fk;
-    std::size_t k;
-    REQUIRE(std::sscanf(line.c_str(), "%lf,%zu,%lf,%lf", &t, &k, &nk, &fk) == 4);
-    CHECK(t == 1.0);
-    CHECK(k == n.size() + 1);
-    n.push_back(nk);
-    cdf.push_back(fk);
+  for (const auto& row : aggkit::testing::csv_rows(out / "ed" / "distribution.csv")) {
+    REQUIRE(row.size() == 4);
+    CHECK(row[0] == 1.0);
+    CHECK(row[1] == double(n.size() + 1));
+    n.push_back(row[2]);
+    cdf.push_back(row[3]);
   }
   REQUIRE(n.size() >= 2);  // rows k = 1 .. the largest cluster's size
   CHECK(n.back() > 0);
@@ -138,13 +129,10 @@ TEST_CASE("ed: size distribution (PDF and CDF) at a chosen time", "[ed][harness]
     CHECK(cdf[k] == Approx(running / m0).epsilon(1e-12));
   }
   CHECK(cdf.back() == Approx(1.0).epsilon(1e-12));
-  std::ifstream series(out / "ed" / "series.csv");
-  std::getline(series, line);
-  std::getline(series, line);  // t = 1
-  double t, series_m0;
-  REQUIRE(std::sscanf(line.c_str(), "%lf,%lf", &t, &series_m0) == 2);
-  CHECK(t == 1.0);
-  CHECK(series_m0 == Approx(m0).epsilon(1e-12));
+  const auto series = aggkit::testing::csv_rows(out / "ed" / "series.csv");
+  REQUIRE(!series.empty());
+  CHECK(series[0][0] == 1.0);
+  CHECK(series[0][1] == Approx(m0).epsilon(1e-12));  // M0 at t = 1
 }
 
 TEST_CASE("ed: thermalize runs the elastic stage first, then sticking from t = 0", "[ed][harness]") {

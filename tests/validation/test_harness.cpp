@@ -24,22 +24,6 @@ RunOptions quiet_options(const std::filesystem::path& out, std::ostream* report 
   return options;
 }
 
-// Rows of a CSV file after its header, as numbers.
-std::vector<std::vector<double>> csv_rows(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::stringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 }  // namespace
 
 TEST_CASE("harness: constant kernel against the exact solution writes every output and passes") {
@@ -59,7 +43,7 @@ TEST_CASE("harness: constant kernel against the exact solution writes every outp
   for (const char* engine : {"cvode", "exact"}) {
     INFO(engine);
     CHECK(aggkit::testing::first_line(out / engine / "series.csv") == "t,M0,M1,M2,n1,mass_leak");
-    const auto rows = csv_rows(out / engine / "series.csv");
+    const auto rows = aggkit::testing::csv_rows(out / engine / "series.csv");
     REQUIRE(rows.size() == 3);
     // Exact solution, constant kernel (DESIGN.md): M0 = 2/(t+2), M1 = 1, M2 = 1 + t, n_1 = 4/(t+2)^2.
     for (const auto& row : rows) {
@@ -72,7 +56,7 @@ TEST_CASE("harness: constant kernel against the exact solution writes every outp
     }
     // Distribution at t = 1: one row per size, n_k = 4/9 (1/3)^{k-1}.
     CHECK(aggkit::testing::first_line(out / engine / "distribution.csv") == "t,k,n,cdf");
-    const auto distribution = csv_rows(out / engine / "distribution.csv");
+    const auto distribution = aggkit::testing::csv_rows(out / engine / "distribution.csv");
     REQUIRE(distribution.size() == 64);
     CHECK(distribution[2][0] == 1.0);
     CHECK(distribution[2][1] == 3.0);
