@@ -3,6 +3,7 @@
 // particles closer than min_side always sit in the same or in neighbouring cells (the 3^d stencil).
 // Periodic axes need at least 3 cells so that the stencil cells are distinct.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -33,6 +34,15 @@ class CellGrid {
   std::optional<CellCoords> neighbour(const CellCoords& c, const CellCoords& offset) const;
   // The stencil offsets {-1,0,1}^d (with a 0 third component in 2-D).
   const std::vector<CellCoords>& stencil() const { return stencil_; }
+  // The separation d from a point in some cell to one in the stencil cell at `offset` from it, as the
+  // periodic image that offset stands for: along periodic axes d − kL nearest to offset · cell side (with
+  // >= 3 cells per axis that is the contact image of any pair within a cell side). Unchanged otherwise.
+  Vector3 stencil_image(Vector3 d, const CellCoords& offset) const {
+    if (box_.boundary == Boundary::periodic)
+      for (int a = 0; a < box_.dimension; ++a)
+        d[a] -= box_.side[a] * std::nearbyint((d[a] - offset[a] * cell_side_[a]) / box_.side[a]);
+    return d;
+  }
 
  private:
   Box box_;

@@ -20,7 +20,6 @@ class ClusterIndex {
   ClusterIndex(const Box& box, double contact, std::size_t particles);
 
   const CellGrid& grid() const { return grid_; }
-  bool periodic() const { return periodic_; }
   // Unwrapped integer cell of an offset: floor(offset / cell side) per axis (0 beyond the dimension).
   CellCoords cell_of(const Vector3& offset) const;
   void insert(std::uint32_t cluster, std::uint32_t particle, const Vector3& offset);

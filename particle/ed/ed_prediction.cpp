@@ -172,7 +172,6 @@ void EventDrivenAggregation::cast(std::uint32_t owner, const Vector3& start, con
   const CellGrid& g = index_.grid();
   const Vector3& side = g.cell_side();
   const int dimension = box_.dimension;
-  const bool periodic = index_.periodic();
   const double sigma = 2 * radius_;
   const Vector3 minus_w{-w[0], -w[1], -w[2]};
   auto test = [&](const CellCoords& c, int axis, int direction, double t) {
@@ -181,11 +180,7 @@ void EventDrivenAggregation::cast(std::uint32_t owner, const Vector3& start, con
       if (axis >= 0 && o[axis] != direction) continue;
       const CellCoords cell{c[0] + o[0], c[1] + o[1], c[2] + o[2]};
       for (std::uint32_t m = index_.first(owner, cell); m != ClusterIndex::none; m = index_.next(m)) {
-        Vector3 d = offset_[m] - u;
-        if (periodic)
-          for (int a = 0; a < dimension; ++a)
-            d[a] -= box_.side[a] * std::nearbyint((d[a] - o[a] * side[a]) / box_.side[a]);
-        const double tc = collision_time(d, minus_w, sigma);
+        const double tc = collision_time(g.stencil_image(offset_[m] - u, o), minus_w, sigma);
         if (tc == never) continue;
         if (t + tc < best.time) best = {t + tc, ray, m};
       }

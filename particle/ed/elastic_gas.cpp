@@ -253,29 +253,18 @@ double ElasticGasIn<D>::largest_overlap() const {
     const State& si = state_[i];
     double xi[D];
     for (int d = 0; d < D; ++d) xi[d] = si.x[d] + si.v[d] * (now_ - si.t);
-    for (const auto& o : stencil_) {
-      std::array<int, D> cn;
-      double shift[D];
-      bool outside = false;
-      for (int d = 0; d < D; ++d) {
-        int k = next_[i].cell[d] + o[d];
-        shift[d] = 0;
-        if (k < 0 || k >= counts_[d]) {
-          if (!periodic_) { outside = true; break; }
-          shift[d] = k < 0 ? -side_[d] : side_[d];
-          k = k < 0 ? k + counts_[d] : k - counts_[d];
-        }
-        cn[d] = k;
-      }
-      if (outside) continue;
-      const std::uint32_t* m = members(cell_index(cn));
+    const std::uint32_t* blocks[stencil_size];
+    std::int8_t image[stencil_size][D];
+    const int nblocks = stencil_cells(next_[i].cell, -1, 0, blocks, image);
+    for (int b = 0; b < nblocks; ++b) {
+      const std::uint32_t* m = blocks[b];
       for (std::uint32_t k = 1; k <= m[0]; ++k) {
         const std::uint32_t j = m[k];
         if (j <= i) continue;
         const State& sj = state_[j];
         double r2 = 0;
         for (int d = 0; d < D; ++d) {
-          const double dx = sj.x[d] + sj.v[d] * (now_ - sj.t) + shift[d] - xi[d];
+          const double dx = sj.x[d] + sj.v[d] * (now_ - sj.t) + image[b][d] * side_[d] - xi[d];
           r2 += dx * dx;
         }
         worst = std::max(worst, 1 - std::sqrt(r2) / sigma_);

@@ -106,6 +106,12 @@ class ElasticGasIn final : public ElasticGas {
     while (m[k] != i) ++k;
     m[k] = m[m[0]--];
   }
+  // The cell tables of the stencil around cell c (only the layer on side `direction` of `axis` when
+  // axis >= 0; none past a reflecting wall) and the periodic image of each, −1, 0 or +1 box sides per axis;
+  // returns how many. The tables are prefetched.
+  static constexpr int stencil_size = D == 2 ? 9 : 27;
+  int stencil_cells(const std::array<int, D>& c, int axis, int direction, const std::uint32_t** blocks,
+                    std::int8_t (*image)[D]) const;
   void build_morton();
   void grow_cells();  // doubles the capacity of every cell (a crowded cell), O(cells)
   void fill_cells();
@@ -150,6 +156,36 @@ void ElasticGasIn<D>::bring_to_now(std::uint32_t i) {
   const double dt = now_ - s.t;
   for (int d = 0; d < D; ++d) s.x[d] += s.v[d] * dt;
   s.t = now_;
+}
+
+template <int D>
+int ElasticGasIn<D>::stencil_cells(const std::array<int, D>& c, int axis, int direction, const std::uint32_t** blocks,
+                                   std::int8_t (*image)[D]) const {
+  int nblocks = 0;
+  for (const auto& o : stencil_) {
+    if (axis >= 0 && o[axis] != direction) continue;
+    std::array<int, D> cn;
+    bool outside = false;
+    for (int d = 0; d < D; ++d) {
+      int k = c[d] + o[d];
+      image[nblocks][d] = 0;
+      if (k < 0) {
+        if (!periodic_) { outside = true; break; }
+        k += counts_[d];
+        image[nblocks][d] = -1;
+      } else if (k >= counts_[d]) {
+        if (!periodic_) { outside = true; break; }
+        k -= counts_[d];
+        image[nblocks][d] = 1;
+      }
+      cn[d] = k;
+    }
+    if (outside) continue;
+    blocks[nblocks] = members(cell_index(cn));
+    __builtin_prefetch(blocks[nblocks]);
+    ++nblocks;
+  }
+  return nblocks;
 }
 
 template <int D>
@@ -201,33 +237,9 @@ void ElasticGasIn<D>::predict_collisions(std::uint32_t i, int axis, int directio
   const std::array<int, D>& c = nx.cell;
   // The run is bound by memory latency, not arithmetic: first the stencil cells are located and fetched,
   // then their particles' states, so that the cache misses overlap; the roots are computed last.
-  constexpr int stencil_size = D == 2 ? 9 : 27;
   const std::uint32_t* blocks[stencil_size];
-  std::int8_t image[stencil_size][D];  // periodic image of each stencil cell: −1, 0, +1 box sides
-  int nblocks = 0;
-  for (const auto& o : stencil_) {
-    if (axis >= 0 && o[axis] != direction) continue;
-    std::array<int, D> cn;
-    bool outside = false;
-    for (int d = 0; d < D; ++d) {
-      int k = c[d] + o[d];
-      image[nblocks][d] = 0;
-      if (k < 0) {
-        if (!periodic_) { outside = true; break; }
-        k += counts_[d];
-        image[nblocks][d] = -1;
-      } else if (k >= counts_[d]) {
-        if (!periodic_) { outside = true; break; }
-        k -= counts_[d];
-        image[nblocks][d] = 1;
-      }
-      cn[d] = k;
-    }
-    if (outside) continue;
-    blocks[nblocks] = members(cell_index(cn));
-    __builtin_prefetch(blocks[nblocks]);
-    ++nblocks;
-  }
+  std::int8_t image[stencil_size][D];
+  const int nblocks = stencil_cells(c, axis, direction, blocks, image);
   constexpr int most = 512;
   std::uint32_t candidate[most];
   std::int8_t candidate_block[most];

@@ -226,11 +226,7 @@ double EventDrivenAggregation::largest_overlap() const {
       if (!c) continue;
       for (std::uint32_t j = cells.first(grid.index(*c)); j != CellList::none; j = cells.next(j)) {
         if (j <= i) continue;
-        Vector3 d = x[j] - x[i];
-        if (box_.boundary == Boundary::periodic)
-          for (int a = 0; a < box_.dimension; ++a)
-            d[a] -= box_.side[a] * std::nearbyint((d[a] - o[a] * grid.cell_side()[a]) / box_.side[a]);
-        worst = std::max(worst, 1 - norm(d) / sigma);
+        worst = std::max(worst, 1 - norm(grid.stencil_image(x[j] - x[i], o)) / sigma);
       }
     }
   }
