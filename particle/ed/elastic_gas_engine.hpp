@@ -434,8 +434,18 @@ bool ElasticGasIn<D>::step() {
       __builtin_prefetch(&next_[j]);
       __builtin_prefetch(&state_[j]);
       __builtin_prefetch(&cell_of_[j]);
+      tree_.prefetch(j);
     } else if (age == 1) {
       __builtin_prefetch(members(cell_of_[j]));
+      const Next& nj = next_[j];
+      if (nj.crossing <= nj.collision && !nj.wall) {  // a cell crossing: its destination cell too
+        std::array<int, D> c = nj.cell;
+        int& k = c[nj.axis];
+        k += nj.direction;
+        if (k == counts_[nj.axis]) k = 0;
+        else if (k < 0) k = counts_[nj.axis] - 1;
+        __builtin_prefetch(members(cell_index(c)));
+      }
     }
   });
   return true;
