@@ -423,8 +423,10 @@ bool ElasticGasIn<D>::step() {
   // The next few events are most likely among the 16 subtree winners of the queue: fetching their slots
   // ahead measured +12 % in 2-D at N = 10^6 (depths 4–6 alike, 2–3 no gain; 3-D within the noise).
   // In stages, one per event for which a winner stays a winner, the second needing what the first fetched:
-  // its slot, state and cell index; then its cell table. (A third stage fetching the stencil's tables
-  // measured no gain within the ±15 % run-to-run scatter.)
+  // its slot, state, cell index and queue block; then its cell table and, for a crossing, the destination
+  // cell's (+5–20 % in 2-D). Three quarters of the events have been winners for 4 events or more, yet
+  // further stages — the tables it will predict against, then their particles' states — measured no gain
+  // within the ±15 % run-to-run scatter (bench/RESULTS.md, session 5).
   int k = 0;
   tree_.for_each_subtree_winner(4, [&](std::uint32_t j) {
     std::uint8_t& age = lookahead_age_[k];
@@ -440,10 +442,10 @@ bool ElasticGasIn<D>::step() {
       const Next& nj = next_[j];
       if (nj.crossing <= nj.collision && !nj.wall) {  // a cell crossing: its destination cell too
         std::array<int, D> c = nj.cell;
-        int& k = c[nj.axis];
-        k += nj.direction;
-        if (k == counts_[nj.axis]) k = 0;
-        else if (k < 0) k = counts_[nj.axis] - 1;
+        int& along = c[nj.axis];
+        along += nj.direction;
+        if (along == counts_[nj.axis]) along = 0;
+        else if (along < 0) along = counts_[nj.axis] - 1;
         __builtin_prefetch(members(cell_index(c)));
       }
     }
