@@ -75,6 +75,15 @@ class ElasticGasIn final : public ElasticGas {
   void schedule(std::uint32_t i) { tree_.set(i, std::min(next_[i].collision, next_[i].crossing)); }
   void collide(std::uint32_t i, std::uint32_t j);
   void cross(std::uint32_t i);
+  // The cell a particle's coming crossing enters (wrapped on periodic axes).
+  std::array<int, D> entered_cell(const Next& nx) const {
+    std::array<int, D> c = nx.cell;
+    const int d = nx.axis;
+    c[d] += nx.direction;
+    if (c[d] == counts_[d]) c[d] = 0;
+    else if (c[d] < 0) c[d] = counts_[d] - 1;
+    return c;
+  }
   void reflect(std::uint32_t i);
   void count_collision(std::uint32_t i);
   void rebase();  // clock renormalisation and re-sorting of the particles by cell
@@ -366,14 +375,9 @@ void ElasticGasIn<D>::cross(std::uint32_t i) {
   std::array<int, D>& c = nx.cell;
   unlink(i, cell_of_[i]);
   State& s = state_[i];
-  c[d] += dir;
-  if (c[d] == counts_[d]) {
-    c[d] = 0;
-    s.x[d] -= side_[d];
-  } else if (c[d] < 0) {
-    c[d] = counts_[d] - 1;
-    s.x[d] += side_[d];
-  }
+  const std::array<int, D> entered = entered_cell(nx);
+  if (entered[d] != c[d] + dir) s.x[d] -= dir * side_[d];  // through a periodic face
+  c = entered;
   // On the face between the cells exactly (round-off of the crossing time must not leave it outside).
   s.x[d] = dir > 0 ? c[d] * cell_side_[d] : (c[d] + 1) * cell_side_[d];
   cell_of_[i] = std::uint32_t(cell_index(c));
@@ -440,14 +444,8 @@ bool ElasticGasIn<D>::step() {
     } else if (age == 1) {
       __builtin_prefetch(members(cell_of_[j]));
       const Next& nj = next_[j];
-      if (nj.crossing <= nj.collision && !nj.wall) {  // a cell crossing: its destination cell too
-        std::array<int, D> c = nj.cell;
-        int& along = c[nj.axis];
-        along += nj.direction;
-        if (along == counts_[nj.axis]) along = 0;
-        else if (along < 0) along = counts_[nj.axis] - 1;
-        __builtin_prefetch(members(cell_index(c)));
-      }
+      if (nj.crossing <= nj.collision && !nj.wall)  // a cell crossing: its destination cell too
+        __builtin_prefetch(members(cell_index(entered_cell(nj))));
     }
   });
   return true;
