@@ -12,15 +12,15 @@
 #include <CLI/CLI.hpp>
 
 #include "analysis/input_error.hpp"
-#include "validation/engine.hpp"
-#include "validation/exit_code.hpp"
-#include "validation/harness.hpp"
-#include "validation/kernel_catalogue.hpp"
-#include "validation/scan.hpp"
-#include "validation/scan_mpi.hpp"
-#include "validation/scene.hpp"
-#include "validation/text.hpp"
-#include "validation/version.hpp"
+#include "validation/engines/engine.hpp"
+#include "validation/io/exit_code.hpp"
+#include "validation/harness/harness.hpp"
+#include "validation/scene/kernel_catalogue.hpp"
+#include "validation/scan/scan.hpp"
+#include "validation/scan/scan_mpi.hpp"
+#include "validation/scene/scene.hpp"
+#include "validation/io/text.hpp"
+#include "validation/io/version.hpp"
 
 namespace {
 
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
   RunArguments scan_arguments;
   CLI::App* scan_command = app.add_subcommand(
       "scan", "classify the oscillation regime over an (a, lambda) grid and locate lambda_crit(a); MPI: mpirun -np K");
-  scan_command->add_option("scene", scan_arguments.scene, "scan scene (TOML with a [scan] section; see validation/scan_plan.hpp)")
+  scan_command->add_option("scene", scan_arguments.scene, "scan scene (TOML with a [scan] section; see validation/scan/scan_plan.hpp)")
       ->required();
   scan_command->add_option("--out,-o", scan_arguments.out, "output folder (created if needed; a rerun resumes)")
       ->required();

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/harness.hpp"
+#include "validation/harness/harness.hpp"
 
 namespace aggkit::testing {
 

@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/atomic_file.hpp"
+#include "validation/io/atomic_file.hpp"
 
 using namespace aggkit;
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "validation/comparison.hpp"
-#include "validation/scene.hpp"
+#include "validation/harness/comparison.hpp"
+#include "validation/scene/scene.hpp"
 
 using namespace aggkit;
 

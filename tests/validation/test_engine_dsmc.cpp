@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/comparison.hpp"
-#include "validation/harness.hpp"
+#include "validation/harness/comparison.hpp"
+#include "validation/harness/harness.hpp"
 
 using namespace aggkit;
 

@@ -11,7 +11,7 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/harness.hpp"
+#include "validation/harness/harness.hpp"
 
 using namespace aggkit;
 using Catch::Matchers::Contains;

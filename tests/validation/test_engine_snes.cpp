@@ -9,8 +9,8 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/harness.hpp"
-#include "validation/scene.hpp"
+#include "validation/harness/harness.hpp"
+#include "validation/scene/scene.hpp"
 
 using namespace aggkit;
 

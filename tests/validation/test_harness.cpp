@@ -9,8 +9,8 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/harness.hpp"
-#include "validation/output_folder.hpp"
+#include "validation/harness/harness.hpp"
+#include "validation/harness/output_folder.hpp"
 
 using namespace aggkit;
 using aggkit::testing::SceneText;

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "validation/observable.hpp"
+#include "validation/observables/observable.hpp"
 
 using namespace aggkit;
 

@@ -8,9 +8,9 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/child_process.hpp"
-#include "validation/particle_snapshot.hpp"
-#include "validation/plot.hpp"
+#include "validation/io/child_process.hpp"
+#include "validation/io/particle_snapshot.hpp"
+#include "validation/harness/plot.hpp"
 
 using namespace aggkit;
 

@@ -3,7 +3,7 @@
 
 #include <sstream>
 
-#include "validation/progress.hpp"
+#include "validation/io/progress.hpp"
 
 using namespace aggkit;
 using Catch::Matchers::Contains;

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "validation/scan_lambda_crit.hpp"
+#include "validation/scan/scan_lambda_crit.hpp"
 
 using namespace aggkit;
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "analysis/input_error.hpp"
-#include "validation/scan_plan.hpp"
+#include "validation/scan/scan_plan.hpp"
 
 using namespace aggkit;
 using Catch::Matchers::Contains;

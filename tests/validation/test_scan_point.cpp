@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "validation/scan_plan.hpp"
-#include "validation/scan_point.hpp"
+#include "validation/scan/scan_plan.hpp"
+#include "validation/scan/scan_point.hpp"
 
 using namespace aggkit;
 

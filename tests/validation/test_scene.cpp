@@ -6,9 +6,9 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/kernel_catalogue.hpp"
-#include "validation/scan_plan.hpp"
-#include "validation/scene.hpp"
+#include "validation/scene/kernel_catalogue.hpp"
+#include "validation/scan/scan_plan.hpp"
+#include "validation/scene/scene.hpp"
 
 using namespace aggkit;
 using aggkit::testing::SceneText;
@@ -75,7 +75,7 @@ TEST_CASE("scene: every shipped scene parses") {
   for (const auto& entry : std::filesystem::directory_iterator(aggkit::testing::shipped_scene(""))) {
     if (entry.path().extension() != ".toml") continue;
     INFO(entry.path());
-    // Scan scenes (a [scan] section; validation/scan_plan.hpp) are read by the scan's parser.
+    // Scan scenes (a [scan] section; validation/scan/scan_plan.hpp) are read by the scan's parser.
     if (aggkit::testing::read_text(entry.path()).find("\n[scan]") != std::string::npos)
       CHECK_NOTHROW(load_scan_plan(entry.path()));
     else

@@ -3,7 +3,7 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/particle/dsmc/dsmc_fixture.hpp"
-#include "validation/scene.hpp"
+#include "validation/scene/scene.hpp"
 
 using namespace aggkit;
 using Catch::Matchers::Contains;

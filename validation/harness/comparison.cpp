@@ -1,0 +1,85 @@
+#include "validation/harness/comparison.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "analysis/moments.hpp"
+#include "validation/io/text.hpp"
+
+namespace aggkit {
+
+namespace {
+
+constexpr double not_a_number = std::numeric_limits<double>::quiet_NaN();
+
+double standard_error(const EngineRecord& record, std::size_t i, std::size_t j) {
+  return record.standard_errors.empty() ? 0.0 : record.standard_errors[i][j];
+}
+
+// Max over the output times of the relative error of column j (the first NaN wins: it is the worst), the
+// largest error in combined standard errors, and whether every time is within `tolerance`.
+void largest_error(const EngineRecord& engine, const EngineRecord& reference, std::size_t j, const Tolerance* tolerance,
+                   ComparisonResult& result) {
+  result.max_relative_error = -1.0;
+  const bool ensemble = !engine.standard_errors.empty() || !reference.standard_errors.empty();
+  if (ensemble) result.max_standard_errors = 0.0;
+  for (std::size_t i = 0; i < engine.times.size(); ++i) {
+    const double x = engine.values[i][j], x_ref = reference.values[i][j];
+    const double sigma = std::hypot(standard_error(engine, i, j), standard_error(reference, i, j));
+    if (ensemble) result.max_standard_errors = std::max(result.max_standard_errors, std::abs(x - x_ref) / sigma);
+    if (tolerance) {
+      const double allowed = tolerance->relative_error * (x_ref != 0.0 ? std::abs(x_ref) : 1.0) +
+                             tolerance->standard_errors.value_or(0.0) * sigma;
+      if (!(std::abs(x - x_ref) <= allowed)) result.pass = false;
+    }
+    const double error = relative_error(x, x_ref);
+    if (std::isnan(error)) {
+      result.max_relative_error = not_a_number;
+      result.time = engine.times[i];
+      result.note = "not a number at t = " + shortest_text(engine.times[i]);
+      return;
+    }
+    if (error > result.max_relative_error) {
+      result.max_relative_error = error;
+      result.time = engine.times[i];
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const Observation& observe,
+                                              const std::vector<EngineRecord>& records) {
+  const EngineRecord* reference = nullptr;
+  for (const auto& record : records)
+    if (record.label == plan.reference) reference = &record;
+  std::vector<ComparisonResult> results;
+  for (const auto& record : records) {
+    if (&record == reference) continue;
+    for (std::size_t j = 0; j < observe.series.size(); ++j) {
+      ComparisonResult result;
+      result.engine = record.label;
+      result.reference = plan.reference;
+      result.observable = observe.series[j].name();
+      const Tolerance* tolerance = plan.tolerance_for(result.observable);
+      if (tolerance) {
+        result.tolerance = tolerance->relative_error;
+        result.stderr_multiple = tolerance->standard_errors;
+      }
+      if (!reference || !reference->completed() || !record.completed() || record.times.size() != reference->times.size() ||
+          record.times.empty()) {
+        result.max_relative_error = result.time = not_a_number;
+        result.note = !reference || !reference->completed() ? "reference engine did not complete"
+                                                            : "engine did not complete";
+      } else {
+        largest_error(record, *reference, j, tolerance, result);
+      }
+      // A NaN error fails any tolerance; largest_error checked every time against the tolerance.
+      if (result.tolerance && !(result.max_relative_error >= 0.0)) result.pass = false;
+      results.push_back(std::move(result));
+    }
+  }
+  return results;
+}
+
+}  // namespace aggkit

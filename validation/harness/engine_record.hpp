@@ -1,0 +1,41 @@
+#pragma once
+// What one engine produced in a run: the requested series and distributions, its statistics and timing.
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "validation/engines/engine.hpp"
+#include "validation/scene/scene.hpp"
+
+namespace aggkit {
+
+struct DistributionRecord {
+  double t;
+  std::vector<double> n;  // n_1..n_N
+};
+
+struct EngineRecord {
+  std::string label;
+  std::string name;
+  std::string description;
+  std::vector<double> times;                  // output times reached, in order
+  std::vector<std::vector<double>> values;    // values[i][j]: observe.series[j] at times[i]
+  // standard_errors[i][j]: standard error of values[i][j] over an ensemble (stochastic engines with more than
+  // one realisation); empty otherwise.
+  std::vector<std::vector<double>> standard_errors;
+  std::vector<DistributionRecord> distributions;
+  EngineStatistics statistics;
+  double wall_seconds = 0.0;
+  double final_mass_leak = std::numeric_limits<double>::quiet_NaN();
+  std::optional<std::string> failure;  // why the run failed, if it did
+  bool completed() const { return !failure; }
+};
+
+// Appends the observables of `state`, reported by the engine at time `t`, which must be the next output
+// time of the scene (std::runtime_error otherwise); keeps the distribution at a distribution time. For an
+// ensemble state (realisations() > 1) also the standard error of each observable: the sample standard
+// deviation over the realisations divided by sqrt(realisations()).
+void record_state(EngineRecord& record, const Scene& scene, double t, const SystemState& state);
+
+}  // namespace aggkit

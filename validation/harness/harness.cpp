@@ -1,0 +1,90 @@
+#include "validation/harness/harness.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "analysis/input_error.hpp"
+#include "validation/io/atomic_file.hpp"
+#include "validation/harness/output_folder.hpp"
+#include "validation/io/progress.hpp"
+#include "validation/harness/report.hpp"
+#include "validation/harness/series_output.hpp"
+#include "validation/harness/summary.hpp"
+
+namespace aggkit {
+
+namespace {
+
+// Runs one engine into a record; InputError propagates (bad input), any other failure is recorded.
+EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& progress, const OutputFolder& folder) {
+  EngineRecord record;
+  record.label = engine.label();
+  record.name = engine.name();
+  record.description = engine.describe();
+  const auto started = std::chrono::steady_clock::now();
+  EngineObserver observer;
+  observer.output = [&](double t, const SystemState& state) {
+    record_state(record, scene, t, state);
+    progress.reached(t);
+  };
+  observer.progress = [&](double t) { progress.reached(t); };
+  observer.status = [&](const std::string& what) { progress.note(what); };
+  observer.folder = folder.engine_folder(engine.label());
+  try {
+    record.statistics = engine.run(scene, observer);
+    if (record.times.size() != scene.time.outputs.size())
+      throw std::runtime_error("the engine reported " + std::to_string(record.times.size()) + " of " +
+                               std::to_string(scene.time.outputs.size()) + " output times");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    record.failure = e.what();
+  }
+  record.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return record;
+}
+
+void write_engine_outputs(const Scene& scene, const EngineRecord& record, const OutputFolder& folder) {
+  write_series_csv(folder.series_file(record.label), scene.observe, record);
+  if (!scene.observe.distribution_times.empty()) write_distribution_csv(folder.distribution_file(record.label), record);
+}
+
+}  // namespace
+
+RunResult run_scene(const Scene& scene, const RunOptions& options) {
+  const OutputFolder folder(options.out);
+  folder.prepare(scene);
+
+  RunResult result;
+  Progress progress(options.progress);
+  for (std::size_t i = 0; i < scene.engines.size(); ++i) {
+    const Engine& engine = *scene.engines[i];
+    progress.start(engine.label(), i + 1, scene.engines.size(), scene.time.end);
+    result.records.push_back(run_engine(scene, engine, progress, folder));
+    progress.finish();
+    if (result.records.back().completed()) write_engine_outputs(scene, result.records.back(), folder);
+    else if (options.warnings)
+      *options.warnings << "aggkit: warning: engine " << engine.label() << " failed: " << *result.records.back().failure
+                        << "\n";
+  }
+
+  if (scene.compare) result.comparisons = compare_engines(*scene.compare, scene.observe, result.records);
+  result.pass = std::all_of(result.records.begin(), result.records.end(), [](const auto& r) { return r.completed(); }) &&
+                std::all_of(result.comparisons.begin(), result.comparisons.end(), [](const auto& c) { return c.pass; });
+  result.exit_code = result.pass ? exit_pass : exit_failed;
+
+  if (options.plot) {
+    result.plot = plot_series(scene, result.records, folder);
+    if (result.plot.status == PlotOutcome::Status::failed && options.warnings)
+      *options.warnings << "aggkit: warning: no plot: " << result.plot.message << "\n";
+  } else {
+    result.plot = {PlotOutcome::Status::skipped, "--no-plot"};
+  }
+
+  write_file_atomically(folder.summary_file(), summary_json(scene, result, folder));  // last: marks completion
+  if (options.report) print_report(*options.report, scene, result, folder);
+  return result;
+}
+
+}  // namespace aggkit

@@ -1,0 +1,29 @@
+#pragma once
+// The validation harness: `aggkit run SCENE --out DIR` (DESIGN.md "Scenes").
+//   1. checks that DIR can be written and removes stale outputs (else InputError, before anything runs);
+//   2. runs each engine in scene order, writing DIR/<label>/series.csv (and distribution.csv) as each
+//      one finishes; an engine that fails is recorded and the others still run;
+//   3. compares every engine with the reference, plots DIR/report.png, writes DIR/summary.json last
+//      and prints a short summary.
+// Every file is written under a temporary name and renamed when complete.
+#include <filesystem>
+#include <iostream>
+
+#include "validation/harness/run_result.hpp"
+#include "validation/scene/scene.hpp"
+
+namespace aggkit {
+
+struct RunOptions {
+  std::filesystem::path out;
+  bool plot = true;
+  std::ostream* report = &std::cout;    // the human summary; nullptr: none
+  std::ostream* progress = &std::cerr;  // progress of long runs; nullptr: quiet
+  std::ostream* warnings = &std::cerr;  // e.g. a failed plot; nullptr: none
+};
+
+// Throws InputError for an unusable output folder or input an engine finds bad only when it runs; the
+// exit code of the run (0 pass, 1 a comparison or an engine failed) is in the result.
+RunResult run_scene(const Scene& scene, const RunOptions& options);
+
+}  // namespace aggkit

@@ -1,0 +1,30 @@
+#pragma once
+// The plot of a run, DIR/report.png, drawn by validation/harness/plot_series.py with matplotlib: one panel per
+// observable with every engine overlaid, plus the size distributions if any were requested. Plotting is a
+// convenience: a failure is reported, never fatal.
+#include <string>
+#include <vector>
+
+#include "validation/harness/engine_record.hpp"
+#include "validation/harness/output_folder.hpp"
+
+namespace aggkit {
+
+struct PlotOutcome {
+  enum class Status { written, failed, skipped };
+  Status status = Status::skipped;
+  std::string message;  // why it failed (the plotter's last words) or was skipped
+};
+std::string to_string(PlotOutcome::Status status);
+
+// Plots the series (and distributions) already written to `folder` for the engines that completed.
+// The interpreter is $AGGKIT_PYTHON, else /usr/bin/python3 (Debian's, with python3-matplotlib), else
+// python3 on PATH; the script is $AGGKIT_PLOT_SCRIPT, else the one in the source or install tree.
+PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder);
+
+// The Python interpreter the plotters run under (as described above), and the last non-blank line of a
+// plotter's output (its exception message), shared with the other plotters (validation/particle_snapshot).
+std::string plot_interpreter();
+std::string last_output_line(const std::string& text);
+
+}  // namespace aggkit

@@ -1,0 +1,362 @@
+#include "validation/scan/scan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <unistd.h>
+
+#include "analysis/input_error.hpp"
+#include "validation/io/atomic_file.hpp"
+#include "validation/io/progress.hpp"
+#include "validation/scan/scan_lambda_crit.hpp"
+#include "validation/scan/scan_mpi.hpp"
+#include "validation/scan/scan_output.hpp"
+#include "validation/scan/scan_point.hpp"
+#include "validation/io/text.hpp"
+
+#include "solvers/stability.hpp"
+
+namespace aggkit {
+
+namespace {
+
+// One CVODE run of a scan: a grid point, or a point repeated at 2N. Results are cached in DIR/points under a
+// name made of (a, λ, N), so a grid point and a truncation-check point at the same (a, λ, N) are one run.
+struct Run {
+  double a = 0, lambda = 0;
+  std::size_t size = 0;
+  std::string key() const {
+    std::string key = "a";  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on "a" + std::string
+    key += shortest_text(a);
+    key += "_lambda";
+    key += shortest_text(lambda);
+    key += "_N";
+    key += std::to_string(size);
+    return key;
+  }
+  bool operator<(const Run& o) const { return std::tie(a, lambda, size) < std::tie(o.a, o.lambda, o.size); }
+};
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return "";
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+[[noreturn]] void unusable(const std::filesystem::path& folder, const std::string& why) {
+  throw InputError("--out", folder.string(), "an output folder that can be created and written (" + why + ")");
+}
+
+void prepare_folder(const std::filesystem::path& root, const std::filesystem::path& points, int rank) {
+  std::error_code error;
+  std::filesystem::create_directories(points, error);
+  if (error) unusable(root, error.message());
+  // Root may write anywhere by permissions alone; only writing a file proves the folder is usable.
+  const std::filesystem::path probe = points / (".write-test-" + std::to_string(::getpid()) + "-" + std::to_string(rank));
+  std::ofstream file(probe);
+  file << "probe\n";
+  file.close();
+  const bool ok = static_cast<bool>(file);
+  std::filesystem::remove(probe, error);
+  if (!ok) unusable(root, "cannot write files in it");
+}
+
+// Rank 0: points computed for another scene (different model, time grid, integrator or classification)
+// must not be reused; they are removed and the fingerprint replaced.
+void check_fingerprint(const std::filesystem::path& points, const std::string& fingerprint, std::ostream* progress) {
+  const std::filesystem::path file = points / "fingerprint.toml";
+  std::error_code error;
+  const bool exists = std::filesystem::exists(file, error);
+  if (exists && read_text(file) == fingerprint) return;
+  if (exists) {
+    std::size_t removed = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(points, error))
+      if (entry.path().extension() == ".csv") removed += std::filesystem::remove(entry.path(), error) ? 1 : 0;
+    if (progress && removed)
+      *progress << "aggkit scan: the scene's model, time grid or classification changed: " << removed
+                << " earlier results discarded\n";
+  }
+  write_file_atomically(file, fingerprint);
+}
+
+class RunCache {
+ public:
+  RunCache(const ScanPlan& plan, std::filesystem::path folder, std::ostream* progress)
+      : plan_(plan), folder_(std::move(folder)), progress_(progress), world_(mpi_world()) {}
+
+  std::optional<ScanRecord> finished(const Run& run) const {
+    const std::optional<ScanRecord> r = parse_point_file(read_text(file(run)));
+    if (!r || r->a != run.a || r->lambda != run.lambda || r->size != run.size) return std::nullopt;
+    return r;
+  }
+
+  // Computes the runs not finished yet, spread round-robin over the ranks; every rank returns when all have.
+  void compute(std::vector<Run> runs, const std::string& what) {
+    std::sort(runs.begin(), runs.end());
+    runs.erase(std::unique(runs.begin(), runs.end(), [](const Run& x, const Run& y) { return !(x < y) && !(y < x); }),
+               runs.end());
+    std::vector<Run> todo;
+    for (const Run& run : runs)
+      if (!finished(run)) todo.push_back(run);
+    reused_ += runs.size() - todo.size();
+    mpi_barrier();  // every rank has listed the same unfinished runs before any is written
+    if (progress_ && world_.rank == 0)
+      *progress_ << "aggkit scan: " << what << ": " << runs.size() << " runs, " << runs.size() - todo.size()
+                 << " finished earlier, " << todo.size() << " to compute on " << world_.size
+                 << (world_.size == 1 ? " rank\n" : " ranks\n") << std::flush;
+    long failed = 0;
+    for (std::size_t i = std::size_t(world_.rank); i < todo.size(); i += std::size_t(world_.size))
+      failed += compute_one(todo[i], i + 1, todo.size()) ? 0 : 1;
+    failed_ += std::size_t(mpi_sum(failed));  // also the barrier after which every result is on disk
+  }
+
+  std::size_t reused() const { return reused_; }
+  std::size_t computed() const { return computed_; }
+  std::size_t failed() const { return failed_; }
+
+ private:
+  std::filesystem::path file(const Run& run) const { return folder_ / (run.key() + ".csv"); }
+
+  bool compute_one(const Run& run, std::size_t number, std::size_t count) {
+    const std::string label = "a = " + shortest_text(run.a) + ", lambda = " + shortest_text(run.lambda) +
+                              ", N = " + std::to_string(run.size);
+    Progress progress(progress_, std::chrono::seconds(10));
+    progress.start(label, number, count, plan_.scene.time.end);
+    try {
+      ScanRecord r = run_scan_point(plan_, {0, run.a, run.lambda}, run.size, [&](double t) { progress.reached(t); });
+      r.rank = world_.rank;
+      write_file_atomically(file(run), point_file_text(r));
+      ++computed_;
+      if (progress_) {
+        char line[512];
+        std::snprintf(line, sizeof line, "aggkit scan: [rank %d] %zu/%zu %s: %s, period %.4g, amplitude %.4g (%.1f s)\n",
+                      world_.rank, number, count, label.c_str(), r.regime.c_str(), r.period, r.amplitude, r.seconds);
+        *progress_ << line << std::flush;
+      }
+      return true;
+    } catch (const std::exception& e) {
+      if (progress_) *progress_ << "aggkit scan: [rank " << world_.rank << "] " << label << " failed: " << e.what() << "\n";
+      return false;
+    }
+  }
+
+  const ScanPlan& plan_;
+  std::filesystem::path folder_;
+  std::ostream* progress_;
+  MpiWorld world_;
+  std::size_t reused_ = 0, computed_ = 0, failed_ = 0;
+};
+
+// λ_crit(a) by locate_hopf over the scan's λ range at truncation `size`; cached in DIR/points like the runs.
+void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points, std::vector<LambdaCritRow>& crit,
+                      bool doubled, std::ostream* progress) {
+  const MpiWorld world = mpi_world();
+  const std::size_t size = doubled ? 2 * plan.size() : plan.size();
+  const double lo = plan.lambda.front(), hi = plan.lambda.back();
+  const auto file = [&](double a) {
+    std::string name = "hopf_a";
+    name += shortest_text(a);
+    name += "_lambda" + shortest_text(lo) + "-" + shortest_text(hi) + "_N" + std::to_string(size) + ".csv";
+    return points / name;
+  };
+  const std::string header = "a,found,lambda_crit,lambda_tolerance,omega,note";
+  std::vector<double> todo;
+  for (double a : plan.a)
+    if (read_text(file(a)).rfind(header + "\n", 0) != 0) todo.push_back(a);
+  mpi_barrier();
+  if (progress && world.rank == 0 && !todo.empty())
+    *progress << "aggkit scan: locating the Hopf point lambda_crit(a) at N = " << size << " for " << todo.size()
+              << " values of a\n" << std::flush;
+  long failed = 0;
+  for (std::size_t i = std::size_t(world.rank); i < todo.size(); i += std::size_t(world.size)) {
+    try {
+      const HopfPoint h = locate_hopf(point_model(plan, todo[i], lo, size), todo[i], lo, hi, 1e-3);
+      std::string note = h.note;
+      for (char& c : note)
+        if (c == ',' || c == '\n') c = ';';
+      write_file_atomically(file(todo[i]), header + "\n" + shortest_text(h.a) + "," + (h.found ? "yes" : "no") + "," +
+                                               shortest_text(h.lambda_crit) + "," + shortest_text(h.lambda_tolerance) +
+                                               "," + shortest_text(h.omega) + "," + note + "\n");
+      if (progress)
+        *progress << "aggkit scan: [rank " << world.rank << "] Hopf point a = " << shortest_text(todo[i]) << ", N = " << size
+                  << ": " << (h.found ? "lambda_crit = " + shortest_text(h.lambda_crit) : h.note) << "\n" << std::flush;
+    } catch (const std::exception& e) {
+      ++failed;
+      if (progress) *progress << "aggkit scan: Hopf point a = " << shortest_text(todo[i]) << " failed: " << e.what() << "\n";
+    }
+  }
+  mpi_sum(failed);
+  for (auto& row : crit) {
+    std::istringstream in(read_text(file(row.a)));
+    std::string line, field;
+    std::getline(in, line);
+    if (!std::getline(in, line)) continue;
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    while (std::getline(fields, field, ',')) f.push_back(field);
+    if (f.size() < 5) continue;
+    const bool found = f[1] == "yes";
+    const double lambda_crit = std::stod(f[2]), tolerance = std::stod(f[3]), omega = std::stod(f[4]);
+    const std::string note = f.size() > 5 ? f[5] : "";
+    if (doubled) {
+      if (found && row.method == "hopf") {
+        row.lambda_crit_2N = lambda_crit;
+        row.change_2N = std::abs(lambda_crit - row.lambda_crit) / row.lambda_crit;
+      }
+      continue;
+    }
+    if (!found) {
+      row.note += std::string(row.note.empty() ? "" : "; ") + "Hopf: " + note;
+      continue;
+    }
+    const std::string grid = std::isfinite(row.lambda_crit)
+                                 ? "grid bracket [" + shortest_text(row.lambda_sustained) + " " +
+                                       shortest_text(row.lambda_relaxing) + "]"
+                                 : "grid: " + row.note;
+    row.method = "hopf";
+    row.lambda_crit = lambda_crit;
+    row.error = tolerance;
+    row.period = omega > 0 ? 2 * std::acos(-1.0) / omega : std::nan("");
+    row.lambda_crit_2N = row.change_2N = std::nan("");
+    row.note = grid;
+  }
+}
+
+}  // namespace
+
+ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
+  const MpiWorld world = mpi_world();
+  const std::filesystem::path points = options.out / "points";
+  // Every rank checks that it can write (they may not share a file system view); a failure anywhere stops
+  // all ranks with the same error.
+  std::string folder_error;
+  try {
+    prepare_folder(options.out, points, world.rank);
+  } catch (const InputError& e) {
+    folder_error = e.what();
+  }
+  if (!mpi_all(folder_error.empty())) {
+    if (!folder_error.empty()) throw InputError("--out", options.out.string(), "an output folder that can be created and written");
+    throw InputError("--out", options.out.string(), "an output folder that every MPI rank can write");
+  }
+  if (world.rank == 0) check_fingerprint(points, plan.fingerprint, options.progress);
+  mpi_barrier();
+
+  RunCache cache(plan, points, options.progress);
+  const std::size_t N = plan.size();
+
+  // Phase 1: the grid, and the truncation-check points at N and 2N.
+  std::vector<Run> runs;
+  for (std::size_t i = 0; i < plan.point_count(); ++i) runs.push_back({plan.point(i).a, plan.point(i).lambda, N});
+  for (const auto& [a, lambda] : plan.check_points) {
+    runs.push_back({a, lambda, N});
+    runs.push_back({a, lambda, 2 * N});
+  }
+  cache.compute(runs, "grid of " + std::to_string(plan.a.size()) + " a x " + std::to_string(plan.lambda.size()) +
+                          " lambda at N = " + std::to_string(N));
+
+  // λ_crit(a) from the grid (every rank computes the same from the shared results).
+  std::vector<ScanRecord> records;
+  std::map<double, std::vector<ScanRecord>> by_a;
+  for (std::size_t i = 0; i < plan.point_count(); ++i) {
+    const ScanPoint p = plan.point(i);
+    if (auto r = cache.finished({p.a, p.lambda, N})) {
+      r->index = i;
+      records.push_back(*r);
+      by_a[p.a].push_back(*r);
+    }
+  }
+  std::vector<LambdaCritRow> crit;
+  for (double a : plan.a) {
+    const GridLambdaCrit g = lambda_crit_from_grid(a, by_a[a], plan.lambda_log);
+    LambdaCritRow row;
+    row.a = a;
+    row.lambda_crit = g.lambda_crit;
+    row.error = g.error;
+    row.method = "grid";
+    row.lambda_sustained = g.lambda_sustained;
+    row.lambda_relaxing = g.lambda_relaxing;
+    row.size = N;
+    row.note = g.note;
+    crit.push_back(row);
+  }
+
+  // Phase 2: λ_crit at 2N. From the grid, the two points that bracket λ_crit(a) are repeated at 2N: if both
+  // keep their regimes, λ_crit(2N) lies in the same bracket and the change is below the bracket's width.
+  if (plan.check_lambda_crit) {
+    std::vector<Run> bracket_runs;
+    for (const auto& row : crit)
+      if (std::isfinite(row.lambda_crit)) {
+        bracket_runs.push_back({row.a, row.lambda_sustained, 2 * N});
+        bracket_runs.push_back({row.a, row.lambda_relaxing, 2 * N});
+      }
+    cache.compute(bracket_runs, "lambda_crit brackets at 2N = " + std::to_string(2 * N));
+    for (auto& row : crit) {
+      if (!std::isfinite(row.lambda_crit)) continue;
+      const auto below = cache.finished({row.a, row.lambda_sustained, 2 * N});
+      const auto above = cache.finished({row.a, row.lambda_relaxing, 2 * N});
+      if (!below || !above) continue;
+      const bool kept = below->regime == "sustained" && (above->regime == "damped" || above->regime == "steady");
+      if (kept) {
+        row.lambda_crit_2N = row.lambda_crit;
+        row.change_2N = 0;
+        row.note += std::string(row.note.empty() ? "" : "; ") +
+                    "at 2N the bracket keeps its regimes: |change| < the bracket width";
+      } else {
+        row.note += std::string(row.note.empty() ? "" : "; ") + "at 2N the bracket changes (" + below->regime + ", " +
+                    above->regime + "): N too small";
+      }
+    }
+  }
+
+  // λ_crit(a) from the Hopf point of the linear stability (solvers/stability.hpp), where the grid gave only
+  // a bracket.
+  if (plan.stability) {
+    hopf_lambda_crit(plan, points, crit, false, options.progress);
+    if (plan.check_lambda_crit) hopf_lambda_crit(plan, points, crit, true, options.progress);
+  }
+
+  ScanOutcome outcome;
+  outcome.points = plan.point_count();
+  outcome.reused = cache.reused();
+  outcome.computed = cache.computed();
+  outcome.failed = cache.failed();
+  outcome.exit_code = outcome.failed > 0 || records.size() < plan.point_count() ? 1 : 0;
+
+  if (world.rank == 0) {
+    write_scan_csv(options.out / "scan.csv", records);
+    write_timing_csv(options.out / "timing.csv", records);
+    write_lambda_crit_csv(options.out / "lambda_crit.csv", crit);
+    if (!plan.check_points.empty()) {
+      std::vector<TruncationCheckRow> rows;
+      for (const auto& [a, lambda] : plan.check_points) {
+        const auto n = cache.finished({a, lambda, N});
+        const auto n2 = cache.finished({a, lambda, 2 * N});
+        if (n && n2) rows.push_back({*n, *n2});
+      }
+      write_truncation_check_csv(options.out / "truncation_check.csv", rows);
+    }
+    if (options.plot) {
+      const std::string why = plot_phase_diagram(options.out / "scan.csv", options.out / "lambda_crit.csv",
+                                                 options.out / "phase_diagram.png", plan.scene.name, plan.lambda_log);
+      if (!why.empty() && options.progress) *options.progress << "aggkit scan: phase diagram not drawn: " << why << "\n";
+    }
+    if (options.progress) {
+      *options.progress << "aggkit scan: " << records.size() << "/" << plan.point_count() << " points in "
+                        << (options.out / "scan.csv").string();
+      if (outcome.failed) *options.progress << "; " << outcome.failed << " runs failed (run again to retry them)";
+      *options.progress << "\n";
+    }
+  }
+  mpi_barrier();
+  return outcome;
+}
+
+}  // namespace aggkit

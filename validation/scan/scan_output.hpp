@@ -1,0 +1,41 @@
+#pragma once
+// The files a scan writes (scan.hpp), each atomically: scan.csv, lambda_crit.csv, truncation_check.csv,
+// timing.csv, and the phase diagram drawn by validation/scan/plot_scan.py.
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "validation/scan/scan_record.hpp"
+
+namespace aggkit {
+
+// One row of lambda_crit.csv.
+struct LambdaCritRow {
+  static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  double a = 0;
+  double lambda_crit = nan, error = nan;  // error: bound on |λ_crit - true crossing| at this N
+  std::string method;                     // "grid" (bracket of the scan's time-series verdicts) or "hopf"
+  double lambda_sustained = nan, lambda_relaxing = nan;  // the grid bracket
+  double period = nan;                    // 2π/ω at the Hopf point (method hopf)
+  std::size_t size = 0;                   // N
+  double lambda_crit_2N = nan, change_2N = nan;  // the truncation check, if asked
+  std::string note;
+};
+
+// One row of truncation_check.csv: a point at N and at 2N.
+struct TruncationCheckRow {
+  ScanRecord at_N, at_2N;
+};
+
+void write_scan_csv(const std::filesystem::path& file, const std::vector<ScanRecord>& records);
+void write_timing_csv(const std::filesystem::path& file, const std::vector<ScanRecord>& records);
+void write_lambda_crit_csv(const std::filesystem::path& file, const std::vector<LambdaCritRow>& rows);
+void write_truncation_check_csv(const std::filesystem::path& file, const std::vector<TruncationCheckRow>& rows);
+
+// Draws `png` from scan.csv and lambda_crit.csv with plot_scan.py; returns "" or why it failed (plotting is a
+// convenience, never fatal).
+std::string plot_phase_diagram(const std::filesystem::path& scan_csv, const std::filesystem::path& lambda_crit_csv,
+                               const std::filesystem::path& png, const std::string& title, bool log_lambda);
+
+}  // namespace aggkit

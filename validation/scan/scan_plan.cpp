@@ -1,0 +1,206 @@
+// Reading a scan scene (scan_plan.hpp): the [scan] section here; [model], [time] and [[engine]] through the
+// run-scene parser (scene.cpp), so they are validated exactly as for `aggkit run`.
+#include "validation/scan/scan_plan.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "validation/scene/scene_table.hpp"
+
+namespace aggkit {
+
+namespace {
+
+constexpr std::size_t max_grid_values = 10'000;  // per axis; more is surely a typo
+
+std::string toml_text(const toml::table& table) {
+  std::ostringstream out;
+  out << table;
+  return out.str();
+}
+
+void check_increasing(const std::string& key, const std::vector<double>& values) {
+  for (std::size_t i = 1; i < values.size(); ++i)
+    if (!(values[i] > values[i - 1]))
+      throw InputError(key + "[" + std::to_string(i) + "]", shortest_text(values[i]),
+                       "values must increase; the previous one is " + shortest_text(values[i - 1]));
+}
+
+// A list of values or { from, to, count, spacing }. `log_spacing` reports the spacing of a range (lists: log
+// when every ratio is the same, so that the λ_crit midpoint is geometric for log-spaced lists too).
+std::vector<double> read_axis(const SceneTable& scan, const std::string& name, bool& log_spacing) {
+  const toml::node* node = scan.find(name);
+  const std::string forms = "a list of values or { from = .., to = .., count = .. (, spacing = \"log\") }";
+  if (!node) scan.fail(name, "required: " + forms);
+  std::vector<double> values;
+  log_spacing = false;
+  if (node->is_array()) {
+    values = scan.numbers(name, Bound::finite);
+    if (values.empty()) scan.fail(name, "at least one value (an empty list scans nothing)");
+    if (values.size() > max_grid_values) scan.fail(name, "at most " + std::to_string(max_grid_values) + " values");
+    check_increasing(scan.key(name), values);
+    return values;
+  }
+  if (!node->is_table()) scan.fail(name, forms);
+  const SceneTable range = scan.table(name);
+  range.allow_only({"from", "to", "count", "spacing"});
+  const double from = range.number("from", Bound::finite);
+  const double to = range.number("to", Bound::finite);
+  const std::size_t count = range.count("count", 0);
+  if (count == 0) range.fail("count", "at least 1 (an empty range scans nothing)");
+  if (count > max_grid_values) range.fail("count", "at most " + std::to_string(max_grid_values));
+  const std::string spacing = range.optional_string("spacing").value_or("linear");
+  if (spacing != "linear" && spacing != "log") range.fail("spacing", "\"linear\" or \"log\"");
+  log_spacing = spacing == "log";
+  if (count == 1 && to != from) range.fail("count", "at least 2 for a range with from != to");
+  if (count > 1 && !(to > from))
+    range.fail("to", "greater than from = " + shortest_text(from) + " (the range would be empty)");
+  if (log_spacing && !(from > 0)) range.fail("from", "> 0 for spacing = \"log\"");
+  for (std::size_t i = 0; i < count; ++i) {
+    const double s = count == 1 ? 0.0 : double(i) / double(count - 1);
+    const double value = log_spacing ? from * std::pow(to / from, s) : from + (to - from) * s;
+    // To 12 significant digits: 0.55 + 0.05 k reads as 0.6, not 0.6000000000000001 (in the CSVs and the
+    // names of the finished-point files).
+    char text[32];
+    std::snprintf(text, sizeof text, "%.12g", value);
+    values.push_back(std::strtod(text, nullptr));
+  }
+  values.back() = to;  // exactly the end of the range, free of round-off
+  return values;
+}
+
+std::vector<std::pair<double, double>> read_check_points(const SceneTable& check) {
+  std::vector<std::pair<double, double>> points;
+  const toml::node* node = check.find("points");
+  if (!node) return points;
+  const std::string expected = "a list of [a, lambda] pairs, e.g. [[0.95, 0.01]]";
+  const toml::array* list = node->as_array();
+  if (!list) check.fail("points", expected);
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    const toml::array* pair = (*list)[i].as_array();
+    const std::string key = check.key("points") + "[" + std::to_string(i) + "]";
+    if (!pair || pair->size() != 2 || !(*pair)[0].is_number() || !(*pair)[1].is_number())
+      throw InputError(key, scene_text((*list)[i]), expected);
+    points.emplace_back((*pair)[0].value<double>().value(), (*pair)[1].value<double>().value());
+  }
+  return points;
+}
+
+void check_a(const std::string& key, double a) {
+  if (!(a >= 0 && a <= 1)) throw InputError(key, shortest_text(a), "the kernel exponent a must lie in [0, 1]");
+}
+void check_lambda(const std::string& key, double lambda) {
+  if (!(lambda > 0) || !std::isfinite(lambda))
+    throw InputError(key, shortest_text(lambda), "the shattering rate λ must be finite and > 0");
+}
+
+}  // namespace
+
+ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
+  toml::table document = parse_toml_text(text, source);
+  const SceneTable root(document, "");
+  root.allow_only({"name", "model", "time", "engine", "scan"});
+  if (!root.contains("scan")) root.fail("scan", "required in a scan scene: [scan] with a = .. and lambda = ..");
+  if (!document.get("scan")->is_table()) root.fail("scan", "a table [scan]");
+  const toml::table scan_table = *document.get("scan")->as_table();
+
+  // The run-scene parser reads [model], [time] and [[engine]]; it wants [observe], which a scan does not use.
+  toml::table run_part = document;
+  run_part.erase("scan");
+  if (!run_part.contains("engine")) {
+    toml::array engines;
+    engines.push_back(toml::table{{"name", "cvode"}});
+    run_part.insert("engine", engines);
+  }
+  run_part.insert("observe", toml::table{{"series", toml::array{"M0", "M2"}}});
+  ScanPlan plan;
+  plan.scene = parse_scene(toml_text(run_part), source);
+
+  const Scene& scene = plan.scene;
+  if (scene.model.kernel.name() != "brownian")
+    throw InputError("model.kernel.name", "\"" + scene.model.kernel.name() + "\"",
+                     "a scan needs the brownian kernel (i/j)^a + (j/i)^a; its a is set by [scan] a");
+  if (scene.engines.size() != 1 || scene.engines[0]->name() != "cvode")
+    root.fail("engine", "at most one [[engine]], and it must be name = \"cvode\" (each point's integrator)");
+  const std::vector<double>& outputs = scene.time.outputs;
+  if (outputs.size() < 32)
+    throw InputError("time.every", std::to_string(outputs.size()) + " outputs",
+                     "a scan classifies a sampled series: give at least 32 uniform outputs (time.every)");
+  const double spacing = outputs.back() / double(outputs.size());  // outputs are k · every, k = 1..
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    if (std::abs(outputs[i] - double(i + 1) * spacing) > 1e-6 * spacing)
+      throw InputError("time", "outputs up to " + shortest_text(scene.time.end),
+                       "uniformly spaced outputs from t = every to the end: time.every dividing time.end");
+
+  const SceneTable scan(scan_table, "scan");
+  scan.allow_only({"a", "lambda", "series", "tail", "stability", "truncation_check"});
+  bool a_log = false;
+  plan.a = read_axis(scan, "a", a_log);
+  for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
+  plan.lambda = read_axis(scan, "lambda", plan.lambda_log);
+  for (std::size_t i = 0; i < plan.lambda.size(); ++i)
+    check_lambda(scan.key("lambda") + "[" + std::to_string(i) + "]", plan.lambda[i]);
+  if (plan.lambda.size() > 2 && !plan.lambda_log) {  // a list with one ratio throughout is log-spaced
+    const double ratio = plan.lambda[1] / plan.lambda[0];
+    bool geometric = true;
+    for (std::size_t i = 2; i < plan.lambda.size(); ++i)
+      geometric = geometric && std::abs(plan.lambda[i] / plan.lambda[i - 1] / ratio - 1) < 1e-9;
+    const double step = plan.lambda[1] - plan.lambda[0];
+    bool arithmetic = true;
+    for (std::size_t i = 2; i < plan.lambda.size(); ++i)
+      arithmetic = arithmetic && std::abs((plan.lambda[i] - plan.lambda[i - 1]) / step - 1) < 1e-9;
+    plan.lambda_log = geometric && !arithmetic;
+  }
+  if (plan.point_count() > max_grid_values * 10)
+    scan.fail("lambda", "at most " + std::to_string(max_grid_values * 10) + " points in all (a × λ)");
+
+  plan.series = scan.optional_string("series").value_or("M0");
+  if (plan.series == "M0") plan.series_order = 0;
+  else if (plan.series == "M2") plan.series_order = 2;
+  else scan.fail("series", "\"M0\" or \"M2\" (the moment whose time series is classified)");
+  plan.criteria.tail_fraction = scan.optional_number("tail", Bound::positive).value_or(plan.criteria.tail_fraction);
+  if (!(plan.criteria.tail_fraction < 1)) scan.fail("tail", "a fraction of the run in (0, 1)");
+  const double tail_samples = plan.criteria.tail_fraction * double(scene.time.outputs.size());
+  if (tail_samples < 16)
+    scan.fail("tail", "at least 16 outputs in the classified tail (it has about " +
+                          std::to_string(int(tail_samples)) + "; raise tail or output more often)");
+  plan.stability = scan.optional_boolean("stability").value_or(true);
+
+  if (const auto check = scan.optional_table("truncation_check")) {
+    check->allow_only({"points", "lambda_crit"});
+    plan.check_points = read_check_points(*check);
+    for (std::size_t i = 0; i < plan.check_points.size(); ++i) {
+      const std::string key = check->key("points") + "[" + std::to_string(i) + "]";
+      check_a(key + "[0]", plan.check_points[i].first);
+      check_lambda(key + "[1]", plan.check_points[i].second);
+    }
+    plan.check_lambda_crit = check->optional_boolean("lambda_crit").value_or(false);
+  }
+
+  // The fingerprint: everything but the name and the grid (whose points are matched by value).
+  toml::table fingerprint = run_part;
+  fingerprint.erase("name");
+  toml::table scan_settings = scan_table;
+  for (const char* key : {"a", "lambda", "truncation_check"}) scan_settings.erase(key);
+  fingerprint.insert("scan", scan_settings);
+  plan.fingerprint = toml_text(fingerprint);
+  return plan;
+}
+
+ScanPlan load_scan_plan(const std::filesystem::path& path) {
+  ScanPlan plan = parse_scan_plan(read_scene_file(path), path.string());
+  plan.scene.path = path;
+  return plan;
+}
+
+AggregationModel point_model(const ScanPlan& plan, double a, double lambda, std::size_t size) {
+  AggregationModel model = plan.scene.model;
+  model.kernel = Kernel::brownian(a);
+  model.lambda = ShatteringRate::constant(lambda);
+  model.size = size;  // a shorter initial table is padded with zeros (model.hpp)
+  return model;
+}
+
+}  // namespace aggkit

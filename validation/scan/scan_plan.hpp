@@ -1,0 +1,64 @@
+#pragma once
+// A scan scene (`aggkit scan SCENE --out DIR`): the (a, λ) grid of the Brownian-type kernel
+// K_ij = (i/j)^a + (j/i)^a over which each point's oscillation regime is classified. Schema:
+//
+//   name = "..."
+//   [model]     as in a run scene (scene.hpp); kernel must be { name = "brownian", a = .. }: each point
+//               replaces a and λ (the model's own values are only placeholders); size N, truncation, initial
+//   [time]      end and outputs/every: each point's CVODE run (sample often enough: >= 8 outputs per period,
+//               and uniformly — `every` — since the classifier needs a uniform series)
+//   [[engine]]  optional, at most one, name = "cvode": the integrator options of every point
+//   [scan]
+//   a = [0.9, 0.95]                       a list (increasing, each in [0, 1]) or { from, to, count }
+//   lambda = { from = 1e-3, to = 0.1, count = 9, spacing = "log" }   λ > 0; spacing linear (default) | log
+//   series = "M0"                         the moment classified: M0 (default) or M2
+//   tail = 0.5                            fraction of the run classified (the rest is transient); default 0.5
+//   stability = true                      also steady state + linear stability where available (default)
+//   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
+//                                         repeat these points (and λ_crit(a)) at size 2N (optional)
+//
+// No [observe] or [compare]: a scan writes its own outputs (scan_output.hpp). Unknown keys are errors.
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "analysis/oscillation.hpp"
+#include "validation/scene/scene.hpp"
+
+namespace aggkit {
+
+struct ScanPoint {
+  std::size_t index = 0;  // a-major: index = i_a * lambda_count + i_λ
+  double a = 0, lambda = 0;
+};
+
+struct ScanPlan {
+  Scene scene;                        // model (brownian), time grid and exactly one cvode engine
+  std::vector<double> a, lambda;      // increasing
+  bool lambda_log = false;            // λ spaced logarithmically (λ_crit from the grid: geometric midpoint)
+  std::string series = "M0";          // M0 or M2
+  double series_order = 0;            // its p
+  OscillationCriteria criteria;       // tail_fraction from `tail`
+  bool stability = true;
+  std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
+  bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N
+  // Everything a finished point's result depends on except (a, λ): a resumed scan reuses the points only
+  // if this is unchanged.
+  std::string fingerprint;
+
+  std::size_t point_count() const { return a.size() * lambda.size(); }
+  ScanPoint point(std::size_t index) const { return {index, a[index / lambda.size()], lambda[index % lambda.size()]}; }
+  std::size_t size() const { return scene.model.size; }
+};
+
+// Reads and validates a scan scene; InputError names the key, the value and what is allowed.
+ScanPlan load_scan_plan(const std::filesystem::path& path);
+ScanPlan parse_scan_plan(std::string_view text, const std::string& source = "scene");
+
+// The model of one point: the scene's with the kernel's a, a constant λ and truncation size `size`.
+AggregationModel point_model(const ScanPlan& plan, double a, double lambda, std::size_t size);
+
+}  // namespace aggkit

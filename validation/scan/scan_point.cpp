@@ -1,0 +1,81 @@
+#include "validation/scan/scan_point.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <string>
+#include <vector>
+
+#include "validation/observables/system_state.hpp"
+#include "validation/io/text.hpp"
+
+#include "solvers/stability.hpp"
+#include "solvers/steady_state.hpp"
+
+namespace aggkit {
+
+bool scan_stability_available() { return true; }
+
+namespace {
+
+// Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
+// oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
+void classify_by_stability(const AggregationModel& model, ScanRecord& r) {
+  const SteadyStateResult steady = solve_steady_state(model);
+  if (!steady.converged) {
+    r.note += std::string(r.note.empty() ? "" : "; ") + "steady state not converged (residual " +
+              shortest_text(steady.relative_residual) + ")";
+    return;
+  }
+  const StabilityResult stability = analyse_stability(model, steady.n);
+  if (stability.rightmost.empty()) return;
+  const std::complex<double> mu = stability.rightmost.front();
+  r.rightmost_real = mu.real();
+  r.rightmost_imag = std::abs(mu.imag());
+  r.regime_stability = !stability.stable ? "sustained" : mu.imag() != 0 ? "damped" : "steady";
+  const bool known = r.regime == "sustained" || r.regime == "damped" || r.regime == "steady";
+  if (known) r.agree = (r.regime == "sustained") == (r.regime_stability == "sustained") ? "yes" : "no";
+}
+
+}  // namespace
+
+ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,
+                          const std::function<void(double t)>& progress) {
+  const auto started = std::chrono::steady_clock::now();
+  Scene run;  // the point's scene: the scan scene's model with this (a, λ, N) and its time grid
+  run.name = plan.scene.name;
+  run.model = point_model(plan, point.a, point.lambda, size);
+  run.time = plan.scene.time;
+
+  std::vector<double> times, values;
+  times.reserve(run.time.outputs.size());
+  values.reserve(run.time.outputs.size());
+  EngineObserver observer;
+  observer.output = [&](double t, const SystemState& state) {
+    times.push_back(t);
+    values.push_back(state.moment(plan.series_order));
+  };
+  observer.progress = progress;
+  plan.scene.engines.front()->run(run, observer);
+
+  const OscillationClassification c = classify_oscillation(times, values, plan.criteria);
+  ScanRecord r;
+  r.index = point.index;
+  r.a = point.a;
+  r.lambda = point.lambda;
+  r.size = size;
+  r.regime = to_string(c.regime);
+  r.period = c.period;
+  r.amplitude = c.amplitude;
+  r.mean = c.mean;
+  r.decay_rate = c.decay_rate;
+  r.decay_rate_error = c.decay_rate_error;
+  r.cycles = c.cycles;
+  r.converged = c.converged;
+  r.note = c.note;
+  if (plan.stability) classify_by_stability(run.model, r);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return r;
+}
+
+}  // namespace aggkit

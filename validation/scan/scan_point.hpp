@@ -1,0 +1,21 @@
+#pragma once
+// One point of a scan: the CVODE run of the point's model over the scene's time grid, the time-series
+// classification of the scan's moment over the tail, and (where available and asked for) the steady state
+// and its linear stability.
+#include <cstddef>
+#include <functional>
+
+#include "validation/scan/scan_plan.hpp"
+#include "validation/scan/scan_record.hpp"
+
+namespace aggkit {
+
+// Whether the steady-state/stability classification is part of this build (regime_stability columns).
+bool scan_stability_available();
+
+// `size` is the truncation N of this run (the scene's, or 2N for the truncation check); `progress` receives
+// the time reached (may be empty). Throws what the integrator throws if the run fails.
+ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,
+                          const std::function<void(double t)>& progress = {});
+
+}  // namespace aggkit

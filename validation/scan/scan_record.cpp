@@ -1,0 +1,85 @@
+#include "validation/scan/scan_record.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <vector>
+
+#include "validation/io/text.hpp"
+
+namespace aggkit {
+
+namespace {
+
+const char* const columns =
+    "a,lambda,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,"
+    "regime_stability,rightmost_real,rightmost_imag,agree,N,index,note";
+const char* const point_columns = ",seconds,rank";
+
+std::string clean(std::string text) {
+  std::replace_if(text.begin(), text.end(), [](char c) { return c == ',' || c == '\n' || c == '\r' || c == '"'; }, ';');
+  return text;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+}  // namespace
+
+std::string scan_csv_header() { return columns; }
+
+std::string scan_csv_row(const ScanRecord& r) {
+  const auto number = [](double v) { return shortest_text(v); };
+  return number(r.a) + "," + number(r.lambda) + "," + r.regime + "," + number(r.period) + "," + number(r.amplitude) +
+         "," + number(r.mean) + "," + number(r.decay_rate) + "," + number(r.decay_rate_error) + "," +
+         std::to_string(r.cycles) + "," + (r.converged ? "yes" : "no") + "," + r.regime_stability + "," +
+         number(r.rightmost_real) + "," + number(r.rightmost_imag) + "," + r.agree + "," + std::to_string(r.size) +
+         "," + std::to_string(r.index) + "," + clean(r.note);
+}
+
+std::string point_file_text(const ScanRecord& r) {
+  return scan_csv_header() + point_columns + "\n" + scan_csv_row(r) + "," + shortest_text(r.seconds) + "," +
+         std::to_string(r.rank) + "\n";
+}
+
+std::optional<ScanRecord> parse_point_file(const std::string& text) {
+  std::istringstream in(text);
+  std::string header, row, rest;
+  if (!std::getline(in, header) || header != scan_csv_header() + point_columns) return std::nullopt;
+  if (!std::getline(in, row) || std::getline(in, rest)) return std::nullopt;
+  const std::vector<std::string> f = split(row);
+  if (f.size() != 19) return std::nullopt;
+  try {
+    ScanRecord r;
+    r.a = std::stod(f[0]);
+    r.lambda = std::stod(f[1]);
+    r.regime = f[2];
+    r.period = std::stod(f[3]);
+    r.amplitude = std::stod(f[4]);
+    r.mean = std::stod(f[5]);
+    r.decay_rate = std::stod(f[6]);
+    r.decay_rate_error = std::stod(f[7]);
+    r.cycles = std::stoul(f[8]);
+    r.converged = f[9] == "yes";
+    r.regime_stability = f[10];
+    r.rightmost_real = std::stod(f[11]);
+    r.rightmost_imag = std::stod(f[12]);
+    r.agree = f[13];
+    r.size = std::stoul(f[14]);
+    r.index = std::stoul(f[15]);
+    r.note = f[16];
+    r.seconds = std::stod(f[17]);
+    r.rank = std::stoi(f[18]);
+    if (r.regime.empty()) return std::nullopt;
+    return r;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace aggkit

@@ -1,0 +1,49 @@
+#include "validation/scene/scene.hpp"
+
+#include "validation/scene/scene_sections.hpp"
+
+namespace aggkit {
+
+const Engine* Scene::find_engine(std::string_view label) const {
+  for (const auto& engine : engines)
+    if (engine->label() == label) return engine.get();
+  return nullptr;
+}
+
+const Tolerance* ComparisonPlan::tolerance_for(std::string_view observable) const {
+  for (const auto& t : tolerances)
+    if (t.observable == observable) return &t;
+  return nullptr;
+}
+
+namespace {
+
+Scene read_scene(const toml::table& document) {
+  const SceneTable root(document, "");
+  root.allow_only({"name", "model", "particles", "time", "engine", "observe", "compare"});
+  Scene scene;
+  scene.name = root.string("name");
+  if (scene.name.empty()) root.fail("name", "a non-empty name");
+  scene.time = read_time(root.table("time"));
+  if (const auto model = root.optional_table("model")) {
+    read_model(*model, scene);
+    scene.has_model = true;
+  }
+  if (const auto particles = root.optional_table("particles")) scene.particles = read_particles(*particles);
+  read_engines(root, scene);
+  scene.observe = read_observation(root.table("observe"), scene);
+  if (const auto compare = root.optional_table("compare")) scene.compare = read_comparison(*compare, scene);
+  return scene;
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml_text(text, source)); }
+
+Scene load_scene(const std::filesystem::path& path) {
+  Scene scene = parse_scene(read_scene_file(path), path.string());
+  scene.path = path;
+  return scene;
+}
+
+}  // namespace aggkit

@@ -1,0 +1,108 @@
+#pragma once
+// A scene: one validation run described in a TOML file (DESIGN.md "Scenes"). The schema, every key:
+//
+//   name = "..."                                   (required)
+//   [model]                                        required by the kinetic engines (cvode, exact, ...)
+//   kernel = { name = "ballistic" }                constant | sum | product | linear (A, B) |
+//                                                  genproduct (mu) | ballistic | brownian (a)
+//   lambda = 0.01                                  or { initial = .., slope = .. } (λ = initial + slope t)
+//                                                  or { times = [..], values = [..] } (piecewise linear);
+//                                                  default 0
+//   size = 5000                                    truncation N >= 2 (required)
+//   truncation = "drop"                            drop | cutoff (default drop)
+//   initial = { kind = "monodisperse" }            optional density (default 1);
+//                                                  or { kind = "table", n = [n_1, n_2, ...] }
+//   [particles]                                    required by the particle engines (ed); see
+//                                                  scene_particles.cpp for the keys
+//   [time]
+//   end = 100.0                                    (required, > 0)
+//   outputs = [1.0, 10.0]  or  every = 1.0         increasing, in (0, end]; end is always an output
+//   [[engine]]                                     one table per engine, run in this order
+//   name = "cvode"                                 see engine_registry.cpp for the kinds
+//   label = "cvode-direct"                         optional, default the name; unique; output folder
+//   ...                                            the engine's own options (engine_<name>.cpp)
+//   [observe]
+//   series = ["M0", "M2", "mass_leak", "n1"]       (required; see observable.hpp)
+//   distributions = [1.0, 100.0]                   optional; each one of the output times
+//   final = ["contacts", "fractal_dimension_box"]  particle engines: observables of the final configuration
+//                                                  (particle_final_state.hpp), written to <engine>/final.json
+//   snapshots = true                               particle engines: the final configuration as
+//                                                  <engine>/final.vtu and <engine>/final.png (default false)
+//   [compare]                                      optional
+//   reference = "exact"                            an engine label
+//   tolerance = { M0 = 1e-6, M2 = 1e-6 }           max relative error over the output times, per series
+//                                                  observable; observables without one are reported only;
+//                                                  or { M0 = { relative = 0.01, stderr = 3 } }: at each time
+//                                                  |x - x_ref| <= relative |x_ref| + stderr σ, σ the combined
+//                                                  standard error of ensemble engines (dsmc with runs > 1)
+//
+// Unknown keys anywhere are errors.
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "particle/common/particle_system.hpp"
+#include "solvers/model.hpp"
+#include "validation/engines/engine.hpp"
+#include "validation/observables/observable.hpp"
+
+namespace aggkit {
+
+// How n_k(0) was given; the exact engine needs a unit monodisperse start.
+struct InitialCondition {
+  enum class Kind { monodisperse, table };
+  Kind kind = Kind::monodisperse;
+  double density = 1.0;  // of the monomers, for Kind::monodisperse
+};
+
+struct TimeGrid {
+  double end = 0.0;
+  std::vector<double> outputs;  // increasing, in (0, end], the last one is `end`
+};
+
+struct Observation {
+  std::vector<Observable> series;
+  std::vector<double> distribution_times;  // each one of TimeGrid::outputs
+  std::vector<std::string> final_state;    // names of final-configuration observables (particle engines)
+  bool snapshots = false;                  // final configuration as .vtu and .png (particle engines)
+};
+
+struct Tolerance {
+  std::string observable;  // a name in Observation::series
+  double relative_error;   // the largest allowed max-over-time relative error (0 if only `stderr` is given)
+  // With `stderr = k`: at each output time |x - x_ref| may also use k combined standard errors
+  // sqrt(σ² + σ_ref²) of the two engines' ensembles (allowed: relative_error |x_ref| + k σ).
+  std::optional<double> standard_errors = std::nullopt;
+};
+
+struct ComparisonPlan {
+  std::string reference;  // an engine label
+  std::vector<Tolerance> tolerances;
+  const Tolerance* tolerance_for(std::string_view observable) const;  // nullptr: reported only
+};
+
+struct Scene {
+  std::string name;
+  std::filesystem::path path;  // the file it was read from; empty for a scene parsed from text
+  AggregationModel model;     // meaningful only if has_model
+  bool has_model = false;     // the scene has a [model] section
+  InitialCondition initial;
+  std::optional<ParticleSystem> particles;  // the [particles] section, if any
+  TimeGrid time;
+  std::vector<std::unique_ptr<Engine>> engines;
+  Observation observe;
+  std::optional<ComparisonPlan> compare;
+
+  const Engine* find_engine(std::string_view label) const;  // nullptr if absent
+};
+
+// Reads and validates a scene file; throws InputError for a missing or unreadable file, malformed TOML and
+// every bad key or value (the message names the dotted key, the value and what is allowed).
+Scene load_scene(const std::filesystem::path& path);
+// The same for TOML text; `source` names it in messages.
+Scene parse_scene(std::string_view text, const std::string& source = "scene");
+
+}  // namespace aggkit

@@ -1,0 +1,72 @@
+// [model]: kernel, shattering rate λ(t), truncation and initial condition.
+#include <cmath>
+#include <map>
+
+#include "validation/scene/scene_sections.hpp"
+
+namespace aggkit {
+
+namespace {
+
+constexpr std::size_t max_size = 100'000'000;  // N beyond this cannot be stored; surely a typo
+
+// The kernel checks its own name and parameters (solvers/kernels.hpp); values are read here as numbers.
+Kernel read_kernel(const SceneTable& model) {
+  const SceneTable kernel = model.table("kernel");
+  const std::string name = kernel.string("name");
+  std::map<std::string, double> parameters;
+  for (auto&& [key, value] : kernel.raw())
+    if (key.str() != "name") parameters[std::string(key.str())] = kernel.number(key.str(), Bound::any);
+  return Kernel::from_name(name, parameters);
+}
+
+// λ = number | { initial, slope } | { times, values } (solvers/shattering_rate.hpp); its values are
+// checked with the rest of the model (AggregationModel::validate).
+ShatteringRate read_shattering_rate(const SceneTable& model) {
+  const toml::node* node = model.find("lambda");
+  if (!node) return ShatteringRate();  // pure aggregation
+  const std::string forms = "a number >= 0, { initial = .., slope = .. } or { times = [..], values = [..] }";
+  if (node->is_integer() || node->is_floating_point()) return ShatteringRate::constant(model.number("lambda", Bound::any));
+  if (!node->is_table()) model.fail("lambda", forms);
+  const SceneTable form = model.table("lambda");
+  form.allow_only({"initial", "slope", "times", "values"});
+  const bool linear = form.contains("initial") || form.contains("slope");
+  const bool table = form.contains("times") || form.contains("values");
+  if (linear == table) model.fail("lambda", forms);
+  if (linear) return ShatteringRate::linear(form.number("initial", Bound::any), form.number("slope", Bound::any));
+  return ShatteringRate::table(form.numbers("times", Bound::any), form.numbers("values", Bound::any));
+}
+
+std::vector<double> read_initial(const SceneTable& model, std::size_t N, InitialCondition& initial) {
+  const std::optional<SceneTable> table = model.optional_table("initial");
+  if (!table) return monodisperse(N);
+  const std::string kind = table->string("kind");
+  if (kind == "monodisperse") {
+    table->allow_only({"kind", "density"});
+    initial.kind = InitialCondition::Kind::monodisperse;
+    initial.density = table->optional_number("density", Bound::positive).value_or(1.0);
+    return monodisperse(N, initial.density);
+  }
+  if (kind == "table") {
+    table->allow_only({"kind", "n"});
+    initial.kind = InitialCondition::Kind::table;
+    return table->numbers("n", Bound::any);  // n_1, n_2, ...; zeros beyond; checked by the model
+  }
+  table->fail("kind", "\"monodisperse\" or \"table\"");
+}
+
+}  // namespace
+
+void read_model(const SceneTable& model, Scene& scene) {
+  model.allow_only({"kernel", "lambda", "size", "truncation", "initial"});
+  AggregationModel& m = scene.model;
+  m.kernel = read_kernel(model);
+  m.lambda = read_shattering_rate(model);
+  m.size = model.count("size", 2);
+  if (m.size > max_size) model.fail("size", "2 <= N <= " + std::to_string(max_size));
+  if (const auto truncation = model.optional_string("truncation")) m.truncation = truncation_from_name(*truncation);
+  m.initial = read_initial(model, m.size, scene.initial);
+  m.validate(scene.time.end);  // λ(t) >= 0 on [0, end], initial densities finite and >= 0 with mass > 0
+}
+
+}  // namespace aggkit

@@ -1,0 +1,103 @@
+// [observe] and [compare]: what is recorded and how engines are compared.
+#include <algorithm>
+
+#include "validation/observables/particle_final_state.hpp"
+#include "validation/scene/scene_sections.hpp"
+
+namespace aggkit {
+
+namespace {
+
+// observe.final: names of final-configuration observables, each once; only with [particles].
+std::vector<std::string> read_final_state(const SceneTable& observe, const Scene& scene) {
+  const std::vector<std::string> names = observe.strings("final");
+  if (!scene.particles) observe.fail("final", "no final-state observables: they need a [particles] section");
+  const auto& known = final_state_observables();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string key = observe.key("final") + "[" + std::to_string(i) + "]";
+    if (std::find(known.begin(), known.end(), names[i]) == known.end())
+      throw InputError(key, "\"" + names[i] + "\"", "one of " + join(known));
+    if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i)
+      throw InputError(key, "\"" + names[i] + "\"", "each observable once");
+  }
+  return names;
+}
+
+bool is_series(const Scene& scene, const std::string& name) {
+  return std::any_of(scene.observe.series.begin(), scene.observe.series.end(),
+                     [&](const Observable& o) { return o.name() == name; });
+}
+
+}  // namespace
+
+Observation read_observation(const SceneTable& observe, const Scene& scene) {
+  observe.allow_only({"series", "distributions", "final", "snapshots"});
+  Observation observation;
+  const std::vector<std::string> names = observe.strings("series");
+  if (names.empty()) observe.fail("series", "at least one observable: " + std::string(Observable::forms()));
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string key = observe.key("series") + "[" + std::to_string(i) + "]";
+    const auto observable = Observable::from_name(names[i]);
+    if (!observable) throw InputError(key, "\"" + names[i] + "\"", Observable::forms());
+    const std::size_t largest = scene.has_model ? scene.model.size : scene.particles ? scene.particles->count : 0;
+    if (observable->kind() == Observable::Kind::density && observable->size() > largest)
+      throw InputError(key, "\"" + names[i] + "\"",
+                       "n<k> with k <= " + std::string(scene.has_model ? "model.size" : "particles.count") + " = " +
+                           std::to_string(largest));
+    for (const auto& earlier : observation.series)
+      if (earlier.name() == names[i]) throw InputError(key, "\"" + names[i] + "\"", "each observable once");
+    observation.series.push_back(*observable);
+  }
+  if (observe.contains("distributions")) {
+    const std::vector<double> times = observe.numbers("distributions", Bound::finite);
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      const std::string key = observe.key("distributions") + "[" + std::to_string(i) + "]";
+      const auto t = matching_output_time(scene.time, times[i]);
+      if (!t) throw InputError(key, shortest_text(times[i]), "one of the output times (see [time])");
+      if (std::find(observation.distribution_times.begin(), observation.distribution_times.end(), *t) !=
+          observation.distribution_times.end())
+        throw InputError(key, shortest_text(times[i]), "each time once");
+      observation.distribution_times.push_back(*t);
+    }
+    std::sort(observation.distribution_times.begin(), observation.distribution_times.end());
+  }
+  if (observe.contains("final")) observation.final_state = read_final_state(observe, scene);
+  observation.snapshots = observe.optional_boolean("snapshots").value_or(false);
+  if (observation.snapshots && !scene.particles) observe.fail("snapshots", "false: snapshots need a [particles] section");
+  return observation;
+}
+
+ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
+  compare.allow_only({"reference", "tolerance"});
+  ComparisonPlan plan;
+  plan.reference = compare.string("reference");
+  std::vector<std::string> labels;
+  for (const auto& engine : scene.engines) labels.push_back(engine->label());
+  if (!scene.find_engine(plan.reference)) compare.fail("reference", "the label of an engine of this scene: " + join(labels));
+  if (scene.engines.size() < 2)
+    compare.fail("reference", "a comparison needs a second engine besides the reference; this scene has only " +
+                                  join(labels));
+  if (const auto tolerance = compare.optional_table("tolerance")) {
+    std::vector<std::string> series;
+    for (const auto& o : scene.observe.series) series.push_back(o.name());
+    for (auto&& [key, value] : tolerance->raw()) {
+      const std::string name(key.str());
+      if (!is_series(scene, name))
+        throw InputError(tolerance->key(name), scene_text(value),
+                         "tolerances are given for observables in observe.series: " + join(series));
+      if (value.is_table()) {
+        const SceneTable form = tolerance->table(name);
+        form.allow_only({"relative", "stderr"});
+        if (!form.contains("relative") && !form.contains("stderr"))
+          throw InputError(tolerance->key(name), scene_text(value), "a number or { relative = r, stderr = k }");
+        plan.tolerances.push_back({name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
+                                   form.optional_number("stderr", Bound::non_negative)});
+      } else {
+        plan.tolerances.push_back({name, tolerance->number(name, Bound::non_negative), std::nullopt});
+      }
+    }
+  }
+  return plan;
+}
+
+}  // namespace aggkit

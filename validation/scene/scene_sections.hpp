@@ -1,0 +1,18 @@
+#pragma once
+// The readers of the sections of a scene (internal to the scene parser; see scene.hpp for the schema).
+#include "validation/scene/scene.hpp"
+#include "validation/scene/scene_table.hpp"
+
+namespace aggkit {
+
+TimeGrid read_time(const SceneTable& time);                      // [time]
+void read_model(const SceneTable& model, Scene& scene);          // [model]; needs scene.time
+ParticleSystem read_particles(const SceneTable& particles);        // [particles]
+void read_engines(const SceneTable& root, Scene& scene);         // [[engine]]; needs model/particles and time
+Observation read_observation(const SceneTable& observe, const Scene& scene);  // [observe]
+ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene);  // [compare]
+
+// The output time equal to `t` up to round-off (1e-9 of the end time), or std::nullopt.
+std::optional<double> matching_output_time(const TimeGrid& grid, double t);
+
+}  // namespace aggkit

@@ -1,9 +1,0 @@
-#include "validation/version.hpp"
-
-#ifndef AGGKIT_VERSION
-#define AGGKIT_VERSION "unknown"
-#endif
-
-namespace aggkit {
-const char* version() { return AGGKIT_VERSION; }
-}  // namespace aggkit
