@@ -33,12 +33,7 @@ const char* exit_status_help =
     "  3  an unexpected internal error (please report it)\n";
 
 std::string engine_help() {
-  std::string help = "Engines ([[engine]] name = ...):\n";
-  for (const auto& type : aggkit::engine_types()) {
-    help += "  " + type.name + ": " + type.description + "\n";
-    if (!type.keys.empty()) help += "    options: " + aggkit::join(type.keys) + "\n";
-  }
-  return help + "\n" + exit_status_help;
+  return aggkit::engines_help() + "\n" + aggkit::observables_help() + "\n" + exit_status_help;
 }
 
 struct RunArguments {

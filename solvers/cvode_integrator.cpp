@@ -26,7 +26,7 @@ IntegratorMethod integrator_method_from_name(const std::string& name) {
   if (name == "bdf-gmres") return IntegratorMethod::bdf_gmres;
   if (name == "bdf-dense") return IntegratorMethod::bdf_dense;
   if (name == "adams") return IntegratorMethod::adams;
-  throw InputError("engine.method", "\"" + name + "\"", "one of bdf-gmres, bdf-dense, adams");
+  throw InputError("method", "\"" + name + "\"", "one of bdf-gmres, bdf-dense, adams");
 }
 
 std::string to_string(IntegratorMethod m) {
@@ -42,7 +42,7 @@ Preconditioner preconditioner_from_name(const std::string& name) {
   if (name == "monomer") return Preconditioner::monomer;
   if (name == "jacobi") return Preconditioner::jacobi;
   if (name == "none") return Preconditioner::none;
-  throw InputError("engine.preconditioner", "\"" + name + "\"", "one of monomer, jacobi, none");
+  throw InputError("preconditioner", "\"" + name + "\"", "one of monomer, jacobi, none");
 }
 
 std::string to_string(Preconditioner p) {
@@ -58,25 +58,25 @@ void IntegratorOptions::validate() const {
     if (!std::isfinite(value) || !(value > 0.0))
       throw InputError(key, format_value(value), "must be a finite number > 0");
   };
-  positive("engine.rtol", rtol);
+  positive("rtol", rtol);
   if (!std::isfinite(atol) || atol < 0.0)
-    throw InputError("engine.atol", format_value(atol), "must be a finite number >= 0 (0: 1e-2 rtol)");
+    throw InputError("atol", format_value(atol), "must be a finite number >= 0 (0: 1e-2 rtol)");
   if (!std::isfinite(atol_floor) || atol_floor < 0.0)
-    throw InputError("engine.atol_floor", format_value(atol_floor), "must be a finite number >= 0");
+    throw InputError("atol_floor", format_value(atol_floor), "must be a finite number >= 0");
   if (!std::isfinite(atol_exponent) || atol_exponent < 0.0 || atol_exponent > 6.0)
-    throw InputError("engine.atol_exponent", format_value(atol_exponent), "must be in [0, 6]");
+    throw InputError("atol_exponent", format_value(atol_exponent), "must be in [0, 6]");
   if (!std::isfinite(lowrank_tolerance) || lowrank_tolerance < 0.0)
-    throw InputError("engine.lowrank_tolerance", format_value(lowrank_tolerance), "must be >= 0 (0: automatic)");
+    throw InputError("lowrank_tolerance", format_value(lowrank_tolerance), "must be >= 0 (0: automatic)");
   if (!std::isfinite(jacobian_tolerance) || jacobian_tolerance < 0.0 || jacobian_tolerance >= 0.1)
-    throw InputError("engine.jacobian_tolerance", format_value(jacobian_tolerance), "must be in [0, 0.1)");
-  if (rtol >= 1.0) throw InputError("engine.rtol", format_value(rtol), "must be < 1");
+    throw InputError("jacobian_tolerance", format_value(jacobian_tolerance), "must be in [0, 0.1)");
+  if (rtol >= 1.0) throw InputError("rtol", format_value(rtol), "must be < 1");
   if (lowrank_tolerance >= 0.1)
-    throw InputError("engine.lowrank_tolerance", format_value(lowrank_tolerance), "must be < 0.1");
+    throw InputError("lowrank_tolerance", format_value(lowrank_tolerance), "must be < 0.1");
   if (krylov_dimension < 0 || krylov_dimension > 500)
-    throw InputError("engine.krylov", std::to_string(krylov_dimension), "must be in 0..500 (0: default 5)");
+    throw InputError("krylov", std::to_string(krylov_dimension), "must be in 0..500 (0: default 5)");
   if (!std::isfinite(linear_tolerance_factor) || !(linear_tolerance_factor > 0.0) || linear_tolerance_factor > 1.0)
-    throw InputError("engine.linear_tolerance_factor", format_value(linear_tolerance_factor), "must be in (0, 1]");
-  if (max_steps < 1) throw InputError("engine.max_steps", std::to_string(max_steps), "must be >= 1");
+    throw InputError("linear_tolerance_factor", format_value(linear_tolerance_factor), "must be in (0, 1]");
+  if (max_steps < 1) throw InputError("max_steps", std::to_string(max_steps), "must be >= 1");
 }
 
 namespace {
@@ -279,7 +279,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
                        "output times must be finite, >= 0 and strictly increasing");
   const std::size_t N = model.size;
   if (options.method == IntegratorMethod::bdf_dense && N > options.dense_limit)
-    throw InputError("engine.method", "\"bdf-dense\"",
+    throw InputError("method", "\"bdf-dense\"",
                      "a dense Jacobian is limited to N <= " + std::to_string(options.dense_limit) +
                          " (N = " + std::to_string(N) + "); use bdf-gmres");
 

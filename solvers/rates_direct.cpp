@@ -14,7 +14,7 @@ namespace aggkit {
 RatesPath rates_path_from_name(const std::string& name) {
   if (name == "fast") return RatesPath::fast;
   if (name == "direct") return RatesPath::direct;
-  throw InputError("engine.rhs", "\"" + name + "\"", "one of fast, direct");
+  throw InputError("rhs", "\"" + name + "\"", "one of fast, direct");
 }
 
 std::string to_string(RatesPath p) { return p == RatesPath::fast ? "fast" : "direct"; }

@@ -12,6 +12,13 @@
 
 namespace aggkit::testing {
 
+// A scene parsed and its engines built: every bad input, engine options included, is an InputError.
+inline Scene parse_checked(std::string_view text) {
+  Scene scene = parse_scene(text);
+  (void)build_engines(scene);
+  return scene;
+}
+
 // Run options writing into `out` with no plots, report, progress or warnings (silent test runs).
 inline RunOptions quiet_run(const std::filesystem::path& out) {
   RunOptions options;

@@ -79,15 +79,15 @@ TEST_CASE("harness: a standard-error tolerance allows k combined standard errors
 TEST_CASE("scene: the tolerance table form is read and checked") {
   aggkit::testing::SceneText text;
   text.compare = "reference = \"exact\"\ntolerance = { M0 = { relative = 0.01, stderr = 3 }, M2 = 1e-6 }\n";
-  const Scene scene = parse_scene(text.text());
+  const Scene scene = aggkit::testing::parse_checked(text.text());
   REQUIRE(scene.compare->tolerance_for("M0"));
   CHECK(scene.compare->tolerance_for("M0")->relative_error == 0.01);
   CHECK(scene.compare->tolerance_for("M0")->standard_errors == 3.0);
   CHECK_FALSE(scene.compare->tolerance_for("M2")->standard_errors);
   text.compare = "reference = \"exact\"\ntolerance = { M0 = { stderr = -1 } }\n";
-  CHECK_THROWS_WITH(parse_scene(text.text()), Catch::Matchers::Contains("compare.tolerance.M0.stderr = -1"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Catch::Matchers::Contains("compare.tolerance.M0.stderr = -1"));
   text.compare = "reference = \"exact\"\ntolerance = { M0 = { sigma = 3 } }\n";
-  CHECK_THROWS_WITH(parse_scene(text.text()), Catch::Matchers::Contains("sigma"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Catch::Matchers::Contains("sigma"));
   text.compare = "reference = \"exact\"\ntolerance = { M0 = {} }\n";
-  CHECK_THROWS_WITH(parse_scene(text.text()), Catch::Matchers::Contains("compare.tolerance.M0"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Catch::Matchers::Contains("compare.tolerance.M0"));
 }

@@ -32,7 +32,7 @@ RunOptions quiet(const std::filesystem::path& out) { return aggkit::testing::qui
 void check_bad(const std::string& text, const std::string& key, const std::string& value) {
   INFO(text);
   try {
-    parse_scene(text);
+    aggkit::testing::parse_checked(text);
     FAIL("no InputError");
   } catch (const InputError& e) {
     CHECK(e.key() == key);
@@ -44,13 +44,16 @@ void check_bad(const std::string& text, const std::string& key, const std::strin
 
 TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-contract");
-  const Scene scene = parse_scene(ed_scene("realizations = 3\nseed = 5\n"));
+  const Scene scene = aggkit::testing::parse_checked(ed_scene("realizations = 3\nseed = 5\n"));
   REQUIRE(scene.particles);
   CHECK_FALSE(scene.has_model);
   const RunResult result = run_scene(scene, quiet(out));
   REQUIRE(result.records.size() == 1);
   REQUIRE(result.records[0].completed());
-  CHECK(aggkit::testing::first_line(out / "ed" / "series.csv") == "t,clusters,kinetic_energy,mean_cluster_size,M0,M1");
+  // Three realizations: every series observable has its standard error over them.
+  CHECK(aggkit::testing::first_line(out / "ed" / "series.csv") ==
+        "t,clusters,kinetic_energy,mean_cluster_size,M0,M1,clusters_stderr,kinetic_energy_stderr,"
+        "mean_cluster_size_stderr,M0_stderr,M1_stderr");
   const auto& values = result.records[0].values;
   REQUIRE(values.size() == 3);
   double previous_energy = 50.0;  // ½ N v² at the start
@@ -100,7 +103,7 @@ TEST_CASE("ed: series and final.json follow the contract and the physics", "[ed]
 
 TEST_CASE("ed: size distribution (PDF and CDF) at a chosen time", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-distribution");
-  run_scene(parse_scene(ed_scene("seed = 2\n", "stop = \"one_cluster\"\n",
+  run_scene(aggkit::testing::parse_checked(ed_scene("seed = 2\n", "stop = \"one_cluster\"\n",
                                  "series = [\"M0\"]\ndistributions = [1.0]\nfinal = [\"clusters\"]\n")),
             quiet(out));
   CHECK(aggkit::testing::first_line(out / "ed" / "distribution.csv") == "t,k,n,cdf");
@@ -138,7 +141,7 @@ TEST_CASE("ed: size distribution (PDF and CDF) at a chosen time", "[ed][harness]
 TEST_CASE("ed: thermalize runs the elastic stage first, then sticking from t = 0", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-thermalize");
   const RunResult result =
-      run_scene(parse_scene(ed_scene("thermalize = 4\n", "stop = \"one_cluster\"\n",
+      run_scene(aggkit::testing::parse_checked(ed_scene("thermalize = 4\n", "stop = \"one_cluster\"\n",
                                      "series = [\"clusters\", \"kinetic_energy\"]\nfinal = [\"clusters\"]\n")),
                 quiet(out));
   REQUIRE(result.records[0].completed());
@@ -154,11 +157,11 @@ TEST_CASE("ed: thermalize runs the elastic stage first, then sticking from t = 0
 
 TEST_CASE("ed: without stop the run ends at time.end; { clusters = K } stops at K", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-stop");
-  const RunResult by_time = run_scene(parse_scene(ed_scene("", "", "series = [\"clusters\"]\n")), quiet(out));
+  const RunResult by_time = run_scene(aggkit::testing::parse_checked(ed_scene("", "", "series = [\"clusters\"]\n")), quiet(out));
   REQUIRE(by_time.records[0].completed());
   CHECK(by_time.records[0].values.back()[0] > 1.0);  // 100 particles do not reach one cluster by t = 5
   const RunResult by_count =
-      run_scene(parse_scene(ed_scene("", "stop = { clusters = 50 }\n", "series = [\"clusters\"]\nfinal = [\"clusters\"]\n")),
+      run_scene(aggkit::testing::parse_checked(ed_scene("", "stop = { clusters = 50 }\n", "series = [\"clusters\"]\nfinal = [\"clusters\"]\n")),
                 quiet(out));
   std::ifstream in(out / "ed" / "final.json");
   CHECK(nlohmann::json::parse(in)["clusters"].get<double>() == 50.0);
@@ -166,7 +169,7 @@ TEST_CASE("ed: without stop the run ends at time.end; { clusters = K } stops at 
 
 TEST_CASE("ed: snapshots write final.vtu", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-snapshot");
-  run_scene(parse_scene(ed_scene("", "stop = \"one_cluster\"\n", "series = [\"clusters\"]\nsnapshots = true\n")), quiet(out));
+  run_scene(aggkit::testing::parse_checked(ed_scene("", "stop = \"one_cluster\"\n", "series = [\"clusters\"]\nsnapshots = true\n")), quiet(out));
   CHECK(std::filesystem::exists(out / "ed" / "final.vtu"));
   CHECK(std::filesystem::exists(out / "ed" / "final.json"));
 }
@@ -193,4 +196,68 @@ TEST_CASE("ed: bad [particles], stop and observe input name the key", "[ed][harn
   check_bad("name = \"x\"\n[model]\nkernel = { name = \"constant\" }\nsize = 10\n[time]\nend = 1.0\n[[engine]]\nname = \"ed\"\n"
             "[observe]\nseries = [\"M0\"]\n",
             "engine[0].name", "ed");
+}
+
+TEST_CASE("ed: on the particle runner, the outputs are bit-identical to the engine's before it moved there",
+          "[ed][harness][runner]") {
+  // tests/validation/data/ed-reference/: series.csv, final.json and pair_distribution.csv written by the
+  // engine's own realization loop (full precision, one realization, fixed seed) before the runner existed.
+  const auto data = std::filesystem::path(AGGKIT_SOURCE_DIR) / "tests" / "validation" / "data" / "ed-reference";
+  for (const std::string name : {"reflecting-2d", "periodic-3d"}) {
+    INFO(name);
+    const auto out = aggkit::testing::scratch_folder("ed-reference-" + name);
+    const RunResult result = run_scene(load_scene(data / (name + ".toml")), quiet(out));
+    REQUIRE(result.exit_code == 0);
+    using aggkit::testing::read_text;
+    CHECK(read_text(out / "ed" / "series.csv") == read_text(data / name / "series.csv"));
+    CHECK(read_text(out / "ed" / "pair_distribution.csv") == read_text(data / name / "pair_distribution.csv"));
+    auto now = nlohmann::json::parse(read_text(out / "ed" / "final.json"));
+    auto before = nlohmann::json::parse(read_text(data / name / "final.json"));
+    now.erase("wall_seconds");  // timing: the one value that may differ
+    before.erase("wall_seconds");
+    CHECK(now.dump(1) == before.dump(1));
+    if (std::filesystem::exists(data / name / "distribution.csv"))
+      CHECK(read_text(out / "ed" / "distribution.csv") == read_text(data / name / "distribution.csv"));
+  }
+}
+
+TEST_CASE("ed: realizations on threads give the same outputs as one after the other", "[ed][harness][runner]") {
+  const std::string observe = "series = [\"clusters\", \"kinetic_energy\", \"M2\"]\nfinal = [\"contacts\", \"pair_distribution\"]\n";
+  const auto serial = aggkit::testing::scratch_folder("ed-threads-1");
+  const auto threaded = aggkit::testing::scratch_folder("ed-threads-3");
+  run_scene(aggkit::testing::parse_checked(ed_scene("realizations = 4\nseed = 3\n", "stop = { clusters = 10 }\n", observe)),
+            quiet(serial));
+  run_scene(aggkit::testing::parse_checked(
+                ed_scene("realizations = 4\nseed = 3\n", "stop = { clusters = 10 }\nthreads = 3\n", observe)),
+            quiet(threaded));
+  using aggkit::testing::read_text;
+  CHECK(read_text(serial / "ed" / "series.csv") == read_text(threaded / "ed" / "series.csv"));
+  CHECK(read_text(serial / "ed" / "pair_distribution.csv") == read_text(threaded / "ed" / "pair_distribution.csv"));
+  auto a = nlohmann::json::parse(read_text(serial / "ed" / "final.json"));
+  auto b = nlohmann::json::parse(read_text(threaded / "ed" / "final.json"));
+  for (auto* j : {&a, &b}) j->erase("wall_seconds"), j->erase("wall_seconds_stderr");
+  CHECK(a == b);
+  CHECK(a.contains("contacts_stderr"));
+}
+
+TEST_CASE("ed: a rerun into the same folder leaves no file the new scene does not write", "[ed][harness][runner]") {
+  const auto out = aggkit::testing::scratch_folder("ed-rerun");
+  run_scene(aggkit::testing::parse_checked(ed_scene()), quiet(out));  // asks for pair_distribution
+  REQUIRE(std::filesystem::exists(out / "ed" / "pair_distribution.csv"));
+  run_scene(aggkit::testing::parse_checked(ed_scene("", "stop = \"one_cluster\"\n", "series = [\"clusters\"]\n")), quiet(out));
+  CHECK_FALSE(std::filesystem::exists(out / "ed" / "pair_distribution.csv"));
+  CHECK(std::filesystem::exists(out / "ed" / "final.json"));
+}
+
+TEST_CASE("ed: observables a kinetic engine cannot give are refused for it, naming the observable", "[ed][harness]") {
+  aggkit::testing::SceneText text;
+  text.observe = "series = [\"M0\", \"kinetic_energy\"]\n";
+  text.compare = "";
+  try {
+    aggkit::testing::parse_checked(text.text());
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(e.key() == "observe.series[1]");
+    CHECK_THAT(std::string(e.what()), Contains("cvode") && Contains("particle velocities"));
+  }
 }

@@ -47,10 +47,11 @@ outputs = [1.0]
 [[engine]]
 name = "snes"
 )";
-  CHECK_THROWS_WITH(parse_scene(scene + "tolerance = -1.0\n"), Catch::Contains("tolerance") && Catch::Contains("-1"));
-  CHECK_THROWS_WITH(parse_scene(scene + "rhs = \"fft\"\n"), Catch::Contains("rhs"));
-  CHECK_THROWS_WITH(parse_scene(scene + "max_newton_iterations = 0\n"), Catch::Contains("max_newton_iterations"));
+  const std::string observe = "[observe]\nseries = [\"M0\"]\n";
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene + "tolerance = -1.0\n" + observe), Catch::Contains("tolerance") && Catch::Contains("-1"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene + "rhs = \"fft\"\n" + observe), Catch::Contains("rhs"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene + "max_newton_iterations = 0\n" + observe), Catch::Contains("max_newton_iterations"));
   std::string driven = scene;
   driven.replace(driven.find("lambda = 0.5"), 12, "lambda = { kind = \"linear\", initial = 0.1, slope = 0.01 }");
-  CHECK_THROWS_AS(parse_scene(driven), InputError);
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(driven + observe), Catch::Contains("model.lambda"));
 }

@@ -31,7 +31,7 @@ TEST_CASE("harness: constant kernel against the exact solution writes every outp
   SceneText text;
   text.observe = "series = [\"M0\", \"M1\", \"M2\", \"n1\", \"mass_leak\"]\ndistributions = [1.0]\n";
   text.compare = "reference = \"exact\"\ntolerance = { M0 = 1e-7, M1 = 1e-7, M2 = 1e-6, n1 = 1e-7 }\n";
-  const Scene scene = parse_scene(text.text());
+  const Scene scene = aggkit::testing::parse_checked(text.text());
   std::ostringstream report;
   const RunResult result = run_scene(scene, quiet_options(out, &report));
 
@@ -97,7 +97,7 @@ TEST_CASE("harness: a tolerance no solver can meet fails with exit code 1") {
   const auto out = aggkit::testing::scratch_folder("harness-impossible");
   SceneText text;
   text.compare = "reference = \"exact\"\ntolerance = { M2 = 0.0 }\n";
-  const RunResult result = run_scene(parse_scene(text.text()), quiet_options(out));
+  const RunResult result = run_scene(aggkit::testing::parse_checked(text.text()), quiet_options(out));
   CHECK(result.exit_code == 1);
   CHECK_FALSE(result.pass);
   const auto summary = nlohmann::json::parse(aggkit::testing::read_text(out / "summary.json"));
@@ -115,7 +115,7 @@ TEST_CASE("harness: an output folder under a regular file is refused before anyt
   const auto folder = aggkit::testing::scratch_folder("harness-unwritable");
   const auto file = aggkit::testing::write_text(folder / "file", "not a folder\n");
   try {
-    run_scene(parse_scene(SceneText{}.text()), quiet_options(file / "out"));
+    run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(file / "out"));
     FAIL("accepted");
   } catch (const InputError& e) {
     CHECK(e.key() == "--out");
@@ -125,19 +125,19 @@ TEST_CASE("harness: an output folder under a regular file is refused before anyt
   const auto out = folder / "out";
   std::filesystem::create_directories(out);
   aggkit::testing::write_text(out / "exact", "a file where the exact engine's folder goes\n");
-  CHECK_THROWS_WITH(run_scene(parse_scene(SceneText{}.text()), quiet_options(out)), Contains((out / "exact").string()));
+  CHECK_THROWS_WITH(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out)), Contains((out / "exact").string()));
   CHECK_FALSE(std::filesystem::exists(out / "cvode" / "series.csv"));
 }
 
 TEST_CASE("harness: stale outputs of an earlier run are removed before a run starts") {
   const auto out = aggkit::testing::scratch_folder("harness-stale");
-  const Scene scene = parse_scene(SceneText{}.text());
+  const Scene scene = aggkit::testing::parse_checked(SceneText{}.text());
   std::filesystem::create_directories(out / "cvode");
   aggkit::testing::write_text(out / "summary.json", "{\"pass\": true, \"stale\": true}\n");
   aggkit::testing::write_text(out / "cvode" / "series.csv", "stale\n");
   aggkit::testing::write_text(out / "report.png", "stale\n");
   aggkit::testing::write_text(out / "notes.txt", "the user's\n");
-  OutputFolder(out).prepare(scene);
+  OutputFolder(out).prepare({{"cvode", {}}, {"exact", {}}});
   CHECK_FALSE(std::filesystem::exists(out / "summary.json"));
   CHECK_FALSE(std::filesystem::exists(out / "cvode" / "series.csv"));
   CHECK_FALSE(std::filesystem::exists(out / "report.png"));
@@ -171,9 +171,10 @@ class FailingEngine final : public Engine {
 
 TEST_CASE("harness: a failing engine is recorded, the others still run, and the run fails") {
   const auto out = aggkit::testing::scratch_folder("harness-engine-failure");
-  Scene scene = parse_scene(SceneText{}.text());
-  scene.engines.insert(scene.engines.begin(), std::make_unique<FailingEngine>("broken", false));
-  const RunResult result = run_scene(scene, quiet_options(out));
+  Scene scene = aggkit::testing::parse_checked(SceneText{}.text());
+  std::vector<std::unique_ptr<Engine>> engines = build_engines(scene);
+  engines.insert(engines.begin(), std::make_unique<FailingEngine>("broken", false));
+  const RunResult result = run_engines(scene, engines, quiet_options(out));
   CHECK(result.exit_code == 1);
   REQUIRE(result.records.size() == 3);
   CHECK_FALSE(result.records[0].completed());
@@ -194,8 +195,9 @@ TEST_CASE("harness: a failing engine is recorded, the others still run, and the 
 
 TEST_CASE("harness: bad input found while running stops the run without a summary") {
   const auto out = aggkit::testing::scratch_folder("harness-late-input-error");
-  Scene scene = parse_scene(SceneText{}.text());
-  scene.engines.push_back(std::make_unique<FailingEngine>("late", true));
-  CHECK_THROWS_AS(run_scene(scene, quiet_options(out)), InputError);
+  Scene scene = aggkit::testing::parse_checked(SceneText{}.text());
+  std::vector<std::unique_ptr<Engine>> engines = build_engines(scene);
+  engines.push_back(std::make_unique<FailingEngine>("late", true));
+  CHECK_THROWS_AS(run_engines(scene, engines, quiet_options(out)), InputError);
   CHECK_FALSE(std::filesystem::exists(out / "summary.json"));
 }

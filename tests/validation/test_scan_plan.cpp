@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "analysis/input_error.hpp"
+#include "tests/validation/scene_fixture.hpp"
 #include "validation/scan/scan_plan.hpp"
 
 using namespace aggkit;
@@ -49,7 +50,7 @@ TEST_CASE("scan plan: lists, linear and log ranges") {
   CHECK(plan.series == "M0");
   CHECK(plan.criteria.tail_fraction == 0.5);
   CHECK(plan.scene.engines.size() == 1);  // a default cvode engine
-  CHECK(plan.scene.engines[0]->name() == "cvode");
+  CHECK(plan.scene.engines[0].name == "cvode");
 
   ScanText linear;
   linear.scan = "a = { from = 0.55, to = 1.0, count = 10 }\nlambda = [0.01]\nseries = \"M2\"\ntail = 0.25\n"

@@ -1,7 +1,9 @@
 #pragma once
-// Engines: the solvers a scene can run (`[[engine]] name = ...`). Each engine kind lives in its own file
-// (engine_cvode.cpp, engine_exact.cpp, ...) and is listed once in engine_registry.cpp; the scene parser
-// knows engines only through this interface, so a new kind (dsmc, ed, ts, dem, snes) needs no change to it.
+// Engines: the solvers a scene can run (`[[engine]] name = ...`). Each kind is one file engine_<name>.cpp
+// defining <name>_engine_type() — its option table, what its states give the observables, the files it
+// writes and how it is built — and one line in engine_registry.cpp. Particle engines are built on the
+// particle runner (particle_runner.hpp), which gives them realizations, threads, final-state observables,
+// profiles, conservation checks, timing and snapshots.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -11,12 +13,11 @@
 #include <variant>
 #include <vector>
 
-#include "validation/observables/system_state.hpp"
+#include "validation/engines/option_table.hpp"
+#include "validation/observables/observable.hpp"
+#include "validation/scene/scene.hpp"
 
 namespace aggkit {
-
-struct Scene;
-class SceneTable;
 
 // One number or word an engine reports about its run (step counts, kernel rank, ...), for summary.json.
 struct EngineStatistic {
@@ -25,12 +26,25 @@ struct EngineStatistic {
 };
 using EngineStatistics = std::vector<EngineStatistic>;
 
+// The scene's series observables evaluated on one state (one realization at one output time).
+struct Measurement {
+  std::vector<double> values;      // observe.series, in order
+  double leaked_mass = 0;
+  std::vector<double> distribution;  // n_1..n_N at a distribution time (observe.distributions), else empty
+};
+
 // What an engine reports while it runs.
 struct EngineObserver {
-  std::function<void(double t, const SystemState& state)> output;  // at each output time, in order
-  std::function<void(double t)> progress;                           // the time reached, as often as it likes
-  std::function<void(const std::string& what)> status;              // a stage or count in words, as often as it likes
-  std::filesystem::path folder;  // the engine's output folder (exists), for files beyond the series (final.json)
+  // Evaluates the scene's observables on `state` at output time t; safe to call from several threads.
+  std::function<Measurement(double t, const ObservedState& state)> measure;
+  // The measurements of every realization at the next output time t, in order of t; with more than one
+  // the harness records their mean and standard error.
+  std::function<void(double t, std::vector<Measurement> realizations)> record;
+  std::function<void(double t)> progress;                // the time reached, as often as it likes
+  std::function<void(const std::string& what)> status;   // a stage or count in words, as often as it likes
+  std::filesystem::path folder;  // the engine's output folder (exists), for the files it declares
+
+  void output(double t, const ObservedState& state) const { record(t, {measure(t, state)}); }
 };
 
 class Engine {
@@ -53,19 +67,29 @@ class Engine {
   std::string label_;
 };
 
-// How an engine kind is read from its `[[engine]]` table.
+// An engine kind.
 struct EngineType {
-  std::string name;                // the value of `name`
-  std::string description;         // one line, for `aggkit` help and messages
-  std::vector<std::string> keys;   // its option keys (besides `name` and `label`)
-  // Reads the options (unknown keys are already rejected) and checks them against the scene's model and
-  // time grid, which are parsed before the engines; throws InputError naming the key.
-  std::function<std::unique_ptr<Engine>(const SceneTable& options, std::string label, const Scene& scene)> parse;
-  bool needs_model = true;         // kinetic engines need [model]; particle engines need [particles] instead
+  std::string name;          // the value of `name`
+  std::string description;   // one line, for --help and messages
+  OptionTable options;       // its keys besides `name` and `label`
+  unsigned provides = need::kinetic;  // what its states give the observables (observable.hpp's need bits)
+  bool needs_model = true;            // kinetic engines need [model]; particle engines need [particles]
+  std::vector<std::string> files;     // files it writes in its folder besides series.csv and distribution.csv
+  // Builds the engine from its checked options; checks them against the scene (InputError naming the key).
+  std::function<std::unique_ptr<Engine>(const EngineOptions& options, const EngineSpec& spec, const Scene& scene)> build;
 };
 
 const std::vector<EngineType>& engine_types();
 const EngineType* find_engine_type(std::string_view name);  // nullptr if unknown
 std::vector<std::string> engine_names();
+
+// Builds engine `index` of the scene. InputError, naming the key, for an unknown kind, a bad option, a
+// scene without the section it needs, or an observable it cannot give.
+std::unique_ptr<Engine> build_engine(const Scene& scene, std::size_t index);
+std::vector<std::unique_ptr<Engine>> build_engines(const Scene& scene);  // all, in order; before anything runs
+
+// The engines and observables sections of `aggkit run --help`, from the registries.
+std::string engines_help();
+std::string observables_help();
 
 }  // namespace aggkit

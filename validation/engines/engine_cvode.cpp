@@ -1,17 +1,37 @@
 // Engine "cvode": the truncated rate equations integrated by SUNDIALS CVODE (solvers/cvode_integrator.hpp).
-// Options: method (bdf-gmres | bdf-dense | adams), rtol, atol, atol_exponent (atol_k = atol / k^q),
-// atol_floor (lower bound of atol_k relative to the largest initial density),
-// rhs (fast | direct), lowrank_tolerance, jacobian_tolerance, preconditioner (monomer | jacobi | none), krylov (Krylov
-// subspace dimension, 0 = CVODE's default), max_steps, project_mass (bool).
+// Its options are the table below (`aggkit run --help` prints it).
 #include <limits>
 
 #include "solvers/cvode_integrator.hpp"
-#include "validation/scene/scene.hpp"
+#include "validation/engines/engine.hpp"
+#include "validation/io/text.hpp"
 #include "validation/scene/scene_table.hpp"
 
 namespace aggkit {
 
 namespace {
+
+const OptionTable& cvode_options() {
+  static const OptionTable table{
+      word_option("method", "bdf-gmres", "BDF with matrix-free GMRES, BDF with a dense Jacobian (small N), or Adams",
+                  {"bdf-gmres", "bdf-dense", "adams"}),
+      number_option("rtol", "1e-06", "relative tolerance", 0.0, 1.0, true),
+      number_option("atol", "rtol/100", "absolute tolerance of n_1 (atol_k = atol / k^atol_exponent); 0 = default", 0.0,
+                    std::numeric_limits<double>::infinity()),
+      number_option("atol_exponent", "3", "q of atol_k = atol / k^q (3 controls M0..M3)", 0.0, 6.0),
+      number_option("atol_floor", "0", "lower bound of atol_k relative to the largest initial density (0: 1e-10 rtol)",
+                    0.0, std::numeric_limits<double>::infinity()),
+      word_option("rhs", "fast", "right-hand side: FFT/low-rank O(N R log N), or the direct O(N^2) sums", {"fast", "direct"}),
+      number_option("lowrank_tolerance", "min(1e-8, 1e-3 rtol)", "relative error of the low-rank kernel (0: default)",
+                    0.0, 0.1),
+      number_option("jacobian_tolerance", "1e-4", "low-rank tolerance of the Jacobian-vector products", 0.0, 0.1),
+      word_option("preconditioner", "monomer", "bdf-gmres preconditioner", {"monomer", "jacobi", "none"}),
+      integer_option("krylov", "0", "Krylov subspace dimension (0: CVODE's default 5)", 0, 500),
+      integer_option("max_steps", "10000000", "most internal steps", 1),
+      flag_option("project_mass", true, "project steps and outputs onto the conserved mass"),
+  };
+  return table;
+}
 
 class CvodeEngine final : public Engine {
  public:
@@ -58,47 +78,35 @@ class CvodeEngine final : public Engine {
   IntegratorOptions options_;
 };
 
-std::unique_ptr<Engine> parse_cvode(const SceneTable& table, std::string label, const Scene& scene) {
-  // The integrator's messages say "engine.<option>"; the scene's key is "engine[i].<option>".
-  const auto rekey = [&table](const std::string& library_key) { return table.key(leaf_key(library_key)); };
+std::unique_ptr<Engine> build_cvode(const EngineOptions& given, const EngineSpec& spec, const Scene& scene) {
+  // The integrator names its own parameters ("rtol"); the scene's key is "engine[i].rtol".
+  const auto rekey = [&given](const std::string& parameter) { return given.key(leaf_key(parameter)); };
   IntegratorOptions options;
-  if (const auto method = table.optional_string("method"))
-    options.method = under_key(rekey, [&] { return integrator_method_from_name(*method); });
-  if (const auto rhs = table.optional_string("rhs"))
-    options.rates = under_key(rekey, [&] { return rates_path_from_name(*rhs); });
-  options.rtol = table.optional_number("rtol", Bound::any).value_or(options.rtol);
-  options.atol = table.optional_number("atol", Bound::any).value_or(options.atol);
-  options.atol_exponent = table.optional_number("atol_exponent", Bound::any).value_or(options.atol_exponent);
-  options.atol_floor = table.optional_number("atol_floor", Bound::any).value_or(options.atol_floor);
-  options.jacobian_tolerance = table.optional_number("jacobian_tolerance", Bound::any).value_or(options.jacobian_tolerance);
-  if (const auto steps = table.optional_count("max_steps", 1)) {
-    if (*steps > std::size_t(std::numeric_limits<long>::max())) table.fail("max_steps", "an integer >= 1");
-    options.max_steps = long(*steps);
-  }
-  options.lowrank_tolerance = table.optional_number("lowrank_tolerance", Bound::any).value_or(options.lowrank_tolerance);
-  options.project_mass = table.optional_boolean("project_mass").value_or(options.project_mass);
-  if (const auto preconditioner = table.optional_string("preconditioner"))
-    options.preconditioner = under_key(rekey, [&] { return preconditioner_from_name(*preconditioner); });
-  if (const auto krylov = table.optional_count("krylov", 0)) {
-    if (*krylov > std::size_t(std::numeric_limits<int>::max())) table.fail("krylov", "an integer in 0..500");
-    options.krylov_dimension = int(*krylov);
-  }
+  options.method = integrator_method_from_name(given.word("method", to_string(options.method)));
+  options.rates = rates_path_from_name(given.word("rhs", to_string(options.rates)));
+  options.preconditioner = preconditioner_from_name(given.word("preconditioner", to_string(options.preconditioner)));
+  options.rtol = given.number("rtol", options.rtol);
+  options.atol = given.number("atol", options.atol);
+  options.atol_exponent = given.number("atol_exponent", options.atol_exponent);
+  options.atol_floor = given.number("atol_floor", options.atol_floor);
+  options.lowrank_tolerance = given.number("lowrank_tolerance", options.lowrank_tolerance);
+  options.jacobian_tolerance = given.number("jacobian_tolerance", options.jacobian_tolerance);
+  options.krylov_dimension = int(given.integer("krylov", options.krylov_dimension));
+  options.max_steps = long(given.integer("max_steps", options.max_steps));
+  options.project_mass = given.boolean("project_mass", options.project_mass);
   under_key(rekey, [&] { options.validate(); });
   // integrate() refuses this too, but only when it runs: the scene must fail before any engine starts.
   if (options.method == IntegratorMethod::bdf_dense && scene.model.size > options.dense_limit)
-    table.fail("method", "bdf-dense only for model.size <= " + std::to_string(options.dense_limit) +
+    given.fail("method", "bdf-dense only for model.size <= " + std::to_string(options.dense_limit) +
                              " (this scene has " + std::to_string(scene.model.size) + "); use bdf-gmres");
-  return std::make_unique<CvodeEngine>(std::move(label), options);
+  return std::make_unique<CvodeEngine>(spec.label, options);
 }
 
 }  // namespace
 
 EngineType cvode_engine_type() {
-  return {"cvode",
-          "the truncated rate equations integrated by SUNDIALS CVODE",
-          {"method", "rtol", "atol", "atol_exponent", "atol_floor", "rhs", "lowrank_tolerance", "jacobian_tolerance",
-           "preconditioner", "krylov", "max_steps", "project_mass"},
-          parse_cvode};
+  return {"cvode", "the truncated rate equations integrated by SUNDIALS CVODE", cvode_options(), need::kinetic, true, {},
+          build_cvode};
 }
 
 }  // namespace aggkit

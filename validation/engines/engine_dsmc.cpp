@@ -1,14 +1,12 @@
 // Engine "dsmc": Direct Simulation Monte Carlo of the aggregation-shattering model (particle/dsmc/).
-// Options: method (ar | fast), particles (N(0) >= 2), seed (master seed), runs (independent realisations,
-// run in threads), bucket (B >= 1: sizes <= B grouped in buckets), truncate (bool: apply model.size and
-// model.truncation; default false = the untruncated system), population_control (bool, default true),
-// threads (0 = all cores). Observables are those of the ensemble mean (densities = counts / volume); with
-// runs > 1 each also gets a standard error (series.csv column <name>_stderr).
+// Options: the table below. Each realisation's state is measured (densities = counts / volume); the
+// harness records the mean over the realisations and, with runs > 1, the standard error of each observable
+// (series.csv column <name>_stderr).
 #include <chrono>
 #include <cmath>
 
 #include "particle/dsmc/ensemble.hpp"
-#include "validation/scene/scene.hpp"
+#include "validation/engines/engine.hpp"
 #include "validation/scene/scene_table.hpp"
 
 namespace aggkit {
@@ -16,7 +14,7 @@ namespace aggkit {
 namespace {
 
 // One realisation at one time, seen through the harness interface.
-class SnapshotState final : public SystemState {
+class SnapshotState final : public ObservedState {
  public:
   SnapshotState(dsmc::Snapshot snapshot, std::size_t size) : snapshot_(std::move(snapshot)), size_(size) {}
   double moment(double p) const override { return snapshot_.moment(p); }
@@ -34,35 +32,6 @@ class SnapshotState final : public SystemState {
   std::size_t size_;
 };
 
-// The mean of independent realisations; each one stays available for standard errors.
-class EnsembleState final : public SystemState {
- public:
-  explicit EnsembleState(std::vector<SnapshotState> runs) : runs_(std::move(runs)) {}
-  double moment(double p) const override { return mean([p](const SystemState& s) { return s.moment(p); }); }
-  double density(std::size_t k) const override { return mean([k](const SystemState& s) { return s.density(k); }); }
-  double leaked_mass() const override { return mean([](const SystemState& s) { return s.leaked_mass(); }); }
-  std::vector<double> distribution() const override {
-    std::vector<double> n = runs_.front().distribution();
-    for (std::size_t r = 1; r < runs_.size(); ++r) {
-      const std::vector<double> m = runs_[r].distribution();
-      for (std::size_t k = 0; k < n.size(); ++k) n[k] += m[k];
-    }
-    for (double& x : n) x /= double(runs_.size());
-    return n;
-  }
-  std::size_t realisations() const override { return runs_.size(); }
-  const SystemState& realisation(std::size_t r) const override { return runs_[r]; }
-
- private:
-  template <class F>
-  double mean(F f) const {
-    double sum = 0.0;
-    for (const auto& run : runs_) sum += f(run);
-    return sum / double(runs_.size());
-  }
-  std::vector<SnapshotState> runs_;
-};
-
 class DsmcEngine final : public Engine {
  public:
   DsmcEngine(std::string label, dsmc::Options options) : Engine("dsmc", std::move(label)), options_(options) {}
@@ -78,9 +47,10 @@ class DsmcEngine final : public Engine {
     const auto started = std::chrono::steady_clock::now();
     dsmc::Ensemble ensemble(scene.model, options_, scene.time.end);
     for (double t : scene.time.outputs) {
-      std::vector<SnapshotState> runs;
-      for (auto& snapshot : ensemble.advance_to(t)) runs.emplace_back(std::move(snapshot), scene.model.size);
-      observer.output(t, EnsembleState(std::move(runs)));
+      std::vector<Measurement> runs;
+      for (auto& snapshot : ensemble.advance_to(t))
+        runs.push_back(observer.measure(t, SnapshotState(std::move(snapshot), scene.model.size)));
+      observer.record(t, std::move(runs));
       if (observer.progress) observer.progress(t);
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -126,30 +96,40 @@ class DsmcEngine final : public Engine {
   dsmc::Options options_;
 };
 
-std::unique_ptr<Engine> parse_dsmc(const SceneTable& table, std::string label, const Scene& scene) {
-  const auto rekey = [&table](const std::string& library_key) { return table.key(leaf_key(library_key)); };
+const OptionTable& dsmc_options() {
+  static const OptionTable table{
+      word_option("method", "ar", "acceptance-rejection against a binned majorant, or two-stage fast DSMC", {"ar", "fast"}),
+      integer_option("particles", "100000", "initial number of particles N(0)", 2),
+      integer_option("seed", "1", "master seed of the ensemble", 0, 1.8446744073709552e19),
+      integer_option("runs", "1", "independent realisations (threads); > 1 gives standard errors", 1),
+      integer_option("bucket", "1024", "sizes <= bucket are grouped per size", 1, 67108864),
+      flag_option("truncate", false, "apply model.size and model.truncation (default: the untruncated system)"),
+      flag_option("population_control", true, "duplicate the population when it falls below N(0)/2"),
+      integer_option("threads", "0", "worker threads (0: every core)", 0),
+  };
+  return table;
+}
+
+std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec& spec, const Scene&) {
+  const auto rekey = [&given](const std::string& parameter) { return given.key(leaf_key(parameter)); };
   dsmc::Options options;
-  if (const auto method = table.optional_string("method"))
-    options.method = under_key(rekey, [&] { return dsmc::method_from_name(*method); });
-  options.particles = table.optional_count("particles", 0).value_or(options.particles);
-  options.seed = table.optional_count("seed", 0).value_or(options.seed);
-  options.runs = table.optional_count("runs", 0).value_or(options.runs);
-  options.bucket = table.optional_count("bucket", 0).value_or(options.bucket);
-  options.truncate = table.optional_boolean("truncate").value_or(options.truncate);
-  options.population_control = table.optional_boolean("population_control").value_or(options.population_control);
-  options.threads = table.optional_count("threads", 0).value_or(options.threads);
-  under_key(rekey, [&] { options.validate(); });
-  (void)scene;  // the model (λ >= 0, N, start) is validated with the scene
-  return std::make_unique<DsmcEngine>(std::move(label), options);
+  options.method = dsmc::method_from_name(given.word("method", dsmc::to_string(options.method)));
+  options.particles = std::uint64_t(given.integer("particles", std::int64_t(options.particles)));
+  if (given.has("seed")) options.seed = given.value("seed").get<std::uint64_t>();
+  options.runs = std::size_t(given.integer("runs", std::int64_t(options.runs)));
+  options.bucket = std::uint64_t(given.integer("bucket", std::int64_t(options.bucket)));
+  options.truncate = given.boolean("truncate", options.truncate);
+  options.population_control = given.boolean("population_control", options.population_control);
+  options.threads = std::size_t(given.integer("threads", std::int64_t(options.threads)));
+  under_key(rekey, [&] { options.validate(); });  // the model (λ >= 0, N, start) is validated with the scene
+  return std::make_unique<DsmcEngine>(spec.label, options);
 }
 
 }  // namespace
 
 EngineType dsmc_engine_type() {
-  return {"dsmc",
-          "Direct Simulation Monte Carlo (acceptance-rejection or fast DSMC), ensembles with standard errors",
-          {"method", "particles", "seed", "runs", "bucket", "truncate", "population_control", "threads"},
-          parse_dsmc};
+  return {"dsmc", "Direct Simulation Monte Carlo (acceptance-rejection or fast DSMC), ensembles with standard errors",
+          dsmc_options(), need::kinetic, true, {}, build_dsmc};
 }
 
 }  // namespace aggkit

@@ -1,218 +1,145 @@
-// Engine "ed": event-driven ballistic aggregation of the scene's [particles] (particle/ed/). Option:
-//   stop = "one_cluster" | { clusters = K }    run until that many clusters remain (beyond time.end if
-//                                              needed); absent: stop at time.end
-//   cells = 0                                  wanted number of cells (0: about one per particle)
-// Outputs: the series at the output times (a realization that has stopped holds its final state for the
-// later output times — exact for "one_cluster": nothing changes any more but the position), averaged over
-// the realizations; <label>/final.json with the requested observe.final values plus events, wall_seconds,
-// momentum_drift and stop_time (means; with several realizations also <name>_stderr), and with
-// particles.thermalize the collisions of the elastic stage (run on particle/ed/elastic_gas.hpp, after which
-// the clock restarts at 0) as thermalization_collisions; the requested profiles (pair_distribution) as
-// <label>/<name>.csv; and with
-// observe.snapshots the first realization's final configuration as final.vtu and final.png.
-#include <chrono>
-#include <cmath>
+// Engine "ed": event-driven ballistic aggregation of the scene's [particles] (particle/ed/): hard discs or
+// spheres of equal radius and mass that stick on contact into rigid clusters translating with the
+// momentum-weighted velocity, exact contact times [Degond2024]. Everything an ensemble of realizations
+// shares (series, final.json, profiles, snapshots, threads) comes from the particle runner; this file is the
+// engine's options and one realization. final.json gains `events` and, with thermalisation, the elastic
+// collisions before sticking (`thermalization_collisions`; run on particle/ed/elastic_gas.hpp, after which
+// the clock restarts at 0).
 #include <cstdio>
-#include <functional>
-#include <map>
-#include <nlohmann/json.hpp>
+#include <limits>
 
-#include "analysis/particle_configuration.hpp"
+#include "analysis/input_error.hpp"
 #include "particle/ed/ed_configuration.hpp"
-#include "validation/io/atomic_file.hpp"
-#include "validation/observables/particle_final_state.hpp"
-#include "validation/io/particle_snapshot.hpp"
-#include "validation/observables/particle_state.hpp"
-#include "validation/scene/scene.hpp"
-#include "validation/scene/scene_table.hpp"
+#include "validation/engines/particle_runner.hpp"
 
 namespace aggkit {
 
 namespace {
 
-struct EdOptions {
-  std::size_t target_clusters = 0;  // 0: stop at time.end
-  std::size_t cells = 0;
-};
-
-ParticleState state_of(const EventDrivenAggregation& ed) {
-  const std::vector<std::size_t> sizes = ed.cluster_sizes();
-  return ParticleState(sizes, ed.kinetic_energy());
+const OptionTable& ed_options() {
+  static const OptionTable table{
+      custom_option("stop", "at time.end",
+                    "run until this many clusters remain (beyond time.end if needed); a stopped realization "
+                    "holds its final state for the later output times",
+                    "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count"),
+      integer_option("cells", "0", "wanted number of broad-phase cells (0: about one per particle)", 0, 4294967295.0),
+      integer_option("thermalize", "particles.thermalize or 0", "elastic collisions per particle before sticking", 0,
+                     1e9),
+  };
+  return table;
 }
 
-// Mean and standard error of the mean of each key over the realizations.
-class FinalAverages {
- public:
-  void add(const std::string& key, double value) {
-    auto& [order, values] = entries_[key];
-    if (values.empty()) order = entries_.size();
-    values.push_back(value);
-  }
-  std::string json(std::size_t realizations) const {
-    std::vector<std::pair<std::size_t, std::string>> keys;
-    for (const auto& [key, entry] : entries_) keys.emplace_back(entry.first, key);
-    std::sort(keys.begin(), keys.end());
-    nlohmann::ordered_json out = nlohmann::ordered_json::object();
-    const auto number = [](double x) { return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr); };
-    for (const auto& [order, key] : keys) {
-      const std::vector<double>& v = entries_.at(key).second;
-      double mean = 0;
-      for (double x : v) mean += x / double(v.size());
-      out[key] = number(mean);
-      if (realizations > 1) {
-        double variance = 0;
-        for (double x : v) variance += (x - mean) * (x - mean) / double(v.size() - 1);
-        out[key + "_stderr"] = number(std::sqrt(variance / double(v.size())));
-      }
-    }
-    out["realizations"] = realizations;
-    return out.dump(2) + "\n";
-  }
-
- private:
-  std::map<std::string, std::pair<std::size_t, std::vector<double>>> entries_;
+struct EdSettings {
+  std::size_t target_clusters = 0;  // 0: stop at time.end
+  std::size_t cells = 0;
+  std::size_t thermalize = 0;
 };
 
-class EdEngine final : public Engine {
+class EdSimulation final : public ParticleSimulation {
  public:
-  EdEngine(std::string label, EdOptions options) : Engine("ed", std::move(label)), options_(options) {}
+  EdSimulation(const ParticleSystem& system, std::size_t realization, const EdSettings& settings)
+      : ed_(system.box, system.radius, system.initial_positions(), system.initial_velocities(realization), true,
+            settings.cells),
+        settings_(settings),
+        mass_(1.0) {}
 
-  std::string describe() const override {
-    return "event-driven, stop " + (options_.target_clusters == 0 ? std::string("at time.end")
-                                                                   : "at " + std::to_string(options_.target_clusters) + " cluster(s)");
+  void prepare(const StatusSink& status) override {
+    ed_.thermalize(settings_.thermalize, [&](std::size_t pending) {
+      status("thermalising: " + std::to_string(ed_.particles() - pending) + " of " + std::to_string(ed_.particles()) +
+             " particles have " + std::to_string(settings_.thermalize) + " collisions");
+    });
+    thermal_collisions_ = double(ed_.counters().elastic_collisions);
   }
 
-  EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
-    const ParticleSystem& system = *scene.particles;
-    const std::vector<double>& outputs = scene.time.outputs;
-    std::vector<ParticleState> states(outputs.size());
-    FinalAverages final_values;
-    std::vector<std::vector<FinalProfile>> profiles;  // per realization
-    EdCounters total;
-    std::string picture = "not requested";
-    for (std::size_t r = 0; r < system.realizations; ++r) {
-      const auto started = std::chrono::steady_clock::now();
-      const std::vector<Vector3> x = system.initial_positions(), v = system.initial_velocities(r);
-      EventDrivenAggregation ed(system.box, system.radius, x, v, true, options_.cells);
-      // Progress in words for the long stretches between output times (at most about once a second).
-      const std::string run = system.realizations > 1 ? "realization " + std::to_string(r + 1) + "/" +
-                                                            std::to_string(system.realizations) + ", "
-                                                      : "";
-      const auto thermalizing = [&](std::size_t pending) {
-        if (observer.status)
-          observer.status(run + "thermalising: " + std::to_string(ed.particles() - pending) + " of " +
-                          std::to_string(ed.particles()) + " particles have " + std::to_string(system.thermalize) +
-                          " collisions");
-      };
-      const auto aggregating = [&] {
-        if (!observer.status) return;
-        char t[32];
-        std::snprintf(t, sizeof t, "%.6g", ed.time());
-        observer.status(run + "t = " + t + ", " + std::to_string(ed.clusters()) + " clusters");
-      };
-      ed.thermalize(system.thermalize, thermalizing);  // on the elastic gas; the clock restarts at 0
-      const double thermal_collisions = double(ed.counters().elastic_collisions);
-      const Vector3 p0 = ed.momentum() + ed.wall_impulse();
-      double momentum_scale = 0;
-      for (std::uint32_t p = 0; p < ed.particles(); ++p) momentum_scale += norm(ed.velocity(p));
-      bool stopped = false;
-      for (std::size_t k = 0; k < outputs.size(); ++k) {
-        if (!stopped) stopped = ed.advance(outputs[k], options_.target_clusters, aggregating) == EdStop::clusters_reached;
-        states[k] += state_of(ed);
-        if (r == 0 && observer.progress) observer.progress(outputs[k]);
-      }
-      run_to_target(ed, stopped, scene.time.end, aggregating);
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-
-      const ParticleConfiguration config = configuration(ed);
-      const std::vector<std::uint32_t> labels = ed.cluster_labels();
-      const std::vector<Vector3> largest = ed.cluster_positions(ed.largest_cluster());
-      const FinalConfiguration final{config, labels, largest, ed.kinetic_energy()};
-      for (const auto& [key, value] : final_state_values(scene.observe.final_state, final)) final_values.add(key, value);
-      profiles.push_back(final_profiles(scene.observe.final_state, final));
-      final_values.add("events", double(ed.counters().events()));
-      if (system.thermalize > 0) final_values.add("thermalization_collisions", thermal_collisions);
-      final_values.add("wall_seconds", wall);
-      final_values.add("momentum_drift", norm(ed.momentum() + ed.wall_impulse() - p0) / momentum_scale);
-      final_values.add("stop_time", ed.time());
-      accumulate(total, ed.counters());
-      if (r == 0 && scene.observe.snapshots) {
-        const std::vector<Vector3> velocities = ed.velocities();
-        write_vtu_snapshot(observer.folder / "final.vtu", config, labels, velocities);
-        std::string error;
-        picture = write_cluster_picture(observer.folder / "final.png", config, labels, &error) ? "final.png"
-                                                                                                : "failed: " + error;
-      }
-    }
-    for (std::size_t k = 0; k < outputs.size(); ++k) {
-      states[k] *= 1.0 / double(system.realizations);
-      observer.output(outputs[k], states[k]);
-    }
-    write_file_atomically(observer.folder / "final.json", final_values.json(system.realizations));
-    write_final_profiles(observer.folder, profiles);
-    return {
-        {"particles", system.describe()},
-        {"realizations", std::int64_t(system.realizations)},
-        {"events", std::int64_t(total.events())},
-        {"merges", std::int64_t(total.merges)},
-        {"elastic_collisions", std::int64_t(total.elastic_collisions)},
-        {"cell_crossings", std::int64_t(total.cell_crossings)},
-        {"wall_contacts", std::int64_t(total.wall_contacts)},
-        {"stale_events", std::int64_t(total.stale_events)},
-        {"picture", picture},
-    };
+  bool advance(double t, const StatusSink& status) override {
+    return ed_.advance(t, settings_.target_clusters, [&] { report(status); }) == EdStop::clusters_reached;
   }
 
- private:
-  static void accumulate(EdCounters& total, const EdCounters& c) {
-    total.merges += c.merges;
-    total.elastic_collisions += c.elastic_collisions;
-    total.cell_crossings += c.cell_crossings;
-    total.wall_contacts += c.wall_contacts;
-    total.stale_events += c.stale_events;
-  }
-
-  // With a cluster target not reached by time.end, runs on in chunks of time.end until it is, or until
-  // no event remains (nothing will ever change: the engine's events can be far apart, so a quiet chunk alone
+  // With a cluster target not reached by time.end, runs on in chunks of time.end until it is, or until no
+  // event remains (nothing will ever change: the engine's events can be far apart, so a quiet chunk alone
   // proves nothing).
-  void run_to_target(EventDrivenAggregation& ed, bool stopped, double chunk, const std::function<void()>& progress) const {
-    if (stopped || options_.target_clusters == 0) return;
-    while (ed.clusters() > options_.target_clusters) {
-      const auto before = ed.counters().events();
-      if (ed.advance(ed.time() + chunk, options_.target_clusters, progress) == EdStop::clusters_reached) return;
-      if (ed.counters().events() == before && ed.exhausted()) return;
+  void finish(double chunk, const StatusSink& status) override {
+    if (settings_.target_clusters == 0) return;
+    while (ed_.clusters() > settings_.target_clusters) {
+      const auto before = ed_.counters().events();
+      if (ed_.advance(ed_.time() + chunk, settings_.target_clusters, [&] { report(status); }) == EdStop::clusters_reached)
+        return;
+      if (ed_.counters().events() == before && ed_.exhausted()) return;
     }
   }
 
-  EdOptions options_;
+  double time() const override { return ed_.time(); }
+  ParticleConfiguration configuration() const override { return aggkit::configuration(ed_); }
+  std::vector<Vector3> velocities() const override { return ed_.velocities(); }
+  std::vector<double> masses() const override { return std::vector<double>(ed_.particles(), mass_); }
+  std::vector<std::uint32_t> cluster_labels() const override { return ed_.cluster_labels(); }
+  std::vector<Vector3> largest_cluster() const override { return ed_.cluster_positions(ed_.largest_cluster()); }
+  double kinetic_energy() const override { return mass_ * ed_.kinetic_energy(); }  // over clusters: O(C)
+  Vector3 momentum() const override { return mass_ * ed_.momentum(); }
+  Vector3 wall_impulse() const override { return mass_ * ed_.wall_impulse(); }
+
+  std::vector<std::pair<std::string, double>> final_values() const override {
+    std::vector<std::pair<std::string, double>> values{{"events", double(ed_.counters().events())}};
+    if (settings_.thermalize > 0) values.emplace_back("thermalization_collisions", thermal_collisions_);
+    return values;
+  }
+  std::vector<std::pair<std::string, std::int64_t>> counters() const override {
+    const EdCounters& c = ed_.counters();
+    return {{"events", std::int64_t(c.events())},
+            {"merges", std::int64_t(c.merges)},
+            {"elastic_collisions", std::int64_t(c.elastic_collisions)},
+            {"cell_crossings", std::int64_t(c.cell_crossings)},
+            {"wall_contacts", std::int64_t(c.wall_contacts)},
+            {"stale_events", std::int64_t(c.stale_events)}};
+  }
+
+ private:
+  void report(const StatusSink& status) const {
+    char t[32];
+    std::snprintf(t, sizeof t, "%.6g", ed_.time());
+    status("t = " + std::string(t) + ", " + std::to_string(ed_.clusters()) + " clusters");
+  }
+
+  mutable EventDrivenAggregation ed_;  // exhausted() skips stale events: a const query that pops the queue
+  EdSettings settings_;
+  double mass_;
+  double thermal_collisions_ = 0;
 };
 
-std::unique_ptr<Engine> parse_ed(const SceneTable& table, std::string label, const Scene& scene) {
-  if (!scene.particles) table.fail("name", "a scene with a [particles] section (engine ed simulates particles)");
-  EdOptions options;
-  if (const toml::node* stop = table.find("stop")) {
-    const std::string forms = "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count";
-    if (stop->is_string()) {
-      if (table.string("stop") != "one_cluster") table.fail("stop", forms);
-      options.target_clusters = 1;
-    } else if (stop->is_table()) {
-      const SceneTable rule = table.table("stop");
-      rule.allow_only({"clusters"});
-      options.target_clusters = rule.count("clusters", 1);
-      if (options.target_clusters > scene.particles->count) rule.fail("clusters", forms);
+ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scene) {
+  const ParticleSystem& system = *scene.particles;
+  EdSettings settings;
+  if (given.has("stop")) {
+    const nlohmann::json& stop = given.value("stop");
+    const std::string forms = "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count = " +
+                              std::to_string(system.count);
+    if (stop.is_string() && stop.get<std::string>() == "one_cluster") {
+      settings.target_clusters = 1;
+    } else if (stop.is_object() && stop.size() == 1 && stop.contains("clusters") && stop["clusters"].is_number_integer() &&
+               stop["clusters"].get<std::int64_t>() >= 1 && std::uint64_t(stop["clusters"].get<std::int64_t>()) <= system.count) {
+      settings.target_clusters = std::size_t(stop["clusters"].get<std::int64_t>());
+    } else if (stop.is_object() && stop.contains("clusters") && stop.size() == 1) {
+      throw InputError(given.key("stop") + ".clusters", option_text(stop["clusters"]), forms);
     } else {
-      table.fail("stop", forms);
+      given.fail("stop", forms);
     }
   }
-  options.cells = table.optional_count("cells", 0).value_or(0);
-  return std::make_unique<EdEngine>(std::move(label), options);
+  settings.cells = std::size_t(given.integer("cells", 0));
+  if (given.has("thermalize") && system.thermalize > 0)
+    given.fail("thermalize", "thermalize given once: [particles] thermalize = " + std::to_string(system.thermalize) +
+                                 " is also set (the engine's key is the one to keep)");
+  settings.thermalize = std::size_t(given.integer("thermalize", std::int64_t(system.thermalize)));
+  const std::string stop = settings.target_clusters == 0 ? "at time.end"
+                                                          : "at " + std::to_string(settings.target_clusters) + " cluster(s)";
+  return {[system, settings](std::size_t r) { return std::make_unique<EdSimulation>(system, r, settings); },
+          "event-driven, stop " + stop};
 }
 
 }  // namespace
 
 EngineType ed_engine_type() {
-  return {"ed", "event-driven ballistic aggregation of hard discs/spheres ([particles])", {"stop", "cells"}, parse_ed,
-          /*needs_model=*/false};
+  return particle_engine_type({"ed", "event-driven ballistic aggregation of hard discs/spheres ([particles])",
+                               ed_options(), setup_ed});
 }
 
 }  // namespace aggkit

@@ -2,14 +2,15 @@
 // (solvers/exact_solutions.hpp) for the constant, sum and product kernels. Moments are those of the
 // untruncated system, so a comparison against it measures truncation and integration error together.
 #include "solvers/exact_solutions.hpp"
-#include "validation/scene/scene.hpp"
-#include "validation/scene/scene_table.hpp"
+#include "analysis/input_error.hpp"
+#include "validation/engines/engine.hpp"
+#include "validation/io/text.hpp"
 
 namespace aggkit {
 
 namespace {
 
-class ExactState final : public SystemState {
+class ExactState final : public ObservedState {
  public:
   ExactState(const std::string& kernel, std::size_t N, double t) : kernel_(kernel), size_(N), t_(t) {}
   double moment(double p) const override { return exact_moment(kernel_, p, t_); }
@@ -35,8 +36,8 @@ class ExactEngine final : public Engine {
   }
 };
 
-std::unique_ptr<Engine> parse_exact(const SceneTable& table, std::string label, const Scene& scene) {
-  const std::string needs = "the exact engine (" + table.path() +
+std::unique_ptr<Engine> build_exact(const EngineOptions&, const EngineSpec& spec, const Scene& scene) {
+  const std::string needs = "the exact engine (" + spec.key +
                             ") needs kernel constant, sum or product, lambda = 0 and a monodisperse start of "
                             "density 1 (product: time.end < 1)";
   const AggregationModel& model = scene.model;
@@ -49,14 +50,14 @@ std::unique_ptr<Engine> parse_exact(const SceneTable& table, std::string label, 
     throw InputError("model.initial.density", shortest_text(scene.initial.density), needs);
   if (model.kernel.name() == "product" && !(scene.time.end < 1.0))
     throw InputError("time.end", shortest_text(scene.time.end), needs + "; the product kernel gels at t = 1");
-  return std::make_unique<ExactEngine>(std::move(label));
+  return std::make_unique<ExactEngine>(spec.label);
 }
 
 }  // namespace
 
 EngineType exact_engine_type() {
   return {"exact", "closed-form solutions (constant, sum, product kernels; lambda = 0; unit monodisperse start)", {},
-          parse_exact};
+          need::kinetic, true, {}, build_exact};
 }
 
 }  // namespace aggkit

@@ -4,18 +4,15 @@
 // the scene's output times lie in the relaxed regime), DIR/<label>/distribution.csv holds it (columns
 // k,n), and summary.json gets the scene's series observables evaluated on it ("steady_<name>") with
 // Newton/GMRES counts and the final relative residual.
-// Options: tolerance (relative residual, default 1e-10), max_newton_iterations, rhs (fast | direct),
-// start_time (CVODE start), precondition (bool).
+#include <limits>
 #include <sstream>
 
 #include "analysis/input_error.hpp"
 #include "solvers/steady_state.hpp"
+#include "validation/engines/engine.hpp"
 #include "validation/io/atomic_file.hpp"
-#include "validation/observables/observable.hpp"
-#include "validation/scene/scene.hpp"
-#include "validation/scene/scene_table.hpp"
-#include "validation/observables/system_state.hpp"
 #include "validation/io/text.hpp"
+#include "validation/scene/scene_table.hpp"
 
 namespace aggkit {
 
@@ -49,7 +46,7 @@ class SnesEngine final : public Engine {
         {"solver_seconds", r.seconds},
     };
     for (const Observable& observable : scene.observe.series)
-      statistics.push_back({"steady_" + observable.name(), observable.evaluate(state)});
+      statistics.push_back({"steady_" + observable.name(), observable.value(state)});
     return statistics;
   }
 
@@ -57,31 +54,37 @@ class SnesEngine final : public Engine {
   SteadyStateOptions options_;
 };
 
-std::unique_ptr<Engine> parse_snes(const SceneTable& table, std::string label, const Scene& scene) {
-  const auto rekey = [&table](const std::string& library_key) { return table.key(leaf_key(library_key)); };
+const OptionTable& snes_options() {
+  static const OptionTable table{
+      number_option("tolerance", "1e-10", "relative residual ||F|| / ||F(n(0))|| at which Newton stops", 0.0, 1.0, true),
+      integer_option("max_newton_iterations", "50", "most Newton iterations", 1, 10000),
+      word_option("rhs", "fast", "right-hand side: FFT/low-rank, or the direct O(N^2) sums", {"fast", "direct"}),
+      number_option("start_time", "20", "the initial guess is the CVODE solution at this time", 0.0,
+                    std::numeric_limits<double>::infinity(), true),
+      flag_option("precondition", true, "precondition GMRES (false: plain GMRES, for comparison only)"),
+  };
+  return table;
+}
+
+std::unique_ptr<Engine> build_snes(const EngineOptions& given, const EngineSpec& spec, const Scene& scene) {
+  const auto rekey = [&given](const std::string& parameter) { return given.key(leaf_key(parameter)); };
   SteadyStateOptions options;
-  options.relative_tolerance = table.optional_number("tolerance", Bound::any).value_or(options.relative_tolerance);
-  if (const auto iterations = table.optional_count("max_newton_iterations", 1)) {
-    if (*iterations > 10000) table.fail("max_newton_iterations", "an integer in 1..10000");
-    options.max_newton_iterations = int(*iterations);
-  }
-  if (const auto rhs = table.optional_string("rhs"))
-    options.rates = under_key(rekey, [&] { return rates_path_from_name(*rhs); });
-  options.start_time = table.optional_number("start_time", Bound::any).value_or(options.start_time);
-  options.precondition = table.optional_boolean("precondition").value_or(options.precondition);
+  options.relative_tolerance = given.number("tolerance", options.relative_tolerance);
+  options.max_newton_iterations = int(given.integer("max_newton_iterations", options.max_newton_iterations));
+  options.rates = rates_path_from_name(given.word("rhs", to_string(options.rates)));
+  options.start_time = given.number("start_time", options.start_time);
+  options.precondition = given.boolean("precondition", options.precondition);
   under_key(rekey, [&] { options.validate(); });
   if (!scene.model.lambda.is_constant())
     throw InputError("model.lambda", scene.model.lambda.describe(), "a constant shattering rate for engine snes");
-  return std::make_unique<SnesEngine>(std::move(label), options);
+  return std::make_unique<SnesEngine>(spec.label, options);
 }
 
 }  // namespace
 
 EngineType snes_engine_type() {
-  return {"snes",
-          "the steady state of the truncated rate equations by PETSc SNES Newton-Krylov",
-          {"tolerance", "max_newton_iterations", "rhs", "start_time", "precondition"},
-          parse_snes};
+  return {"snes", "the steady state of the truncated rate equations by PETSc SNES Newton-Krylov", snes_options(),
+          need::kinetic, true, {"distribution.csv"}, build_snes};
 }
 
 }  // namespace aggkit

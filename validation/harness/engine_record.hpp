@@ -32,10 +32,13 @@ struct EngineRecord {
   bool completed() const { return !failure; }
 };
 
-// Appends the observables of `state`, reported by the engine at time `t`, which must be the next output
-// time of the scene (std::runtime_error otherwise); keeps the distribution at a distribution time. For an
-// ensemble state (realisations() > 1) also the standard error of each observable: the sample standard
-// deviation over the realisations divided by sqrt(realisations()).
-void record_state(EngineRecord& record, const Scene& scene, double t, const SystemState& state);
+// The scene's series observables on one state at output time t (and its distribution at a distribution time).
+Measurement measure_state(const Scene& scene, double t, const ObservedState& state);
+
+// Appends the measurements of the realizations at time `t`, which must be the next output time of the scene
+// (std::runtime_error otherwise): their mean, and with more than one realization the standard error of each
+// observable (the sample standard deviation over the realizations divided by sqrt(realizations)); keeps the
+// mean distribution at a distribution time.
+void record_measurements(EngineRecord& record, const Scene& scene, double t, const std::vector<Measurement>& realizations);
 
 }  // namespace aggkit

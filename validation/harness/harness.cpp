@@ -24,8 +24,9 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
   record.description = engine.describe();
   const auto started = std::chrono::steady_clock::now();
   EngineObserver observer;
-  observer.output = [&](double t, const SystemState& state) {
-    record_state(record, scene, t, state);
+  observer.measure = [&scene](double t, const ObservedState& state) { return measure_state(scene, t, state); };
+  observer.record = [&](double t, std::vector<Measurement> realizations) {
+    record_measurements(record, scene, t, realizations);
     progress.reached(t);
   };
   observer.progress = [&](double t) { progress.reached(t); };
@@ -53,14 +54,23 @@ void write_engine_outputs(const Scene& scene, const EngineRecord& record, const 
 }  // namespace
 
 RunResult run_scene(const Scene& scene, const RunOptions& options) {
+  return run_engines(scene, build_engines(scene), options);  // bad input fails before any output
+}
+
+RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engine>>& engines, const RunOptions& options) {
   const OutputFolder folder(options.out);
-  folder.prepare(scene);
+  std::vector<std::pair<std::string, std::vector<std::string>>> files;
+  for (const auto& engine : engines) {
+    const EngineType* type = find_engine_type(engine->name());
+    files.emplace_back(engine->label(), type ? type->files : std::vector<std::string>{});
+  }
+  folder.prepare(files);
 
   RunResult result;
   Progress progress(options.progress);
-  for (std::size_t i = 0; i < scene.engines.size(); ++i) {
-    const Engine& engine = *scene.engines[i];
-    progress.start(engine.label(), i + 1, scene.engines.size(), scene.time.end);
+  for (std::size_t i = 0; i < engines.size(); ++i) {
+    const Engine& engine = *engines[i];
+    progress.start(engine.label(), i + 1, engines.size(), scene.time.end);
     result.records.push_back(run_engine(scene, engine, progress, folder));
     progress.finish();
     if (result.records.back().completed()) write_engine_outputs(scene, result.records.back(), folder);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "validation/engines/engine.hpp"
 #include "validation/harness/run_result.hpp"
 #include "validation/scene/scene.hpp"
 
@@ -25,5 +26,7 @@ struct RunOptions {
 // Throws InputError for an unusable output folder or input an engine finds bad only when it runs; the
 // exit code of the run (0 pass, 1 a comparison or an engine failed) is in the result.
 RunResult run_scene(const Scene& scene, const RunOptions& options);
+// The same with engines built already (build_engines(scene), or engines of a research code's own).
+RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engine>>& engines, const RunOptions& options);
 
 }  // namespace aggkit

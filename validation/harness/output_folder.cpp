@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
-#include "validation/scene/scene.hpp"
 
 namespace aggkit {
 
@@ -23,7 +22,7 @@ void remove_stale(const std::filesystem::path& file) {
 
 }  // namespace
 
-void OutputFolder::prepare(const Scene& scene) const {
+void OutputFolder::prepare(const std::vector<std::pair<std::string, std::vector<std::string>>>& engines) const {
   std::error_code error;
   std::filesystem::create_directories(root_, error);
   if (error) unusable(root_, error.message());
@@ -43,13 +42,13 @@ void OutputFolder::prepare(const Scene& scene) const {
 
   remove_stale(summary_file());  // first: a summary.json must never describe outputs of another run
   remove_stale(report_file());
-  for (const auto& engine : scene.engines) {
-    const auto folder = engine_folder(engine->label());
+  for (const auto& [label, files] : engines) {
+    const auto folder = engine_folder(label);
     std::filesystem::create_directories(folder, error);
     if (error) unusable(folder, error.message());
-    remove_stale(series_file(engine->label()));
-    remove_stale(distribution_file(engine->label()));
-    for (const char* name : {"final.json", "final.vtu", "final.png"}) remove_stale(folder / name);  // particle engines
+    remove_stale(series_file(label));
+    remove_stale(distribution_file(label));
+    for (const std::string& name : files) remove_stale(folder / name);
   }
 }
 

@@ -5,19 +5,13 @@
 
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/child_process.hpp"
+#include "validation/io/python_plotter.hpp"
 
 namespace aggkit {
 
 namespace {
 
 constexpr std::chrono::seconds plot_timeout{120};
-
-std::string interpreter() {
-  if (const char* python = std::getenv("AGGKIT_PYTHON"); python && *python) return python;
-  std::error_code error;
-  if (std::filesystem::exists("/usr/bin/python3", error)) return "/usr/bin/python3";
-  return "python3";
-}
 
 std::filesystem::path plot_script() {
   if (const char* script = std::getenv("AGGKIT_PLOT_SCRIPT"); script && *script) return script;
@@ -32,19 +26,7 @@ std::filesystem::path plot_script() {
 #endif
 }
 
-// The plotter's last line is the most telling (Python's exception message).
-std::string last_line(const std::string& text) {
-  std::size_t end = text.find_last_not_of(" \n\r\t");
-  if (end == std::string::npos) return "";
-  const std::size_t begin = text.rfind('\n', end);
-  return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
-}
-
 }  // namespace
-
-std::string plot_interpreter() { return interpreter(); }
-
-std::string last_output_line(const std::string& text) { return last_line(text); }
 
 std::string to_string(PlotOutcome::Status status) {
   switch (status) {
@@ -57,7 +39,7 @@ std::string to_string(PlotOutcome::Status status) {
 
 PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder) {
   AtomicFile png(folder.report_file());
-  std::vector<std::string> argv{interpreter(), plot_script().string(), "--output", png.temporary_path().string(),
+  std::vector<std::string> argv{plot_interpreter(), plot_script().string(), "--output", png.temporary_path().string(),
                                 "--title", scene.name};
   if (scene.compare) argv.insert(argv.end(), {"--reference", scene.compare->reference});
   std::size_t plotted = 0;
@@ -74,7 +56,7 @@ PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& rec
   if (!run.succeeded()) {
     std::string why = !run.started ? run.output
                       : run.timed_out ? "the plotter ran longer than " + std::to_string(plot_timeout.count()) + " s"
-                                      : last_line(run.output);
+                                      : last_output_line(run.output);
     if (why.empty()) why = "the plotter exited with status " + std::to_string(run.exit_status);
     return {PlotOutcome::Status::failed, argv[0] + " " + argv[1] + ": " + why};
   }

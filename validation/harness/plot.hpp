@@ -7,6 +7,7 @@
 
 #include "validation/harness/engine_record.hpp"
 #include "validation/harness/output_folder.hpp"
+#include "validation/io/python_plotter.hpp"  // plot_interpreter(), shared by every plotter
 
 namespace aggkit {
 
@@ -18,13 +19,7 @@ struct PlotOutcome {
 std::string to_string(PlotOutcome::Status status);
 
 // Plots the series (and distributions) already written to `folder` for the engines that completed.
-// The interpreter is $AGGKIT_PYTHON, else /usr/bin/python3 (Debian's, with python3-matplotlib), else
-// python3 on PATH; the script is $AGGKIT_PLOT_SCRIPT, else the one in the source or install tree.
+// The interpreter is validation/io/python_plotter.hpp's; the script is $AGGKIT_PLOT_SCRIPT, else the one in the source or install tree.
 PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder);
-
-// The Python interpreter the plotters run under (as described above), and the last non-blank line of a
-// plotter's output (its exception message), shared with the other plotters (validation/particle_snapshot).
-std::string plot_interpreter();
-std::string last_output_line(const std::string& text);
 
 }  // namespace aggkit

@@ -10,7 +10,7 @@
 #include "analysis/input_error.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/child_process.hpp"
-#include "validation/harness/plot.hpp"
+#include "validation/io/python_plotter.hpp"
 
 namespace aggkit {
 

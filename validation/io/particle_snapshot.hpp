@@ -5,7 +5,7 @@
 //    atomically (validation/io/atomic_file.hpp);
 //  * a PNG picture of the configuration, particles drawn as discs coloured by cluster (3-D: projected on
 //    the x-y plane), drawn by validation/io/plot_clusters.py under the plotting interpreter of
-//    validation/harness/plot.hpp. A failure to plot is reported (false + message), never thrown: the caller warns.
+//    validation/io/python_plotter.hpp. A failure to plot is reported (false + message), never thrown: the caller warns.
 #include <array>
 #include <cstdint>
 #include <filesystem>

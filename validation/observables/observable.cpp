@@ -1,61 +1,46 @@
 #include "validation/observables/observable.hpp"
 
-#include <charconv>
-#include <cmath>
+#include <limits>
 
 namespace aggkit {
 
-namespace {
-
-// Parses all of `text` as a number of type T; std::nullopt unless the whole text is one number.
-template <class T>
-std::optional<T> parse_whole(std::string_view text) {
-  T value{};
-  const char* end = text.data() + text.size();
-  const auto result = std::from_chars(text.data(), end, value);
-  if (text.empty() || result.ec != std::errc() || result.ptr != end) return std::nullopt;
-  return value;
-}
-
-}  // namespace
-
-const char* Observable::forms() {
-  return "M<p> with a real p >= 0 (M0, M1, M2, M1.5, ...), n<k> with an integer k >= 1 (n1, n10, ...), mass_leak, clusters, kinetic_energy or mean_cluster_size";
+std::string describe_needs(unsigned needs) {
+  static const std::pair<unsigned, const char*> names[] = {
+      {need::sizes, "the size distribution"}, {need::leaked_mass, "the leaked mass"},
+      {need::positions, "particle positions"}, {need::velocities, "particle velocities"},
+      {need::masses, "particle masses"},       {need::clusters, "cluster labels"}};
+  std::string text;
+  for (const auto& [bit, name] : names)
+    if (needs & bit) text += (text.empty() ? "" : ", ") + std::string(name);
+  return text.empty() ? "nothing" : text;
 }
 
 std::optional<Observable> Observable::from_name(std::string_view name) {
-  if (name == "mass_leak") return Observable(std::string(name), Kind::mass_leak, 0.0, 0);
-  if (name == "clusters") return Observable(std::string(name), Kind::clusters, 0.0, 0);
-  if (name == "kinetic_energy") return Observable(std::string(name), Kind::kinetic_energy, 0.0, 0);
-  if (name == "mean_cluster_size") return Observable(std::string(name), Kind::mean_cluster_size, 0.0, 0);
-  if (name.size() < 2) return std::nullopt;
-  const std::string_view rest = name.substr(1);
-  if (name.front() == 'M') {
-    // from_chars would also read "nan", "inf" and a sign: only plain decimal orders p >= 0 are allowed.
-    if (!(std::isdigit(static_cast<unsigned char>(rest.front())) || rest.front() == '.')) return std::nullopt;
-    const auto p = parse_whole<double>(rest);
-    if (!p || !std::isfinite(*p) || *p < 0) return std::nullopt;
-    return Observable(std::string(name), Kind::moment, *p, 0);
-  }
-  if (name.front() == 'n') {
-    if (!std::isdigit(static_cast<unsigned char>(rest.front()))) return std::nullopt;
-    const auto k = parse_whole<std::size_t>(rest);
-    if (!k || *k < 1) return std::nullopt;
-    return Observable(std::string(name), Kind::density, 0.0, *k);
-  }
+  for (const ObservableType& type : observable_types())
+    if (const auto parameter = type.match(name)) return Observable(std::string(name), &type, *parameter);
   return std::nullopt;
 }
 
-double Observable::evaluate(const SystemState& state) const {
-  switch (kind_) {
-    case Kind::moment: return state.moment(order_);
-    case Kind::density: return state.density(size_);
-    case Kind::mass_leak: return state.leaked_mass();
-    case Kind::clusters: return state.clusters();
-    case Kind::kinetic_energy: return state.kinetic_energy();
-    case Kind::mean_cluster_size: return state.mean_cluster_size();
-  }
-  return 0.0;
+std::string Observable::forms() {
+  std::string text;
+  for (const ObservableType& type : observable_types()) text += (text.empty() ? "" : ", ") + type.form;
+  return "one of " + text;
 }
+
+double Observable::value(const ObservedState& state) const {
+  if (type_->scalar) return type_->scalar(state, parameter_);
+  if (type_->fit && state.particles()) return type_->fit(*state.particles()).dimension;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<std::pair<std::string, double>> Observable::final_values(const ObservedState& state) const {
+  if (!type_->fit) return {{name_, value(state)}};
+  if (!state.particles()) return {{name_, std::numeric_limits<double>::quiet_NaN()}};
+  const FractalFit f = type_->fit(*state.particles());
+  return {{name_, f.dimension}, {name_ + "_error", f.standard_error}, {name_ + "_fit_min", f.fit_min},
+          {name_ + "_fit_max", f.fit_max}};
+}
+
+Profile Observable::profile(const ParticleView& view) const { return type_->profile(view); }
 
 }  // namespace aggkit

@@ -1,41 +1,84 @@
 #pragma once
-// Observables a scene can ask for in `observe.series`:
-//   M<p>        the moment M_p = Σ_k k^p n_k for a real p >= 0 (M0, M1, M2, M1.5, ...)
-//   n<k>        the density n_k of size k (k >= 1)
-//   mass_leak   the mass lost through the truncation so far (truncation = "drop")
-//   clusters            the number of clusters (particle engines; NaN for densities)
-//   kinetic_energy      Σ ½ m v² over the particles (particle engines; NaN for densities)
-//   mean_cluster_size   particles per cluster; M1/M0 for densities
+// Observables: one registry (observable_registry.cpp) of everything a scene can ask for in
+// `observe.series` (a value at every output time) and `observe.final` (the final configuration of a
+// particle engine, written to <engine>/final.json, or for a profile to <engine>/<name>.csv). Each entry
+// says what it reads of a state (its needs), so an engine that cannot give that is refused when the scene
+// is checked, and a particle engine computes only what the scene asks. Adding an observable is one entry
+// in observable_registry.cpp; `aggkit run --help` lists them from there.
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
-#include "validation/observables/system_state.hpp"
+#include "analysis/fractal_dimension.hpp"
+#include "validation/observables/observed_state.hpp"
+#include "validation/observables/particle_view.hpp"
 
 namespace aggkit {
 
+// What an observable reads of a state; what an engine's states can give (a bit set).
+namespace need {
+constexpr unsigned sizes = 1u << 0;        // the size distribution n_k
+constexpr unsigned leaked_mass = 1u << 1;  // the mass that left through the truncation
+constexpr unsigned positions = 1u << 2;    // particle positions, radii and the box
+constexpr unsigned velocities = 1u << 3;
+constexpr unsigned masses = 1u << 4;
+constexpr unsigned clusters = 1u << 5;     // which cluster each particle belongs to
+constexpr unsigned kinetic = sizes | leaked_mass;                              // every kinetic engine
+constexpr unsigned particles = sizes | positions | velocities | masses | clusters;  // every particle engine
+}  // namespace need
+std::string describe_needs(unsigned needs);  // "particle velocities, particle masses"
+
+// A function-valued observable of one configuration: y against x.
+struct Profile {
+  std::string x_name, y_name;
+  std::vector<double> x, y;
+};
+
+struct ObservableType {
+  std::string form;         // as written in scenes: "M<p>", "n<k>", "clusters"
+  std::string description;  // one line, for --help
+  unsigned needs = 0;
+  // The parameter of `name` if it has this form (p of M<p>, k of n<k>, 0 for a plain name), else nullopt.
+  std::function<std::optional<double>(std::string_view name)> match;
+  bool size_parameter = false;  // the parameter is a cluster size k (at most the largest size of the scene)
+  // Exactly one of these is set: a number; a fitted exponent (final.json gets <name>, <name>_error,
+  // <name>_fit_min, <name>_fit_max; a series gets the exponent); a profile (final only).
+  std::function<double(const ObservedState&, double parameter)> scalar;
+  std::function<FractalFit(const ParticleView&)> fit;
+  std::function<Profile(const ParticleView&)> profile;
+};
+
+// Every observable kind, in the order --help lists them.
+const std::vector<ObservableType>& observable_types();
+
 class Observable {
  public:
-  enum class Kind { moment, density, mass_leak, clusters, kinetic_energy, mean_cluster_size };
-
-  // The observable named `name`, or std::nullopt if the name is not one of the forms above.
+  // The observable named `name`, or std::nullopt if it matches no form of the registry.
   static std::optional<Observable> from_name(std::string_view name);
-  static const char* forms();  // the allowed forms, for messages
+  static std::string forms();  // the allowed forms, for messages
 
   const std::string& name() const { return name_; }  // as written in the scene
-  Kind kind() const { return kind_; }
-  double order() const { return order_; }       // p of M<p>
-  std::size_t size() const { return size_; }    // k of n<k>
-  double evaluate(const SystemState& state) const;
+  const ObservableType& type() const { return *type_; }
+  double parameter() const { return parameter_; }
+  unsigned needs() const { return type_->needs; }
+  bool is_profile() const { return bool(type_->profile); }
+
+  // The number for a series (a fit's exponent); NaN if the state lacks what it needs.
+  double value(const ObservedState& state) const;
+  // (key, value) pairs for final.json: the value, and for a fit its error and range.
+  std::vector<std::pair<std::string, double>> final_values(const ObservedState& state) const;
+  Profile profile(const ParticleView& view) const;
 
  private:
-  Observable(std::string name, Kind kind, double order, std::size_t size)
-      : name_(std::move(name)), kind_(kind), order_(order), size_(size) {}
+  Observable(std::string name, const ObservableType* type, double parameter)
+      : name_(std::move(name)), type_(type), parameter_(parameter) {}
   std::string name_;
-  Kind kind_;
-  double order_ = 0.0;
-  std::size_t size_ = 0;
+  const ObservableType* type_;
+  double parameter_ = 0;
 };
 
 }  // namespace aggkit

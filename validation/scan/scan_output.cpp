@@ -4,7 +4,7 @@
 
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/child_process.hpp"
-#include "validation/harness/plot.hpp"
+#include "validation/io/python_plotter.hpp"
 #include "validation/io/text.hpp"
 
 namespace aggkit {

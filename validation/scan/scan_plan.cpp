@@ -122,8 +122,9 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   if (scene.model.kernel.name() != "brownian")
     throw InputError("model.kernel.name", "\"" + scene.model.kernel.name() + "\"",
                      "a scan needs the brownian kernel (i/j)^a + (j/i)^a; its a is set by [scan] a");
-  if (scene.engines.size() != 1 || scene.engines[0]->name() != "cvode")
+  if (scene.engines.size() != 1 || scene.engines[0].name != "cvode")
     root.fail("engine", "at most one [[engine]], and it must be name = \"cvode\" (each point's integrator)");
+  plan.engine = build_engine(scene, 0);
   const std::vector<double>& outputs = scene.time.outputs;
   if (outputs.size() < 32)
     throw InputError("time.every", std::to_string(outputs.size()) + " outputs",

@@ -22,10 +22,12 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "analysis/oscillation.hpp"
+#include "validation/engines/engine.hpp"
 #include "validation/scene/scene.hpp"
 
 namespace aggkit {
@@ -37,6 +39,7 @@ struct ScanPoint {
 
 struct ScanPlan {
   Scene scene;                        // model (brownian), time grid and exactly one cvode engine
+  std::shared_ptr<const Engine> engine;  // that engine, built
   std::vector<double> a, lambda;      // increasing
   bool lambda_log = false;            // λ spaced logarithmically (λ_crit from the grid: geometric midpoint)
   std::string series = "M0";          // M0 or M2

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/observables/system_state.hpp"
+#include "validation/observables/observed_state.hpp"
 #include "validation/io/text.hpp"
 
 #include "solvers/stability.hpp"
@@ -51,12 +51,13 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   times.reserve(run.time.outputs.size());
   values.reserve(run.time.outputs.size());
   EngineObserver observer;
-  observer.output = [&](double t, const SystemState& state) {
+  observer.measure = [&](double, const ObservedState& state) { return Measurement{{state.moment(plan.series_order)}}; };
+  observer.record = [&](double t, std::vector<Measurement> m) {
     times.push_back(t);
-    values.push_back(state.moment(plan.series_order));
+    values.push_back(m.front().values.front());
   };
   observer.progress = progress;
-  plan.scene.engines.front()->run(run, observer);
+  plan.engine->run(run, observer);
 
   const OscillationClassification c = classify_oscillation(times, values, plan.criteria);
   ScanRecord r;

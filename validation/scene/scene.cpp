@@ -4,9 +4,9 @@
 
 namespace aggkit {
 
-const Engine* Scene::find_engine(std::string_view label) const {
+const EngineSpec* Scene::find_engine(std::string_view label) const {
   for (const auto& engine : engines)
-    if (engine->label() == label) return engine.get();
+    if (engine.label == label) return &engine;
   return nullptr;
 }
 

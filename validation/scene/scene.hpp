@@ -12,20 +12,23 @@
 //   truncation = "drop"                            drop | cutoff (default drop)
 //   initial = { kind = "monodisperse" }            optional density (default 1);
 //                                                  or { kind = "table", n = [n_1, n_2, ...] }
-//   [particles]                                    required by the particle engines (ed); see
+//   [particles]                                    required by the particle engines (ed, ...); see
 //                                                  scene_particles.cpp for the keys
 //   [time]
 //   end = 100.0                                    (required, > 0)
 //   outputs = [1.0, 10.0]  or  every = 1.0         increasing, in (0, end]; end is always an output
 //   [[engine]]                                     one table per engine, run in this order
-//   name = "cvode"                                 see engine_registry.cpp for the kinds
+//   name = "cvode"                                 the kinds and their options: `aggkit run --help`
 //   label = "cvode-direct"                         optional, default the name; unique; output folder
-//   ...                                            the engine's own options (engine_<name>.cpp)
+//   ...                                            the engine's own options (its option table,
+//                                                  validation/engines/engine_<name>.cpp), checked when
+//                                                  the engines are built (validation/engines/engine.hpp)
 //   [observe]
-//   series = ["M0", "M2", "mass_leak", "n1"]       (required; see observable.hpp)
+//   series = ["M0", "M2", "mass_leak", "n1"]       (required; the forms: validation/observables/)
 //   distributions = [1.0, 100.0]                   optional; each one of the output times
-//   final = ["contacts", "fractal_dimension_box"]  particle engines: observables of the final configuration
-//                                                  (particle_final_state.hpp), written to <engine>/final.json
+//   final = ["contacts", "fractal_dimension_box"]  particle engines: observables of the final configuration,
+//                                                  written to <engine>/final.json (profiles such as
+//                                                  pair_distribution to <engine>/<name>.csv)
 //   snapshots = true                               particle engines: the final configuration as
 //                                                  <engine>/final.vtu and <engine>/final.png (default false)
 //   [compare]                                      optional
@@ -44,9 +47,10 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "particle/common/particle_system.hpp"
 #include "solvers/model.hpp"
-#include "validation/engines/engine.hpp"
 #include "validation/observables/observable.hpp"
 
 namespace aggkit {
@@ -84,6 +88,15 @@ struct ComparisonPlan {
   const Tolerance* tolerance_for(std::string_view observable) const;  // nullptr: reported only
 };
 
+// One [[engine]] table as written: the engine is built from it (and its options checked against the kind's
+// option table) by validation/engines/engine.hpp, which the scene does not depend on.
+struct EngineSpec {
+  std::string name;         // the kind
+  std::string label;        // unique in the scene: output folder, comparison key
+  std::string key;          // the table's dotted key in messages: "engine[1]"
+  nlohmann::json options;   // every other key of the table (an object)
+};
+
 struct Scene {
   std::string name;
   std::filesystem::path path;  // the file it was read from; empty for a scene parsed from text
@@ -92,11 +105,11 @@ struct Scene {
   InitialCondition initial;
   std::optional<ParticleSystem> particles;  // the [particles] section, if any
   TimeGrid time;
-  std::vector<std::unique_ptr<Engine>> engines;
+  std::vector<EngineSpec> engines;  // in run order
   Observation observe;
   std::optional<ComparisonPlan> compare;
 
-  const Engine* find_engine(std::string_view label) const;  // nullptr if absent
+  const EngineSpec* find_engine(std::string_view label) const;  // nullptr if absent
 };
 
 // Reads and validates a scene file; throws InputError for a missing or unreadable file, malformed TOML and

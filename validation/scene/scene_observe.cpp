@@ -1,22 +1,19 @@
 // [observe] and [compare]: what is recorded and how engines are compared.
 #include <algorithm>
 
-#include "validation/observables/particle_final_state.hpp"
 #include "validation/scene/scene_sections.hpp"
 
 namespace aggkit {
 
 namespace {
 
-// observe.final: names of final-configuration observables, each once; only with [particles].
+// observe.final: observables of the final configuration, each once; only with [particles].
 std::vector<std::string> read_final_state(const SceneTable& observe, const Scene& scene) {
   const std::vector<std::string> names = observe.strings("final");
   if (!scene.particles) observe.fail("final", "no final-state observables: they need a [particles] section");
-  const auto& known = final_state_observables();
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string key = observe.key("final") + "[" + std::to_string(i) + "]";
-    if (std::find(known.begin(), known.end(), names[i]) == known.end())
-      throw InputError(key, "\"" + names[i] + "\"", "one of " + join(known));
+    if (!Observable::from_name(names[i])) throw InputError(key, "\"" + names[i] + "\"", Observable::forms());
     if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i)
       throw InputError(key, "\"" + names[i] + "\"", "each observable once");
   }
@@ -39,8 +36,10 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
     const std::string key = observe.key("series") + "[" + std::to_string(i) + "]";
     const auto observable = Observable::from_name(names[i]);
     if (!observable) throw InputError(key, "\"" + names[i] + "\"", Observable::forms());
+    if (observable->is_profile())
+      throw InputError(key, "\"" + names[i] + "\"", "a number per output time; a profile belongs in observe.final");
     const std::size_t largest = scene.has_model ? scene.model.size : scene.particles ? scene.particles->count : 0;
-    if (observable->kind() == Observable::Kind::density && observable->size() > largest)
+    if (observable->type().size_parameter && observable->parameter() > double(largest))
       throw InputError(key, "\"" + names[i] + "\"",
                        "n<k> with k <= " + std::string(scene.has_model ? "model.size" : "particles.count") + " = " +
                            std::to_string(largest));
@@ -72,7 +71,7 @@ ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
   ComparisonPlan plan;
   plan.reference = compare.string("reference");
   std::vector<std::string> labels;
-  for (const auto& engine : scene.engines) labels.push_back(engine->label());
+  for (const auto& engine : scene.engines) labels.push_back(engine.label);
   if (!scene.find_engine(plan.reference)) compare.fail("reference", "the label of an engine of this scene: " + join(labels));
   if (scene.engines.size() < 2)
     compare.fail("reference", "a comparison needs a second engine besides the reference; this scene has only " +

@@ -3,6 +3,7 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/particle/dsmc/dsmc_fixture.hpp"
+#include "tests/validation/scene_fixture.hpp"
 #include "validation/scene/scene.hpp"
 
 using namespace aggkit;
@@ -12,14 +13,14 @@ TEST_CASE("dsmc: bad options and models are refused with the key named") {
   const AggregationModel model = aggkit::testing::dsmc_model(Kernel::constant(), 0.1);
   dsmc::Options options;
   options.particles = 1;
-  CHECK_THROWS_WITH(dsmc::Simulation(model, options, 1, 1.0), Contains("dsmc.particles = 1") && Contains(">= 2"));
+  CHECK_THROWS_WITH(dsmc::Simulation(model, options, 1, 1.0), Contains("particles = 1") && Contains(">= 2"));
   options = {};
   options.bucket = 0;
-  CHECK_THROWS_WITH(dsmc::Simulation(model, options, 1, 1.0), Contains("dsmc.bucket = 0") && Contains(">= 1"));
+  CHECK_THROWS_WITH(dsmc::Simulation(model, options, 1, 1.0), Contains("bucket = 0") && Contains(">= 1"));
   options = {};
   options.runs = 0;
-  CHECK_THROWS_WITH(dsmc::Ensemble(model, options, 1.0), Contains("dsmc.runs = 0"));
-  CHECK_THROWS_WITH(dsmc::method_from_name("gillespie"), Contains("dsmc.method") && Contains("gillespie"));
+  CHECK_THROWS_WITH(dsmc::Ensemble(model, options, 1.0), Contains("runs = 0"));
+  CHECK_THROWS_WITH(dsmc::method_from_name("gillespie"), Contains("method = \"gillespie\"") && Contains("gillespie"));
   AggregationModel negative = model;
   negative.lambda = ShatteringRate::constant(-0.5);
   CHECK_THROWS_AS(dsmc::Simulation(negative, dsmc::Options{}, 1, 1.0), InputError);
@@ -32,11 +33,11 @@ TEST_CASE("dsmc: bad engine options in a scene name the scene key") {
            "\nsize = 16\n[time]\nend = 1.0\n[[engine]]\nname = \"dsmc\"\n" + engine +
            "\n[observe]\nseries = [\"M0\"]\n";
   };
-  CHECK_NOTHROW(parse_scene(scene("particles = 100\nruns = 2\nbucket = 4\nmethod = \"fast\"\nseed = 7")));
-  CHECK_THROWS_WITH(parse_scene(scene("particles = 1")), Contains("engine[0].particles = 1"));
-  CHECK_THROWS_WITH(parse_scene(scene("bucket = 0")), Contains("engine[0].bucket = 0"));
-  CHECK_THROWS_WITH(parse_scene(scene("runs = 0")), Contains("engine[0].runs = 0"));
-  CHECK_THROWS_WITH(parse_scene(scene("method = \"exact\"")), Contains("engine[0].method"));
-  CHECK_THROWS_WITH(parse_scene(scene("particles = 100", "-0.5")), Contains("model.lambda = -0.5"));
-  CHECK_THROWS_WITH(parse_scene(scene("colour = 1")), Contains("colour"));
+  CHECK_NOTHROW(aggkit::testing::parse_checked(scene("particles = 100\nruns = 2\nbucket = 4\nmethod = \"fast\"\nseed = 7")));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("particles = 1")), Contains("engine[0].particles = 1"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("bucket = 0")), Contains("engine[0].bucket = 0"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("runs = 0")), Contains("engine[0].runs = 0"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("method = \"exact\"")), Contains("engine[0].method"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("particles = 100", "-0.5")), Contains("model.lambda = -0.5"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("colour = 1")), Contains("colour"));
 }

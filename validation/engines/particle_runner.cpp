@@ -1,0 +1,177 @@
+#include "validation/engines/particle_runner.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "validation/engines/particle_outputs.hpp"
+#include "validation/io/atomic_file.hpp"
+#include "validation/io/particle_snapshot.hpp"
+
+namespace aggkit {
+
+Vector3 ParticleSimulation::momentum() const {
+  const std::vector<Vector3> v = velocities();
+  const std::vector<double> m = masses();
+  Vector3 p{0, 0, 0};
+  for (std::size_t i = 0; i < v.size(); ++i) p = p + m[i] * v[i];
+  return p;
+}
+
+namespace {
+
+// What one realization leaves for the ensemble.
+struct RealizationResult {
+  std::vector<Measurement> series;                    // per output time
+  std::vector<std::pair<std::string, double>> finals; // final.json entries, in order
+  NamedProfiles profiles;
+  std::vector<std::pair<std::string, std::int64_t>> counters;
+  std::string picture = "not requested";
+};
+
+class ParticleEngine final : public Engine {
+ public:
+  ParticleEngine(std::string name, std::string label, ParticleEngineKind::Setup setup, std::size_t threads)
+      : Engine(std::move(name), std::move(label)), setup_(std::move(setup)), threads_(threads) {}
+
+  std::string describe() const override {
+    return setup_.description + (threads_ != 1 ? ", " + (threads_ == 0 ? std::string("all cores") : std::to_string(threads_) + " threads") : "");
+  }
+
+  EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
+    const ParticleSystem& system = *scene.particles;
+    const std::size_t realizations = system.realizations;
+    std::vector<RealizationResult> results(realizations);
+    std::mutex report;  // progress and status lines come from every thread
+
+    std::size_t workers = threads_ == 0 ? std::max(1u, std::thread::hardware_concurrency()) : threads_;
+    workers = std::min(workers, realizations);
+    if (workers <= 1) {
+      for (std::size_t r = 0; r < realizations; ++r) results[r] = run_one(scene, observer, r, report);
+    } else {
+      std::atomic<std::size_t> next{0};
+      std::exception_ptr failure;
+      std::vector<std::thread> pool;
+      for (std::size_t w = 0; w < workers; ++w)
+        pool.emplace_back([&] {
+          for (std::size_t r; (r = next++) < realizations;) {
+            try {
+              results[r] = run_one(scene, observer, r, report);
+            } catch (...) {
+              std::lock_guard lock(report);
+              if (!failure) failure = std::current_exception();
+              next = realizations;
+            }
+          }
+        });
+      for (auto& thread : pool) thread.join();
+      if (failure) std::rethrow_exception(failure);
+    }
+
+    const std::vector<double>& outputs = scene.time.outputs;
+    for (std::size_t k = 0; k < outputs.size(); ++k) {
+      std::vector<Measurement> at_k;
+      for (auto& result : results) at_k.push_back(std::move(result.series[k]));
+      observer.record(outputs[k], std::move(at_k));
+    }
+    FinalAverages finals;
+    std::vector<NamedProfiles> profiles;
+    for (const auto& result : results) {
+      for (const auto& [key, value] : result.finals) finals.add(key, value);
+      profiles.push_back(result.profiles);
+    }
+    write_file_atomically(observer.folder / "final.json", finals.json(realizations));
+    write_final_profiles(observer.folder, profiles);
+
+    EngineStatistics statistics{{"particles", system.describe()},
+                                {"realizations", std::int64_t(realizations)},
+                                {"threads", std::int64_t(workers)}};
+    for (std::size_t c = 0; c < results.front().counters.size(); ++c) {
+      std::int64_t total = 0;
+      for (const auto& result : results) total += result.counters[c].second;
+      statistics.push_back({results.front().counters[c].first, total});
+    }
+    statistics.push_back({"picture", results.front().picture});
+    return statistics;
+  }
+
+ private:
+  RealizationResult run_one(const Scene& scene, const EngineObserver& observer, std::size_t r, std::mutex& report) const {
+    const std::size_t realizations = scene.particles->realizations;
+    const std::string prefix =
+        realizations > 1 ? "realization " + std::to_string(r + 1) + "/" + std::to_string(realizations) + ", " : "";
+    const StatusSink status = [&](const std::string& what) {
+      if (!observer.status) return;
+      std::lock_guard lock(report);
+      observer.status(prefix + what);
+    };
+    RealizationResult result;
+    const auto started = std::chrono::steady_clock::now();
+    const std::unique_ptr<ParticleSimulation> simulation = setup_.start(r);
+    simulation->prepare(status);
+    const Vector3 p0 = simulation->momentum() + simulation->wall_impulse();
+    double momentum_scale = 0;
+    {
+      const std::vector<Vector3> v = simulation->velocities();
+      const std::vector<double> m = simulation->masses();
+      for (std::size_t i = 0; i < v.size(); ++i) momentum_scale += m[i] * norm(v[i]);
+    }
+    const std::vector<double>& outputs = scene.time.outputs;
+    bool stopped = false;
+    for (double t : outputs) {
+      if (!stopped) stopped = simulation->advance(t, status);
+      result.series.push_back(observer.measure(t, ParticleView(*simulation)));
+      if (r == 0 && observer.progress) {
+        std::lock_guard lock(report);
+        observer.progress(t);
+      }
+    }
+    if (!stopped) simulation->finish(scene.time.end, status);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+    const ParticleView final(*simulation);
+    for (const std::string& name : scene.observe.final_state) {
+      const Observable observable = *Observable::from_name(name);
+      if (observable.is_profile()) result.profiles.emplace_back(name, observable.profile(final));
+      else for (auto& entry : observable.final_values(final)) result.finals.push_back(std::move(entry));
+    }
+    for (auto& entry : simulation->final_values()) result.finals.push_back(std::move(entry));
+    const double drift = norm(simulation->momentum() + simulation->wall_impulse() - p0);
+    result.finals.emplace_back("wall_seconds", wall);
+    result.finals.emplace_back("momentum_drift", momentum_scale > 0 ? drift / momentum_scale : drift);
+    result.finals.emplace_back("stop_time", simulation->time());
+    result.counters = simulation->counters();
+    if (r == 0 && scene.observe.snapshots) {
+      write_vtu_snapshot(observer.folder / "final.vtu", final.configuration(), final.cluster_labels(), final.velocities());
+      std::string error;
+      result.picture = write_cluster_picture(observer.folder / "final.png", final.configuration(), final.cluster_labels(), &error)
+                           ? "final.png"
+                           : "failed: " + error;
+    }
+    return result;
+  }
+
+  ParticleEngineKind::Setup setup_;
+  std::size_t threads_;
+};
+
+}  // namespace
+
+EngineType particle_engine_type(ParticleEngineKind kind) {
+  OptionTable options = kind.options;
+  options.push_back(integer_option("threads", "1", "realizations run at once (0: one per core); results do not depend on it", 0, 4096));
+  std::vector<std::string> files{"final.json", "final.vtu", "final.png"};
+  for (auto& f : profile_files()) files.push_back(f);
+  auto setup = kind.setup;
+  const std::string name = kind.name;
+  return {kind.name, kind.description, options, need::particles, /*needs_model=*/false, files,
+          [setup, name](const EngineOptions& given, const EngineSpec& spec, const Scene& scene) -> std::unique_ptr<Engine> {
+            const auto threads = std::size_t(given.integer("threads", 1));
+            return std::make_unique<ParticleEngine>(name, spec.label, setup(given, scene), threads);
+          }};
+}
+
+}  // namespace aggkit

@@ -1,0 +1,66 @@
+#pragma once
+// The particle runner: what every particle engine (ED, TS, DEM) shares in the harness. An engine supplies
+// one realization of its dynamics (ParticleSimulation: a ParticleSource that can advance in time) and its
+// option table; the runner gives it
+//   * `[particles] realizations` independent runs, each from the scene's start for that realization
+//     (particle/common/particle_system.hpp, seeds from particle/common/seeds.hpp), optionally on threads
+//     (option `threads`), bit-identical whatever the thread count;
+//   * the series: the scene's observables measured on each realization at each output time, recorded by
+//     the harness as means with <name>_stderr columns when there are several realizations (a realization
+//     that has stopped holds its final state for the later output times);
+//   * <label>/final.json: the observe.final values of the final configuration, the engine's own values,
+//     wall_seconds, momentum_drift = |P(end) + J_walls − P(0)| / Σ m |v(0)| (absolute when everything
+//     starts at rest; P(0) after prepare()), stop_time, each as a mean with <key>_stderr;
+//     <label>/<profile>.csv for profiles (particle_outputs.hpp);
+//   * with observe.snapshots, the first realization's final configuration as final.vtu and final.png;
+//   * progress in words, summary statistics (the engine's counters summed over realizations).
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "particle/common/vector3.hpp"
+#include "validation/engines/engine.hpp"
+#include "validation/observables/particle_view.hpp"
+
+namespace aggkit {
+
+using StatusSink = std::function<void(const std::string& what)>;
+
+// One realization of a particle engine.
+class ParticleSimulation : public ParticleSource {
+ public:
+  // Before the clock starts (ED: the elastic thermalisation); may report its stage through `status`.
+  virtual void prepare(const StatusSink& status) { (void)status; }
+  // Advances to time t, or until the engine's stop rule holds; true once it holds (nothing more to do).
+  virtual bool advance(double t, const StatusSink& status) = 0;
+  // After the last output time: runs on if the stop rule asks for it (ED: a cluster count not yet reached).
+  virtual void finish(double end, const StatusSink& status) { (void)end, (void)status; }
+  virtual double time() const = 0;
+  virtual Vector3 momentum() const;                       // Σ m v; by default over the particles
+  virtual Vector3 wall_impulse() const { return {0, 0, 0}; }  // momentum given to the walls so far
+  // The engine's own entries of final.json (after the observables) and counters for summary.json (summed).
+  virtual std::vector<std::pair<std::string, double>> final_values() const { return {}; }
+  virtual std::vector<std::pair<std::string, std::int64_t>> counters() const { return {}; }
+};
+
+// A particle engine as its file declares it.
+struct ParticleEngineKind {
+  std::string name;
+  std::string description;
+  OptionTable options;  // its own keys; the runner adds `threads`
+  // What the engine runs: checks its options and the scene's [particles] (InputError naming the key for a
+  // form it cannot use), then returns how to start realization r and a one-line description.
+  struct Setup {
+    std::function<std::unique_ptr<ParticleSimulation>(std::size_t realization)> start;
+    std::string description;
+  };
+  std::function<Setup(const EngineOptions& options, const Scene& scene)> setup;
+};
+
+// The engine type of a particle engine: the runner's options and files added to the kind's.
+EngineType particle_engine_type(ParticleEngineKind kind);
+
+}  // namespace aggkit

@@ -1,0 +1,134 @@
+// The observables a scene can ask for: one entry each. To add one, add an entry here (form, description,
+// what it needs of a state, how its name is matched, how it is computed).
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <limits>
+
+#include "analysis/fractal_dimension.hpp"
+#include "analysis/shape.hpp"
+#include "validation/observables/observable.hpp"
+
+namespace aggkit {
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+// Parses all of `text` as a number of type T; std::nullopt unless the whole text is one number.
+template <class T>
+std::optional<T> parse_whole(std::string_view text) {
+  T value{};
+  const char* end = text.data() + text.size();
+  const auto result = std::from_chars(text.data(), end, value);
+  if (text.empty() || result.ec != std::errc() || result.ptr != end) return std::nullopt;
+  return value;
+}
+
+// A plain name: parameter 0.
+std::function<std::optional<double>(std::string_view)> named(std::string name) {
+  return [name = std::move(name)](std::string_view text) -> std::optional<double> {
+    return text == name ? std::optional<double>(0.0) : std::nullopt;
+  };
+}
+
+// M<p>: a plain decimal order p >= 0 (from_chars would also read "nan", "inf" and a sign).
+std::optional<double> moment_order(std::string_view name) {
+  if (name.size() < 2 || name.front() != 'M') return std::nullopt;
+  const std::string_view rest = name.substr(1);
+  if (!(std::isdigit(static_cast<unsigned char>(rest.front())) || rest.front() == '.')) return std::nullopt;
+  const auto p = parse_whole<double>(rest);
+  if (!p || !std::isfinite(*p) || *p < 0) return std::nullopt;
+  return *p;
+}
+
+// n<k>: an integer k >= 1.
+std::optional<double> density_size(std::string_view name) {
+  if (name.size() < 2 || name.front() != 'n' || !std::isdigit(static_cast<unsigned char>(name[1]))) return std::nullopt;
+  const auto k = parse_whole<std::size_t>(name.substr(1));
+  if (!k || *k < 1) return std::nullopt;
+  return double(*k);
+}
+
+// A number of the particle configuration; NaN for a state without one.
+std::function<double(const ObservedState&, double)> of_particles(double (*f)(const ParticleView&)) {
+  return [f](const ObservedState& state, double) { return state.particles() ? f(*state.particles()) : nan; };
+}
+
+const Gyration gyration_of_largest(const ParticleView& v) {
+  return gyration(v.largest_cluster(), v.configuration().dimension);
+}
+
+}  // namespace
+
+const std::vector<ObservableType>& observable_types() {
+  using namespace need;
+  static const std::vector<ObservableType> types{
+      {"M<p>", "moment M_p = Σ_k k^p n_k, real p >= 0 (M0, M1, M1.5, ...)", sizes, moment_order, false,
+       [](const ObservedState& s, double p) { return s.moment(p); }, {}, {}},
+      {"n<k>", "density n_k of size k >= 1 (n1, n10, ...)", sizes, density_size, true,
+       [](const ObservedState& s, double k) { return s.density(std::size_t(k)); }, {}, {}},
+      {"mass_leak", "mass lost through the truncation so far (truncation = \"drop\")", need::leaked_mass,
+       named("mass_leak"), false, [](const ObservedState& s, double) { return s.leaked_mass(); }, {}, {}},
+      {"clusters", "number of clusters", need::clusters, named("clusters"), false,
+       of_particles([](const ParticleView& v) { return double(v.clusters()); }), {}, {}},
+      {"mean_cluster_size", "particles per cluster N/C; M1/M0 for densities", sizes, named("mean_cluster_size"), false,
+       [](const ObservedState& s, double) {
+         if (const ParticleView* v = s.particles()) return double(v->count()) / double(v->clusters());
+         return s.moment(1) / s.moment(0);
+       }, {}, {}},
+      {"largest_cluster", "particle count of the largest cluster", need::clusters, named("largest_cluster"), false,
+       of_particles([](const ParticleView& v) {
+         const auto sizes = v.cluster_sizes();
+         return double(*std::max_element(sizes.begin(), sizes.end()));
+       }), {}, {}},
+      {"kinetic_energy", "Σ ½ m |v|² over the particles", velocities | masses, named("kinetic_energy"), false,
+       of_particles([](const ParticleView& v) { return v.kinetic_energy(); }), {}, {}},
+      {"contacts", "relative contacts per sphere N_c within 2.1 R (N_max = 6 in 2-D, 12 in 3-D) [Degond2024]",
+       positions, named("contacts"), false,
+       of_particles([](const ParticleView& v) { return relative_contacts(v.configuration(), 2.1); }), {}, {}},
+      {"contacts_with_self", "N_c with the i = j terms counted (+1/N_max), the reading of the published ≈ 0.5 [Degond2024]",
+       positions, named("contacts_with_self"), false,
+       of_particles([](const ParticleView& v) {
+         return relative_contacts(v.configuration(), 2.1, ContactCounting::with_self);
+       }), {}, {}},
+      {"aspect_ratio", "aspect ratio of the gyration tensor of the largest cluster", positions | need::clusters,
+       named("aspect_ratio"), false,
+       of_particles([](const ParticleView& v) { return gyration_of_largest(v).aspect_ratio; }), {}, {}},
+      {"orientation", "orientation of the gyration tensor's main axis (largest cluster)", positions | need::clusters,
+       named("orientation"), false,
+       of_particles([](const ParticleView& v) { return gyration_of_largest(v).orientation; }), {}, {}},
+      {"radius_of_gyration", "radius of gyration of the largest cluster", positions | need::clusters,
+       named("radius_of_gyration"), false,
+       of_particles([](const ParticleView& v) { return gyration_of_largest(v).radius_of_gyration; }), {}, {}},
+      {"fractal_dimension_box",
+       "box-counting dimension of the largest cluster (grid over the box side with walls, over its own bounding "
+       "box when periodic), with _error, _fit_min, _fit_max",
+       positions | need::clusters, named("fractal_dimension_box"), false, {},
+       [](const ParticleView& v) {
+         const ParticleConfiguration& c = v.configuration();
+         const double side = c.periodic ? 0.0 : *std::max_element(c.box.begin(), c.box.begin() + c.dimension);
+         return box_counting_dimension(v.largest_cluster(), c.dimension, c.radius, side);
+       },
+       {}},
+      {"fractal_dimension_mass", "mass-radius dimension N(r) of the largest cluster, with _error, _fit_min, _fit_max",
+       positions | need::clusters, named("fractal_dimension_mass"), false, {},
+       [](const ParticleView& v) {
+         const ParticleConfiguration& c = v.configuration();
+         return mass_radius_dimension(v.largest_cluster(), c.dimension, c.radius);
+       },
+       {}},
+      {"pair_distribution",
+       "profile r, P: P(r) = (1/N) Σ_{i≠j} 1{|X_i − X_j| <= r} at 90 radii on (2R, 20R] [Degond2024] (final only)",
+       positions, named("pair_distribution"), false, {}, {},
+       [](const ParticleView& v) {
+         const ParticleConfiguration& c = v.configuration();
+         const PairDistribution p = pair_distribution(c, pair_distribution_radii(c.radius, 90));
+         return Profile{"r", "P", p.r, p.p};
+       }},
+  };
+  return types;
+}
+
+}  // namespace aggkit
