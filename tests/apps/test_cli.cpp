@@ -158,3 +158,23 @@ TEST_CASE("cli: --version, kernels and command-line errors") {
   CHECK(run.exit_code == 0);
   CHECK_THAT(run.out, Contains("Exit status"));
 }
+
+TEST_CASE("cli: run --help lists every engine option with its default, and every observable, from the registries") {
+  const auto folder = aggkit::testing::scratch_folder("cli-help");
+  const Outcome help = aggkit_cli({"run", "--help"}, folder);
+  CHECK(help.exit_code == 0);
+  for (const aggkit::EngineType& type : aggkit::engine_types()) {
+    INFO(type.name);
+    CHECK_THAT(help.out, Contains("  " + type.name + ": " + type.description));
+    for (const aggkit::OptionSpec& option : type.options)
+      CHECK_THAT(help.out, Contains("    " + option.key + " (default " + option.default_text + "; " + option.allowed() + ")"));
+  }
+  for (const aggkit::ObservableType& type : aggkit::observable_types())
+    CHECK_THAT(help.out, Contains("  " + type.form + ": "));
+  // The table is the one the scene reader checks against: a key it lists is accepted, one it does not is not.
+  SceneText text;
+  text.engines = "[[engine]]\nname = \"cvode\"\nkrylov = 7\n[[engine]]\nname = \"exact\"\n";
+  CHECK_NOTHROW(aggkit::testing::parse_checked(text.text()));
+  text.engines = "[[engine]]\nname = \"cvode\"\nkrylof = 7\n[[engine]]\nname = \"exact\"\n";
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Contains("engine[0].krylof"));
+}

@@ -1,5 +1,5 @@
 #pragma once
-// The validation harness: `aggkit run SCENE --out DIR` (DESIGN.md "Scenes").
+// The validation harness: `aggkit run SCENE --out DIR` .
 //   1. checks that DIR can be written and removes stale outputs (else InputError, before anything runs);
 //   2. runs each engine in scene order, writing DIR/<label>/series.csv (and distribution.csv) as each
 //      one finishes; an engine that fails is recorded and the others still run;

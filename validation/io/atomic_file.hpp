@@ -1,6 +1,6 @@
 #pragma once
 // A file written under a temporary name in its own folder and renamed into place when complete, so that
-// a failed or interrupted run never leaves a half-written file under the final name (DESIGN.md "Errors").
+// a failed or interrupted run never leaves a half-written file under the final name.
 #include <filesystem>
 #include <fstream>
 #include <string_view>

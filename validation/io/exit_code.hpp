@@ -1,5 +1,5 @@
 #pragma once
-// Exit status of `aggkit` (DESIGN.md "Scenes"; documented in `aggkit --help`).
+// Exit status of `aggkit` (documented in `aggkit --help`).
 namespace aggkit {
 
 enum ExitCode : int {

@@ -1,5 +1,5 @@
 #pragma once
-// Output formats for the particle engines (ED, TS, DEM), issue 5 item 3 "Snapshots":
+// Output formats for the particle engines (ED, TS, DEM):
 //  * a VTK XML UnstructuredGrid file (.vtu, for ParaView): one VTK_VERTEX cell per particle, point data
 //    "cluster" (Int32), "radius" (Float64) and, if given, "velocity" (3 components); ASCII, written
 //    atomically (validation/io/atomic_file.hpp);

@@ -1,5 +1,5 @@
 #pragma once
-// A scene: one validation run described in a TOML file (DESIGN.md "Scenes"). The schema, every key:
+// A scene: one validation run described in a TOML file. The schema, every key:
 //
 //   name = "..."                                   (required)
 //   [model]                                        required by the kinetic engines (cvode, exact, ...)

@@ -1,5 +1,5 @@
 #pragma once
-// Strict reading of one TOML table of a scene (DESIGN.md "Errors"): keys are checked against the allowed
+// Strict reading of one TOML table of a scene: keys are checked against the allowed
 // set, values against their type and range, and every failure is an InputError that names the full
 // dotted key (e.g. `engine[1].rtol`), the value as written and what is allowed.
 // Internal to the scene parser and the engine parsers; needs toml++.
