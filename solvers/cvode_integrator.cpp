@@ -275,7 +275,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   model.validate(t_end);
   for (std::size_t i = 0; i < output_times.size(); ++i)
     if (!std::isfinite(output_times[i]) || output_times[i] < 0.0 || (i > 0 && !(output_times[i] > output_times[i - 1])))
-      throw InputError("time.outputs[" + std::to_string(i) + "]", format_value(output_times[i]),
+      throw InputError("output_times[" + std::to_string(i) + "]", format_value(output_times[i]),
                        "output times must be finite, >= 0 and strictly increasing");
   const std::size_t N = model.size;
   if (options.method == IntegratorMethod::bdf_dense && N > options.dense_limit)

@@ -57,19 +57,19 @@ Kernel Kernel::product() {
 }
 
 Kernel Kernel::linear(double A, double B) {
-  require_finite("model.kernel.A", A, "a finite number >= 0");
-  require_finite("model.kernel.B", B, "a finite number >= 0");
-  if (A < 0) throw InputError("model.kernel.A", format_value(A), "must be >= 0 (the kernel must stay positive)");
-  if (B < 0) throw InputError("model.kernel.B", format_value(B), "must be >= 0 (the kernel must stay positive)");
+  require_finite("kernel.A", A, "a finite number >= 0");
+  require_finite("kernel.B", B, "a finite number >= 0");
+  if (A < 0) throw InputError("kernel.A", format_value(A), "must be >= 0 (the kernel must stay positive)");
+  if (B < 0) throw InputError("kernel.B", format_value(B), "must be >= 0 (the kernel must stay positive)");
   Kernel k("linear", {{"A", A}, {"B", B}}, [A, B](double i, double j) { return 1.0 + A * (i + j) + B * i * j; });
   k.exact_form_ = exact({[](double) { return 1.0; }, [](double s) { return s; }}, {{1.0, A}, {A, B}});
   return k;
 }
 
 Kernel Kernel::generalized_product(double mu) {
-  require_finite("model.kernel.mu", mu, "a finite exponent");
+  require_finite("kernel.mu", mu, "a finite exponent");
   if (mu < 0.0 || mu > 1.0)
-    throw InputError("model.kernel.mu", format_value(mu), "must lie in [0, 1] (mu > 1/2 gels at finite time)");
+    throw InputError("kernel.mu", format_value(mu), "must lie in [0, 1] (mu > 1/2 gels at finite time)");
   Kernel k("genproduct", {{"mu", mu}}, [mu](double i, double j) { return std::pow(i * j, mu); });
   k.exact_form_ = exact({[mu](double s) { return std::pow(s, mu); }}, {{1.0}});
   return k;
@@ -85,8 +85,8 @@ Kernel Kernel::ballistic() {
 }
 
 Kernel Kernel::brownian(double a) {
-  require_finite("model.kernel.a", a, "a finite exponent in [0, 1]");
-  if (a < 0.0 || a > 1.0) throw InputError("model.kernel.a", format_value(a), "must lie in [0, 1]");
+  require_finite("kernel.a", a, "a finite exponent in [0, 1]");
+  if (a < 0.0 || a > 1.0) throw InputError("kernel.a", format_value(a), "must lie in [0, 1]");
   // K_ij = (i/j)^a + (j/i)^a = i^a j^{-a} + i^{-a} j^a: rank 2 (a = 0 gives K = 2).
   Kernel k("brownian", {{"a", a}}, [a](double i, double j) { return std::pow(i / j, a) + std::pow(j / i, a); });
   k.exact_form_ = exact({[a](double s) { return std::pow(s, a); }, [a](double s) { return std::pow(s, -a); }},
@@ -115,12 +115,12 @@ Kernel Kernel::from_name(const std::string& name, const std::map<std::string, do
       {"product", {{}, [](auto&) { return product(); }}},
       {"linear", {{"A", "B"}, [&](auto& p) { return linear(get(p, "A", 0.0), get(p, "B", 0.0)); }}},
       {"genproduct", {{"mu"}, [&](auto& p) {
-         if (!p.count("mu")) throw InputError("model.kernel.mu", "(missing)", "genproduct needs mu in [0, 1]");
+         if (!p.count("mu")) throw InputError("kernel.mu", "(missing)", "genproduct needs mu in [0, 1]");
          return generalized_product(p.at("mu"));
        }}},
       {"ballistic", {{}, [](auto&) { return ballistic(); }}},
       {"brownian", {{"a"}, [&](auto& p) {
-         if (!p.count("a")) throw InputError("model.kernel.a", "(missing)", "brownian needs a in [0, 1]");
+         if (!p.count("a")) throw InputError("kernel.a", "(missing)", "brownian needs a in [0, 1]");
          return brownian(p.at("a"));
        }}},
   };
@@ -128,14 +128,14 @@ Kernel Kernel::from_name(const std::string& name, const std::map<std::string, do
   if (it == table.end()) {
     std::string allowed = "one of";
     for (const auto& n : names()) allowed += " " + n;
-    throw InputError("model.kernel.name", "\"" + name + "\"", allowed);
+    throw InputError("kernel.name", "\"" + name + "\"", allowed);
   }
   for (const auto& [key, value] : parameters) {
     if (std::find(it->second.keys.begin(), it->second.keys.end(), key) == it->second.keys.end()) {
       std::string allowed = it->second.keys.empty() ? "kernel '" + name + "' takes no parameters"
                                                      : "kernel '" + name + "' takes:";
       for (const auto& k : it->second.keys) allowed += " " + k;
-      throw InputError("model.kernel." + key, format_value(value), allowed);
+      throw InputError("kernel." + key, format_value(value), allowed);
     }
   }
   return it->second.make(parameters);

@@ -17,17 +17,17 @@ MassConstrainedSystem::MassConstrainedSystem(const AggregationModel& model, Rate
     : N_(model.size), mass_row_(model.size - 1), cutoff_(model.truncation == Truncation::cutoff) {
   model.validate(0.0);
   if (!model.lambda.is_constant())
-    throw InputError("model.lambda", model.lambda.describe(), "a constant shattering rate for a steady state");
+    throw InputError("lambda", model.lambda.describe(), "a constant shattering rate for a steady state");
   lambda_ = model.lambda(0.0);
   if (cutoff_) {
-    if (N_ < 3) throw InputError("model.size", std::to_string(N_), "at least 3 for a cutoff steady state");
+    if (N_ < 3) throw InputError("size", std::to_string(N_), "at least 3 for a cutoff steady state");
     mass_row_ = N_ - 2;
   }
   std::vector<double> initial = model.initial;
   initial.resize(N_, 0.0);
   mass_ = total_mass(std::span<const double>(initial).first(mass_row_ + 1));
   if (!(mass_ > 0.0))
-    throw InputError("model.initial", "no mass below the absorbing size N",
+    throw InputError("initial", "no mass below the absorbing size N",
                      "a cutoff steady state needs mass in sizes < N");
   rates_ = make_rates(model, path, lowrank_tolerance, 0.0);
   state_.assign(N_, 0.0);

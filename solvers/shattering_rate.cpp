@@ -21,13 +21,13 @@ ShatteringRate ShatteringRate::linear(double initial, double slope) {
 
 ShatteringRate ShatteringRate::table(std::vector<double> times, std::vector<double> values) {
   if (times.empty() || times.size() != values.size())
-    throw InputError("model.lambda.times", std::to_string(times.size()) + " entries",
+    throw InputError("lambda.times", std::to_string(times.size()) + " entries",
                      "needs as many times as values (" + std::to_string(values.size()) + "), at least one");
   for (std::size_t i = 0; i < times.size(); ++i) {
     if (!std::isfinite(times[i]))
-      throw InputError("model.lambda.times[" + std::to_string(i) + "]", format_value(times[i]), "must be finite");
+      throw InputError("lambda.times[" + std::to_string(i) + "]", format_value(times[i]), "must be finite");
     if (i > 0 && !(times[i] > times[i - 1]))
-      throw InputError("model.lambda.times[" + std::to_string(i) + "]", format_value(times[i]),
+      throw InputError("lambda.times[" + std::to_string(i) + "]", format_value(times[i]),
                        "times must be strictly increasing");
   }
   ShatteringRate r;

@@ -17,7 +17,7 @@ class ShatteringRate {
   bool is_constant() const { return times_.size() == 1; }
   bool is_zero() const { return is_constant() && values_[0] == 0.0; }
   // Throws InputError (key `key`) unless λ(t) is finite and >= 0 on [0, t_end].
-  void validate(double t_end, const std::string& key = "model.lambda") const;
+  void validate(double t_end, const std::string& key = "lambda") const;
   std::string describe() const;
 
  private:

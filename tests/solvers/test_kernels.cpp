@@ -79,12 +79,12 @@ TEST_CASE("low-rank approximation never forms the matrix and still holds at larg
 }
 
 TEST_CASE("bad kernel input names the key", "[kernels][input]") {
-  CHECK_THROWS_WITH(Kernel::from_name("gravity", {}), Catch::Contains("model.kernel.name") && Catch::Contains("gravity"));
-  CHECK_THROWS_WITH(Kernel::from_name("brownian", {{"a", -0.1}}), Catch::Contains("model.kernel.a"));
+  CHECK_THROWS_WITH(Kernel::from_name("gravity", {}), Catch::Contains("kernel.name") && Catch::Contains("gravity"));
+  CHECK_THROWS_WITH(Kernel::from_name("brownian", {{"a", -0.1}}), Catch::Contains("kernel.a"));
   CHECK_THROWS_WITH(Kernel::from_name("brownian", {{"a", 1.5}}), Catch::Contains("[0, 1]"));
   CHECK_THROWS_WITH(Kernel::from_name("brownian", {{"a", NAN}}), Catch::Contains("nan"));
-  CHECK_THROWS_WITH(Kernel::from_name("brownian", {}), Catch::Contains("model.kernel.a"));
-  CHECK_THROWS_WITH(Kernel::from_name("constant", {{"a", 1.0}}), Catch::Contains("model.kernel.a"));
+  CHECK_THROWS_WITH(Kernel::from_name("brownian", {}), Catch::Contains("kernel.a"));
+  CHECK_THROWS_WITH(Kernel::from_name("constant", {{"a", 1.0}}), Catch::Contains("kernel.a"));
   CHECK_THROWS_AS(Kernel::from_name("linear", {{"A", -1.0}}), InputError);
   CHECK(Kernel::from_name("brownian", {{"a", 0.0}})(2, 3) == 2.0);  // a = 0 is valid: K = 2
 }

@@ -81,7 +81,7 @@ TEST_CASE("shattering rate laws and their validation", "[shattering][input]") {
   CHECK(table(5.0) == Approx(2.0));
   CHECK(table(20.0) == 3.0);  // held flat beyond the table
   CHECK_THROWS_WITH(ShatteringRate::linear(0.01, -1e-4).validate(200.0),
-                    Catch::Contains("model.lambda") && Catch::Contains("-0.01"));
+                    Catch::Contains("lambda") && Catch::Contains("-0.01"));
   CHECK_THROWS_WITH(ShatteringRate::constant(NAN).validate(1.0), Catch::Contains("nan"));
   CHECK_THROWS_WITH(ShatteringRate::constant(-0.1).validate(1.0), Catch::Contains(">= 0"));
   CHECK_NOTHROW(ShatteringRate::linear(0.01, -2.5e-5).validate(400.0));

@@ -88,6 +88,11 @@ std::vector<std::string> engine_names();
 std::unique_ptr<Engine> build_engine(const Scene& scene, std::size_t index);
 std::vector<std::unique_ptr<Engine>> build_engines(const Scene& scene);  // all, in order; before anything runs
 
+// The scene key of a parameter a solver names in its own terms while an engine runs (solvers/ and particle/
+// know no scene keys): an option of the engine's table -> "engine[i].<option>", output_times[k] ->
+// "time.outputs[k]", anything else a [model] key ("lambda" -> "model.lambda"). For under_key().
+std::function<std::string(const std::string&)> solver_keys(const EngineSpec& spec, const OptionTable& options);
+
 // The engines and observables sections of `aggkit run --help`, from the registries.
 std::string engines_help();
 std::string observables_help();

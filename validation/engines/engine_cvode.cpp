@@ -35,7 +35,8 @@ const OptionTable& cvode_options() {
 
 class CvodeEngine final : public Engine {
  public:
-  CvodeEngine(std::string label, IntegratorOptions options) : Engine("cvode", std::move(label)), options_(options) {}
+  CvodeEngine(std::string label, IntegratorOptions options, std::function<std::string(const std::string&)> keys)
+      : Engine("cvode", std::move(label)), options_(options), keys_(std::move(keys)) {}
 
   std::string describe() const override {
     return to_string(options_.method) + ", rhs " + to_string(options_.rates) + ", rtol " + shortest_text(options_.rtol) +
@@ -43,6 +44,11 @@ class CvodeEngine final : public Engine {
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
+    return under_key(keys_, [&] { return run_solver(scene, observer); });
+  }
+
+ private:
+  EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     IntegratorOptions options = options_;
     options.progress = observer.progress;
     const IntegratorStatistics s =
@@ -74,8 +80,8 @@ class CvodeEngine final : public Engine {
     };
   }
 
- private:
   IntegratorOptions options_;
+  std::function<std::string(const std::string&)> keys_;  // solver parameter -> scene key
 };
 
 std::unique_ptr<Engine> build_cvode(const EngineOptions& given, const EngineSpec& spec, const Scene& scene) {
@@ -99,7 +105,7 @@ std::unique_ptr<Engine> build_cvode(const EngineOptions& given, const EngineSpec
   if (options.method == IntegratorMethod::bdf_dense && scene.model.size > options.dense_limit)
     given.fail("method", "bdf-dense only for model.size <= " + std::to_string(options.dense_limit) +
                              " (this scene has " + std::to_string(scene.model.size) + "); use bdf-gmres");
-  return std::make_unique<CvodeEngine>(spec.label, options);
+  return std::make_unique<CvodeEngine>(spec.label, options, solver_keys(spec, cvode_options()));
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ class SnapshotState final : public ObservedState {
 
 class DsmcEngine final : public Engine {
  public:
-  DsmcEngine(std::string label, dsmc::Options options) : Engine("dsmc", std::move(label)), options_(options) {}
+  DsmcEngine(std::string label, dsmc::Options options, std::function<std::string(const std::string&)> keys)
+      : Engine("dsmc", std::move(label)), options_(options), keys_(std::move(keys)) {}
 
   std::string describe() const override {
     return dsmc::to_string(options_.method) + ", " + std::to_string(options_.particles) + " particles, " +
@@ -44,6 +45,11 @@ class DsmcEngine final : public Engine {
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
+    return under_key(keys_, [&] { return run_solver(scene, observer); });
+  }
+
+ private:
+  EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     const auto started = std::chrono::steady_clock::now();
     dsmc::Ensemble ensemble(scene.model, options_, scene.time.end);
     for (double t : scene.time.outputs) {
@@ -92,8 +98,8 @@ class DsmcEngine final : public Engine {
     };
   }
 
- private:
   dsmc::Options options_;
+  std::function<std::string(const std::string&)> keys_;  // solver parameter -> scene key
 };
 
 const OptionTable& dsmc_options() {
@@ -122,7 +128,7 @@ std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec&
   options.population_control = given.boolean("population_control", options.population_control);
   options.threads = std::size_t(given.integer("threads", std::int64_t(options.threads)));
   under_key(rekey, [&] { options.validate(); });  // the model (λ >= 0, N, start) is validated with the scene
-  return std::make_unique<DsmcEngine>(spec.label, options);
+  return std::make_unique<DsmcEngine>(spec.label, options, solver_keys(spec, dsmc_options()));
 }
 
 }  // namespace

@@ -80,6 +80,17 @@ std::vector<std::unique_ptr<Engine>> build_engines(const Scene& scene) {
   return engines;
 }
 
+std::function<std::string(const std::string&)> solver_keys(const EngineSpec& spec, const OptionTable& options) {
+  std::vector<std::string> names;
+  for (const OptionSpec& o : options) names.push_back(o.key);
+  return [key = spec.key, names](const std::string& parameter) {
+    const std::string head = parameter.substr(0, parameter.find_first_of(".["));
+    if (std::find(names.begin(), names.end(), head) != names.end()) return key + "." + parameter;
+    if (head == "output_times") return "time.outputs" + parameter.substr(head.size());
+    return "model." + parameter;
+  };
+}
+
 std::string engines_help() {
   std::string help = "Engines ([[engine]] name = ..., then its options):\n";
   for (const auto& type : engine_types()) {

@@ -20,7 +20,8 @@ namespace {
 
 class SnesEngine final : public Engine {
  public:
-  SnesEngine(std::string label, SteadyStateOptions options) : Engine("snes", std::move(label)), options_(options) {}
+  SnesEngine(std::string label, SteadyStateOptions options, std::function<std::string(const std::string&)> keys)
+      : Engine("snes", std::move(label)), options_(options), keys_(std::move(keys)) {}
 
   std::string describe() const override {
     return "Newton-Krylov (PETSc SNES), rhs " + to_string(options_.rates) + ", tolerance " +
@@ -28,6 +29,11 @@ class SnesEngine final : public Engine {
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
+    return under_key(keys_, [&] { return run_solver(scene, observer); });
+  }
+
+ private:
+  EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     const SteadyStateResult r = solve_steady_state(scene.model, options_);
     if (!r.converged) throw std::runtime_error("no steady state: " + r.note);
     std::ostringstream csv;
@@ -50,8 +56,8 @@ class SnesEngine final : public Engine {
     return statistics;
   }
 
- private:
   SteadyStateOptions options_;
+  std::function<std::string(const std::string&)> keys_;  // solver parameter -> scene key
 };
 
 const OptionTable& snes_options() {
@@ -77,7 +83,7 @@ std::unique_ptr<Engine> build_snes(const EngineOptions& given, const EngineSpec&
   under_key(rekey, [&] { options.validate(); });
   if (!scene.model.lambda.is_constant())
     throw InputError("model.lambda", scene.model.lambda.describe(), "a constant shattering rate for engine snes");
-  return std::make_unique<SnesEngine>(spec.label, options);
+  return std::make_unique<SnesEngine>(spec.label, options, solver_keys(spec, snes_options()));
 }
 
 }  // namespace

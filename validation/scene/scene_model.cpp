@@ -17,7 +17,7 @@ Kernel read_kernel(const SceneTable& model) {
   std::map<std::string, double> parameters;
   for (auto&& [key, value] : kernel.raw())
     if (key.str() != "name") parameters[std::string(key.str())] = kernel.number(key.str(), Bound::any);
-  return Kernel::from_name(name, parameters);
+  return under_key(model_key, [&] { return Kernel::from_name(name, parameters); });
 }
 
 // λ = number | { initial, slope } | { times, values } (solvers/shattering_rate.hpp); its values are
@@ -26,15 +26,22 @@ ShatteringRate read_shattering_rate(const SceneTable& model) {
   const toml::node* node = model.find("lambda");
   if (!node) return ShatteringRate();  // pure aggregation
   const std::string forms = "a number >= 0, { initial = .., slope = .. } or { times = [..], values = [..] }";
-  if (node->is_integer() || node->is_floating_point()) return ShatteringRate::constant(model.number("lambda", Bound::any));
+  if (node->is_integer() || node->is_floating_point()) {
+    const double lambda = model.number("lambda", Bound::any);
+    return under_key(model_key, [&] { return ShatteringRate::constant(lambda); });
+  }
   if (!node->is_table()) model.fail("lambda", forms);
   const SceneTable form = model.table("lambda");
   form.allow_only({"initial", "slope", "times", "values"});
   const bool linear = form.contains("initial") || form.contains("slope");
   const bool table = form.contains("times") || form.contains("values");
   if (linear == table) model.fail("lambda", forms);
-  if (linear) return ShatteringRate::linear(form.number("initial", Bound::any), form.number("slope", Bound::any));
-  return ShatteringRate::table(form.numbers("times", Bound::any), form.numbers("values", Bound::any));
+  if (linear) {
+    const double initial = form.number("initial", Bound::any), slope = form.number("slope", Bound::any);
+    return under_key(model_key, [&] { return ShatteringRate::linear(initial, slope); });
+  }
+  const std::vector<double> times = form.numbers("times", Bound::any), values = form.numbers("values", Bound::any);
+  return under_key(model_key, [&] { return ShatteringRate::table(times, values); });
 }
 
 std::vector<double> read_initial(const SceneTable& model, std::size_t N, InitialCondition& initial) {
@@ -57,6 +64,8 @@ std::vector<double> read_initial(const SceneTable& model, std::size_t N, Initial
 
 }  // namespace
 
+std::string model_key(const std::string& parameter) { return "model." + parameter; }
+
 void read_model(const SceneTable& model, Scene& scene) {
   model.allow_only({"kernel", "lambda", "size", "truncation", "initial"});
   AggregationModel& m = scene.model;
@@ -64,9 +73,11 @@ void read_model(const SceneTable& model, Scene& scene) {
   m.lambda = read_shattering_rate(model);
   m.size = model.count("size", 2);
   if (m.size > max_size) model.fail("size", "2 <= N <= " + std::to_string(max_size));
-  if (const auto truncation = model.optional_string("truncation")) m.truncation = truncation_from_name(*truncation);
+  if (const auto truncation = model.optional_string("truncation"))
+    m.truncation = under_key(model_key, [&] { return truncation_from_name(*truncation); });
   m.initial = read_initial(model, m.size, scene.initial);
-  m.validate(scene.time.end);  // λ(t) >= 0 on [0, end], initial densities finite and >= 0 with mass > 0
+  // λ(t) >= 0 on [0, end], initial densities finite and >= 0 with mass > 0
+  under_key(model_key, [&] { m.validate(scene.time.end); });
 }
 
 }  // namespace aggkit

@@ -12,6 +12,9 @@ void read_engines(const SceneTable& root, Scene& scene);         // [[engine]]; 
 Observation read_observation(const SceneTable& observe, const Scene& scene);  // [observe]
 ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene);  // [compare]
 
+// The scene key of a parameter the solvers name in their own terms: "kernel.a" -> "model.kernel.a".
+std::string model_key(const std::string& parameter);
+
 // The output time equal to `t` up to round-off (1e-9 of the end time), or std::nullopt.
 std::optional<double> matching_output_time(const TimeGrid& grid, double t);
 

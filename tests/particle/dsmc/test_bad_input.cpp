@@ -24,7 +24,7 @@ TEST_CASE("dsmc: bad options and models are refused with the key named") {
   AggregationModel negative = model;
   negative.lambda = ShatteringRate::constant(-0.5);
   CHECK_THROWS_AS(dsmc::Simulation(negative, dsmc::Options{}, 1, 1.0), InputError);
-  CHECK_THROWS_WITH(dsmc::Simulation(negative, dsmc::Options{}, 1, 1.0), Contains("model.lambda") && Contains("-0.5"));
+  CHECK_THROWS_WITH(dsmc::Simulation(negative, dsmc::Options{}, 1, 1.0), Contains("lambda = -0.5"));
 }
 
 TEST_CASE("dsmc: bad engine options in a scene name the scene key") {
