@@ -1,5 +1,5 @@
 #pragma once
-// λ_crit(a) from a scan grid: sustained oscillations for λ < λ_crit [Kalinov2023], so the boundary lies
+// λ_crit(a) from a scan grid: sustained oscillations for λ < λ_crit [Brilliantov2018; Kalinov2022, Sec. 5.2], so the boundary lies
 // between the largest sustained λ and the next larger λ that relaxes (steady or damped). The estimate is the
 // midpoint of that bracket (geometric for log-spaced λ) and its error the distance to the bracket's ends:
 // the true crossing lies in the bracket as long as the two points are classified right. Only converged

@@ -13,7 +13,7 @@ std::vector<std::string> KernelEntry::parameter_names() const {
   return names;
 }
 
-// Formulas as in the README's tour; ballistic kernel from [Kalinov2023].
+// Formulas as in the README's tour; ballistic kernel from [Kalinov2022].
 const std::vector<KernelEntry>& kernel_catalogue() {
   static const std::vector<KernelEntry> catalogue{
       {"constant", "K_ij = 1", {}},
