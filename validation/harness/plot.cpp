@@ -13,17 +13,8 @@ namespace {
 
 constexpr std::chrono::seconds plot_timeout{120};
 
-std::filesystem::path plot_script() {
-  if (const char* script = std::getenv("AGGKIT_PLOT_SCRIPT"); script && *script) return script;
-  std::error_code error;
-#ifdef AGGKIT_PLOT_SCRIPT_BUILD
-  if (std::filesystem::exists(AGGKIT_PLOT_SCRIPT_BUILD, error)) return AGGKIT_PLOT_SCRIPT_BUILD;
-#endif
-#ifdef AGGKIT_PLOT_SCRIPT_INSTALL
-  return AGGKIT_PLOT_SCRIPT_INSTALL;
-#else
-  return "plot_series.py";
-#endif
+std::filesystem::path series_plot_script() {
+  return plot_script("AGGKIT_PLOT_SCRIPT", AGGKIT_PLOT_SCRIPT_BUILD, AGGKIT_PLOT_SCRIPT_INSTALL);
 }
 
 }  // namespace
@@ -39,7 +30,7 @@ std::string to_string(PlotOutcome::Status status) {
 
 PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder) {
   AtomicFile png(folder.report_file());
-  std::vector<std::string> argv{plot_interpreter(), plot_script().string(), "--output", png.temporary_path().string(),
+  std::vector<std::string> argv{plot_interpreter(), series_plot_script().string(), "--output", png.temporary_path().string(),
                                 "--title", scene.name};
   if (scene.compare) argv.insert(argv.end(), {"--reference", scene.compare->reference});
   std::size_t plotted = 0;

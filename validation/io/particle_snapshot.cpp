@@ -57,16 +57,7 @@ void data_array_open(std::ostream& out, const char* type, const char* name, int 
 }
 
 std::filesystem::path cluster_plot_script() {
-  if (const char* script = std::getenv("AGGKIT_CLUSTER_PLOT_SCRIPT"); script && *script) return script;
-  std::error_code error;
-#ifdef AGGKIT_CLUSTER_PLOT_SCRIPT_BUILD
-  if (std::filesystem::exists(AGGKIT_CLUSTER_PLOT_SCRIPT_BUILD, error)) return AGGKIT_CLUSTER_PLOT_SCRIPT_BUILD;
-#endif
-#ifdef AGGKIT_CLUSTER_PLOT_SCRIPT_INSTALL
-  return AGGKIT_CLUSTER_PLOT_SCRIPT_INSTALL;
-#else
-  return "plot_clusters.py";
-#endif
+  return plot_script("AGGKIT_CLUSTER_PLOT_SCRIPT", AGGKIT_CLUSTER_PLOT_SCRIPT_BUILD, AGGKIT_CLUSTER_PLOT_SCRIPT_INSTALL);
 }
 
 }  // namespace

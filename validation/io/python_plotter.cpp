@@ -21,4 +21,11 @@ std::string last_output_line(const std::string& text) {
   return text.substr(first, end - first + 1);
 }
 
+std::filesystem::path plot_script(const char* environment, const char* build, const char* install) {
+  if (const char* script = std::getenv(environment); script && *script) return script;
+  std::error_code error;
+  if (std::filesystem::exists(build, error)) return build;
+  return install;
+}
+
 }  // namespace aggkit

@@ -18,16 +18,7 @@ std::string relative_change(double value, double reference) {
 }
 
 std::filesystem::path plot_scan_script() {
-  if (const char* script = std::getenv("AGGKIT_PLOT_SCAN_SCRIPT"); script && *script) return script;
-  std::error_code error;
-#ifdef AGGKIT_PLOT_SCAN_SCRIPT_BUILD
-  if (std::filesystem::exists(AGGKIT_PLOT_SCAN_SCRIPT_BUILD, error)) return AGGKIT_PLOT_SCAN_SCRIPT_BUILD;
-#endif
-#ifdef AGGKIT_PLOT_SCAN_SCRIPT_INSTALL
-  return AGGKIT_PLOT_SCAN_SCRIPT_INSTALL;
-#else
-  return "plot_scan.py";
-#endif
+  return plot_script("AGGKIT_PLOT_SCAN_SCRIPT", AGGKIT_PLOT_SCAN_SCRIPT_BUILD, AGGKIT_PLOT_SCAN_SCRIPT_INSTALL);
 }
 
 }  // namespace
