@@ -38,7 +38,7 @@ TEST_CASE("contacts of final aggregates: one contact per merge, few near contact
   // hit-and-stick does, and would no longer reproduce the published ≈ 0.5.
   for (std::size_t count : {400u, 2500u}) {
     for (double nu : {0.1, 0.2, 0.3}) {
-      if (count == 2500 && nu == 0.2) continue;  // the corners and one middle point of N = 400–2500, ν = 0.1–0.3
+      if (count == 2500 && nu == 0.2) continue;  // corners and one middle point of N = 400–2500, ν = 0.1–0.3
       INFO("N = " << count << ", nu = " << nu);
       const auto ed = aggregate(count, nu, 11);
       REQUIRE(ed.clusters() == 1);
