@@ -1,5 +1,5 @@
 #pragma once
-// Clusters of a particle configuration (issue 5, "Observables"): particles in contact belong to one
+// Clusters of a particle configuration: particles in contact belong to one
 // cluster; contacts are found with a neighbour grid (O(N)) and joined by union–find.
 #include <array>
 #include <cstddef>

@@ -159,7 +159,7 @@ FractalFit box_counting_dimension(std::span<const std::array<double, 3>> points,
   fit.rule = "plateaus";
   if (!longest_run(valid, true, first, last)) {
     if (!(box_side > 0)) return fit;
-    // Degond et al. (PUBLISHED.md B): fit over 3R <= s <= L/2 whatever the plateaus say.
+    // [Degond2024, Sec. 4.2.1]: fit over 3R <= s <= L/2 whatever the plateaus say.
     for (std::size_t m = 0; m < valid.size(); ++m)
       valid[m] = fit.scale[m] >= 3 * radius && fit.scale[m] <= side / 2;
     if (!longest_run(valid, true, first, last)) return fit;

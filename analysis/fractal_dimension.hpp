@@ -1,7 +1,8 @@
 #pragma once
-// Fractal dimension of a particle aggregate (issue 5, "Observables"), two independent estimates:
-//  * box counting: the number of occupied cells of grids of side s = L/2^m, C(s) ~ s^-D;
-//  * mass–radius: the mean number of particles N(r) within r of interior particles, N(r) ~ r^D.
+// Fractal dimension of a particle aggregate, two independent estimates:
+//  * box counting: the number of occupied cells of grids of side s = L/2^m, C(s) ~ s^-D [Degond2024, eq. 4.8];
+//  * mass–radius: the mean number of particles N(r) within r of interior particles, N(r) ~ r^D
+//    [Gonzalez2011, Sec. 3.3].
 // Both fit log-log by least squares between the two plateaus, over a range chosen by a fixed rule
 // (below), and report that range and the slope's standard error. Pass the points of one cluster unwrapped
 // across periodic boundaries (analysis/clusters.hpp, unwrap_cluster).
@@ -29,7 +30,7 @@ struct FractalFit {
 // the small-scale plateau C = N); with a given box side also C <= half the 2^(m d) cells (away from the
 // box-filling regime C = 2^(m d) of a configuration that fills its box). Ties: the finer run.
 // Fallback (box side given, fewer than 3 levels left, typical of dense aggregates that fill their box):
-// the fixed range 3R <= s <= L/2 of Degond, Dimarco, Ferreira & Hecht (PUBLISHED.md B), rule
+// the fixed range 3R <= s <= L/2 of [Degond2024, Sec. 4.2.1], rule
 // "published_range" — comparable with their D_f, but it mixes the fractal and box-filling regimes.
 // Cost: one sort of N Morton codes, then O(N) per level.
 FractalFit box_counting_dimension(std::span<const std::array<double, 3>> points, int dimension,

@@ -1,5 +1,5 @@
 #pragma once
-// Bad user input: every message names the key, the value and what is allowed (DESIGN.md, "Errors").
+// Bad user input: every message names the key, the value and what is allowed.
 #include <stdexcept>
 #include <string>
 

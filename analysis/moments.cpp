@@ -5,7 +5,7 @@
 namespace aggkit {
 
 namespace {
-// Neumaier's variant of Kahan summation.
+// Neumaier's variant [Neumaier1974] of Kahan summation [Kahan1965].
 struct CompensatedSum {
   double sum = 0.0, compensation = 0.0;
   void add(double x) {

@@ -6,7 +6,7 @@
 
 namespace aggkit {
 
-// Compensated (Neumaier) sum of k^p n_k over k = 1..n.size(); exact for the integer p = 0, 1 up to
+// Compensated sum [Neumaier1974] of k^p n_k over k = 1..n.size(); exact for the integer p = 0, 1 up to
 // the round-off of one addition, so mass conservation can be checked to ~1e-15.
 double moment(std::span<const double> n, double p);
 

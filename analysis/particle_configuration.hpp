@@ -1,6 +1,7 @@
 #pragma once
 // A configuration of equal spheres (3-D) or discs (2-D) in a box, as the particle engines (ED, TS, DEM)
-// hand it to the observables of issue 5; plus the geometric primitives every observable shares.
+// hand it to the observables (clusters, shape, fractal dimension); plus the geometric primitives every
+// observable shares.
 #include <array>
 #include <span>
 #include <vector>

@@ -1,7 +1,8 @@
 #pragma once
-// Shape and packing of a particle configuration (issue 5, "Observables"): the gyration tensor, the
-// relative number of contacts N_c and the pair distribution P(r). N_c and P(r) follow the definitions of
-// Degond et al. (ballistic aggregation of hard spheres), as quoted in issue 5.
+// Shape and packing of a particle configuration: the gyration tensor, the relative number of contacts N_c
+// and the pair distribution P(r). N_c and P(r) follow the definitions of [Degond2024, eqs. 4.6–4.7]
+// (ballistic aggregation of hard discs); the gyration tensor gives their aspect ratio and orientation
+// [Degond2024, eqs. 4.4–4.5].
 #include <array>
 #include <span>
 #include <vector>
@@ -22,23 +23,24 @@ struct Gyration {
 Gyration gyration(std::span<const std::array<double, 3>> points, int dimension);
 
 // N_c = (1/N)(1/N_max) Σ_{i≠j} 1{|Xi−Xj| ≤ factor·R}, N_max = 6 (2-D) or 12 (3-D): the mean number of
-// neighbours within factor·R relative to the densest packing's (issue 5, Degond et al.). O(N) by a
+// neighbours within factor·R relative to the densest packing's [Degond2024, eq. 4.6]. O(N) by a
 // neighbour grid; minimum image when periodic. 0 for an empty configuration.
 //
 // ContactCounting::with_self sums over all (i, j), i = j included, which adds exactly 1/N_max. That is
-// the reading under which Degond et al.'s published N_c ≈ 0.5 (PUBLISHED.md B) is what hit-and-stick
+// the reading under which the published N_c ≈ 0.5 [Degond2024, Sec. 4.2.1, Fig. 7] is what hit-and-stick
 // gives: each merge makes one contact, the contact graph is a tree with mean degree 2(N−1)/N, and
-// (2(N−1)/N + 1)/6 → 0.5, whereas the i ≠ j sum gives 1/3 (issue-5 notes, bench/RESULTS.md).
+// (2(N−1)/N + 1)/6 → 0.5, whereas the i ≠ j sum gives 1/3 (measured: bench/RESULTS.md). Eq. 4.6 indeed
+// sums over all i, j = 1..N, and the paper expects N_c "between 1/6 and one".
 enum class ContactCounting { other_particles, with_self };
 double relative_contacts(const ParticleConfiguration& config, double factor = 2.1,
                          ContactCounting counting = ContactCounting::other_particles);
 
 // P(r) = (1/N) Σ_{i≠j} 1{|Xi−Xj| ≤ r} at the given radii (any order, positive), the mean number of other
-// particles within r (issue 5, Degond et al.; used for 2R < r < 20R). O(N · pairs within max r) by a
+// particles within r ([Degond2024, eq. 4.7], used there for 2R < r < 20R). O(N · pairs within max r) by a
 // neighbour grid with cutoff max r; periodic: minimum-image distances only.
 struct PairDistribution { std::vector<double> r; std::vector<double> p; };
 PairDistribution pair_distribution(const ParticleConfiguration& config, std::span<const double> r);
-// `count` radii evenly spaced on (2R, 20R]: 2R + 18R k/count, k = 1..count (the issue's range).
+// `count` radii evenly spaced on (2R, 20R]: 2R + 18R k/count, k = 1..count (the range of [Degond2024]).
 std::vector<double> pair_distribution_radii(double radius, int count = 90);
 
 }  // namespace aggkit

@@ -1,4 +1,4 @@
-// Cost of the particle-configuration observables of issue 5 against N (analysis/): contact clusters,
+// Cost of the particle-configuration observables against N (analysis/): contact clusters,
 // relative contacts N_c, pair distribution P(r) at 90 radii in (2R, 20R], box-counting and mass–radius
 // fractal dimensions. Configurations (R = 1):
 //   gas2d   — N uniform random centres in a periodic square at area fraction 0.1 (overlaps allowed);

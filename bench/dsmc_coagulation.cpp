@@ -1,8 +1,8 @@
-// DSMC speed on pure coagulation and on the constant kernel with shattering (issue 4 benchmarks):
+// DSMC speed on pure coagulation and on the constant kernel with shattering:
 //  (1) constant kernel K = 1, λ = 0, 10^6 particles, to t = 50 (number density falls 26×): run time,
 //      accepted events per second, relative Euclidean error of the size distribution against the exact
-//      n_k = 4/(t+2)^2 (t/(t+2))^{k-1} (DESIGN.md), and of M0, M2;
-//  (2) constant kernel, λ = 0.1, 10^6 particles to t = 1, 10, 100 (Kalinov et al. Table 1 setting):
+//      n_k = 4/(t+2)^2 (t/(t+2))^{k-1} [Leyvraz2003], and of M0, M2;
+//  (2) constant kernel, λ = 0.1, 10^6 particles to t = 1, 10, 100 ([Kalinov2022, Tables 1 and 3]):
 //      run time and the Euclidean error of the size distribution against a CVODE reference.
 //   bench_dsmc_coagulation [particles] [method ar|fast] [bucket]
 #include <chrono>

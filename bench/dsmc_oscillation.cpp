@@ -1,4 +1,4 @@
-// Issue 4 benchmark: does DSMC reproduce the sustained oscillation of the kinetic equations?
+// Does DSMC reproduce the sustained oscillation of the kinetic equations ([Kalinov2022, Sec. 5.2])?
 // Reads the series.csv files that `aggkit run bench/scenes/dsmc-oscillation.toml --out DIR` writes for the
 // cvode and dsmc engines and classifies M0 and M2 of each over the last half of the run
 // (analysis/oscillation.hpp); prints period and amplitude and their relative differences (target: 5 %).

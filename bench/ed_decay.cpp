@@ -1,4 +1,4 @@
-// Dilute 2-D ballistic aggregation (González, Thornton & Luding, PUBLISHED.md C): kinetic energy E(t) and
+// Dilute 2-D ballistic aggregation ([Gonzalez2011, Sec. 3.1]): kinetic energy E(t) and
 // mean cluster size S(t) = N/C, fitted as E ∝ t^{-δ} and S ∝ t^{ζ} (mean field: ζ = 1 in 2-D) by least squares
 // in log-log over t in [T1, T2] (log-spaced outputs), with the standard error of the slope.
 //   bench_ed_decay N NU THERMALIZE T1 T2 [SEED]   (periodic, uniform velocity components, zero momentum)

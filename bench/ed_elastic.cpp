@@ -1,5 +1,5 @@
 // Elastic hard discs/spheres (the thermalisation stage, sticking off): collisions per second, counting
-// collisions only. Reference (issue 5): a general-purpose event-driven MD code reaches 2.2e4 collisions/s
+// collisions only. Reference: a general-purpose event-driven MD code reaches 2.2e4 collisions/s
 // (2-D, ν = 0.01, N = 1e6) and 5e4 (3-D, ν = 0.25, N = 1e6) on one core; the target is 10x those.
 //   bench_ed_elastic DIM NU COLLISIONS_PER_PARTICLE N1 [N2 ...] [--per-cell P] [--baseline C]
 // Periodic box, unit speeds with uniform directions, lattice start. The timed part starts after one

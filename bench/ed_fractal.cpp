@@ -1,6 +1,7 @@
 // Fractal dimension of the final aggregate against the volume fraction (2-D, reflecting walls, unit speed
-// with uniform directions, as in Degond et al. / González et al.): mass–radius and box-counting dimensions
-// (analysis/fractal_dimension.hpp) of the single final cluster, with fit errors; also N_c (α_R = 2.1).
+// with uniform directions, as in [Degond2024, Sec. 4.1]; cf. [Gonzalez2011, Sec. 3.3]): mass–radius and
+// box-counting dimensions (analysis/fractal_dimension.hpp) of the single final cluster, with fit errors;
+// also N_c (α_R = 2.1).
 //   bench_ed_fractal N SEEDS NU1 [NU2 ...]   prints one line per ν (means over SEEDS realizations)
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-// ED aggregation throughput (issue 5): events per second and time to one cluster as functions of N and the
+// ED aggregation throughput: events per second and time to one cluster as functions of N and the
 // volume fraction ν, 2-D or 3-D, periodic or reflecting.
 //   bench_ed_throughput DIM BOUNDARY NU N1 [N2 ...]    e.g. bench_ed_throughput 2 periodic 0.01 1e4 1e5 1e6
 // Prints one line per N: set-up seconds, seconds to one cluster, events (merges, broad-phase crossings of

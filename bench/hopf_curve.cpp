@@ -1,6 +1,7 @@
-// λ_crit(a) of the brownian kernel (i/j)^a + (j/i)^a by locate_hopf (issue 3): a = 0.55 … 1.0 step 0.05,
-// cutoff truncation, monodisperse unit mass, λ bracket [lo, hi] (default [1e-4, 1]; at N = 8192 the
-// quasi-steady state does not exist below λ ≈ 1e-3, so use --lo 0.003), relative tolerance 1e-3. Prints per a:
+// λ_crit(a) of the brownian kernel (i/j)^a + (j/i)^a ([Kalinov2022, Sec. 5.2]) by locate_hopf:
+// a = 0.55 … 1.0 step 0.05, cutoff truncation, monodisperse unit mass, λ bracket [lo, hi] (default
+// [1e-4, 1]; at N = 8192 the quasi-steady state does not exist below λ ≈ 1e-3, so use --lo 0.003),
+// relative tolerance 1e-3. Prints per a:
 // λ_crit, its bracket, ω and the period 2π/ω, evaluations, seconds; then the total time.
 //   bench_hopf_curve [N] [--a A ...] [--lo L] [--hi H] [--dense] [--tol T] [--spectrum LAMBDA]  (--spectrum: only print the
 //   rightmost eigenvalues at that λ for each a, dense and Krylov)

@@ -1,4 +1,4 @@
-// Steady states by SNES Newton–Krylov (issue 3): N = 2^14 and 2^17, ballistic and brownian kernels,
+// Steady states by SNES Newton–Krylov [Balay2022]: N = 2^14 and 2^17, ballistic and brownian kernels,
 // λ = 0.01 and 0.1, cutoff truncation (mass conserved exactly), monodisperse unit mass. For each case:
 // wall time (CVODE start included), the CVODE start time, Newton and GMRES iterations, the final
 // relative residual ||F|| / ||F(n(0))|| and M0 of the steady state.

@@ -1,4 +1,4 @@
-// Stress runs of the CVODE solver (issue 2): long times (t = 10^4), strong shattering (λ up to 10) and
+// Stress runs of the CVODE solver: long times (t = 10^4), strong shattering (λ up to 10) and
 // large truncations (N up to 2^17). For each run: wall time, steps, the conservation defect (cutoff:
 // |M1 - M1(0)|; drop: |M1 + leaked - M1(0)|), negative densities at the end, and any failure.
 //   bench_stress [--quick | --large]   (--quick: N = 4096; --large: N = 2^15..2^17 without the slow

@@ -1,4 +1,5 @@
-// Work-precision study of the CVODE integrators for the aggregation-shattering equations (issue 2):
+// Work-precision study of the CVODE integrators for the aggregation-shattering equations (the two cases
+// whose finite-difference run times [Kalinov2022, Tables 3–4] reports):
 // run time against the error of M0, M2, M3 at t = 1, 10, 100 relative to a tight-tolerance reference,
 // for each integrator option, plus the direct O(N^2) right-hand side as baseline in the same run.
 //   bench_work_precision [a|b] [--quick]

@@ -1,5 +1,5 @@
 #pragma once
-// Time integration of the aggregation-shattering system with SUNDIALS CVODE.
+// Time integration of the aggregation-shattering system with SUNDIALS CVODE [Hindmarsh2005, Gardner2022].
 #include <cstddef>
 #include <functional>
 #include <span>

@@ -1,6 +1,6 @@
 #pragma once
 // Exact solutions of pure aggregation (λ = 0) from the monodisperse start n_k(0) = δ_k1
-// (DESIGN.md "Exact references"; e.g. Leyvraz, Phys. Rep. 383 (2003) 95, Sec. 2):
+// ([Leyvraz2003, Sec. 2]):
 //   constant K = 1:  n_k = 4/(t+2)^2 (t/(t+2))^{k-1}
 //   sum K = i + j:   n_k = (1-τ)(kτ)^{k-1} e^{-kτ}/k!,  τ = 1 - e^{-t}
 //   product K = ij:  n_k = (kt)^{k-1} e^{-kt}/(k k!),   t < 1 (gelation at t = 1)

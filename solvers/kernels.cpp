@@ -77,7 +77,7 @@ Kernel Kernel::generalized_product(double mu) {
 
 Kernel Kernel::ballistic() {
   // Free-molecular ballistic kernel for compact clusters: cross-section ∝ (i^{1/3}+j^{1/3})^2,
-  // relative speed ∝ sqrt(1/i + 1/j) (Kalinov et al., DSMC with shattering).
+  // relative speed ∝ sqrt(1/i + 1/j) [Kalinov2022, eq. 2].
   return Kernel("ballistic", {}, [](double i, double j) {
     const double r = std::cbrt(i) + std::cbrt(j);
     return r * r * std::sqrt(1.0 / i + 1.0 / j);

@@ -1,7 +1,7 @@
 #pragma once
 // Aggregation kernels K_ij (collision rate of sizes i and j) and their separable (low-rank) forms.
-// Kernels and factorisations: DESIGN.md "Kinetic model"; ballistic kernel from Kalinov et al. (DSMC
-// with shattering), Eq. for K_ij = (i^{1/3}+j^{1/3})^2 sqrt(1/i+1/j).
+// Ballistic kernel K_ij = (i^{1/3}+j^{1/3})^2 sqrt(1/i+1/j) [Kalinov2022, eq. 2]; brownian kernel
+// (i/j)^a + (j/i)^a of the oscillation regimes [Kalinov2022, Sec. 5.2].
 #include <cstddef>
 #include <functional>
 #include <map>
@@ -11,7 +11,7 @@
 namespace aggkit {
 
 // K_ij ≈ Σ_{p,q} coupling[p][q] φ_p(i) φ_q(j) for sizes 1..N, coupling symmetric.
-// The aggregation gain term then needs one FFT per feature φ_p (DESIGN.md "Deterministic numerics").
+// The aggregation gain term then needs one FFT per feature φ_p (solvers/rates_fast.cpp).
 struct SeparableForm {
   std::vector<std::vector<double>> features;  // features[p][k-1] = φ_p(k)
   std::vector<std::vector<double>> coupling;  // P × P, symmetric

@@ -1,6 +1,6 @@
 #pragma once
 // Low-rank symmetric approximation of a kernel matrix K_ij (i, j = 1..N) without forming it:
-// adaptive cross approximation with partial pivoting (Bebendorf, Numer. Math. 86 (2000) 565),
+// adaptive cross approximation with partial pivoting [Bebendorf2000],
 // then recompression to K ≈ Σ_r c_r w_r(i) w_r(j) with orthonormal w_r (QR + symmetric eigensolve).
 #include <cstddef>
 #include <functional>

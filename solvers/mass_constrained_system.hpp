@@ -1,6 +1,6 @@
 #pragma once
 // The steady-state equations of the truncated aggregation-shattering system with the mass constraint
-// replacing one equation (DESIGN.md "Deterministic numerics"). Neither truncation has an exact positive
+// replacing one equation. Neither truncation has an exact positive
 // steady state: under `drop` mass leaks past N, and under `cutoff` the largest size N collides with
 // nothing (K_Nj = 0) and so absorbs whatever reaches it. What is solved is the quasi-steady state of
 // the sizes that still collide, with the mass leaving them reported (leak_rate):

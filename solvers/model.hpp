@@ -1,5 +1,6 @@
 #pragma once
-// The truncated aggregation-shattering system (DESIGN.md "Kinetic model", mass-conserving form):
+// The truncated aggregation-shattering system of [Kalinov2022, eq. 4] in its mass-conserving form (the
+// printed monomer equation lacks the factor 1/2 on the double sum, without which mass is not conserved):
 //   dn_1/dt = -n_1 Σ_j K_1j n_j + λ n_1 Σ_{j≥2} j K_1j n_j + (λ/2) Σ_{i,j≥2} (i+j) K_ij n_i n_j
 //   dn_k/dt = (1/2) Σ_{i+j=k} K_ij n_i n_j - (1+λ) n_k Σ_j K_kj n_j          (k ≥ 2)
 // with sizes k = 1..N and an explicit truncation policy.

@@ -1,7 +1,7 @@
-// Direct O(N^2) evaluation of the aggregation-shattering right-hand side, written term by term as in
-// DESIGN.md "Kinetic model" (the mass-conserving form of Kalinov et al. with the factor 1/2 on the
-// monomer double sum). It is the oracle the fast path is tested against, so it deliberately shares no
-// algebra with rates_fast.cpp.
+// Direct O(N^2) evaluation of the aggregation-shattering right-hand side, written term by term as the
+// equations of solvers/model.hpp: the mass-conserving form of [Kalinov2022, eq. 4], with the factor 1/2 on
+// the monomer double sum that the printed equation lacks. It is the oracle the fast path is tested
+// against, so it deliberately shares no algebra with rates_fast.cpp.
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -132,7 +132,7 @@ void leak_gradient(const AggregationModel& model, double, std::span<const double
 
 void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
                     std::span<double> jacobian) {
-  // J_kl = ∂f_k/∂n_l from differentiating the equations of DESIGN.md term by term.
+  // J_kl = ∂f_k/∂n_l from differentiating the equations of solvers/model.hpp term by term.
   const std::size_t N = model.size;
   const bool cutoff = model.truncation == Truncation::cutoff;
   const double lambda = model.lambda(t);

@@ -1,5 +1,6 @@
 // Fast evaluation of the aggregation-shattering right-hand side, O(N R log N) per call, from a
-// separable kernel form K_ij = Σ_pq C_pq φ_p(i) φ_q(j) (DESIGN.md "Deterministic numerics"):
+// separable kernel form K_ij = Σ_pq C_pq φ_p(i) φ_q(j) (solvers/kernels.hpp), for the equations of
+// solvers/model.hpp:
 //   gain_k = ½ Σ_{i+j=k} K_ij n_i n_j = ½ IFFT[ Σ_pq C_pq F(φ_p n) F(φ_q n) ]_k,
 //   collision rate c_k = Σ_j K_kj n_j = Σ_pq C_pq φ_p(k) Σ_j φ_q(j) n_j (prefix sums for `cutoff`),
 //   monomer source λ n_1 Σ_{j≥2} j K_1j n_j + (λ/2) Σ_{i,j≥2} (i+j) K_ij n_i n_j = λ Σ_{i≥2} i n_i c_i

@@ -1,6 +1,7 @@
 #pragma once
 // Shattering rate λ(t): constant, linear in t, or piecewise linear through tabulated points
-// (Kalinov et al. use λ(t) = 0.01 (1 - t/400) to drive a damped oscillation into a sustained one).
+// ([Kalinov2022, Sec. 5.2, Fig. 3b] uses λ(t) = 0.01 (1 - t/400) to drive a damped oscillation into a
+// sustained one).
 #include <string>
 #include <vector>
 

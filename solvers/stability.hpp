@@ -10,8 +10,9 @@
 //           eigenvalues nearest σ come out first; the rightmost are then selected from those, which is
 //           right when the rightmost eigenvalues are also the ones nearest σ (the oscillatory pair of
 //           the aggregation-shattering problem is slow: |μ| ≪ the fast loss rates ~ c_k).
-// locate_hopf finds λ_crit(a) where the rightmost complex pair crosses Re μ = 0 (Kalinov et al.:
-// sustained oscillations for 1/2 < a ≤ 1 and λ < λ_crit(a); PUBLISHED.md section A).
+// locate_hopf finds λ_crit(a) where the rightmost complex pair crosses Re μ = 0 ([Kalinov2022, Sec. 5.2]
+// and [Brilliantov2018]: sustained oscillations for 1/2 < a ≤ 1 and 0 < λ < λ_crit(a)). Eigensolvers:
+// [Spectra], [Balay2022].
 #include <complex>
 #include <span>
 #include <string>

@@ -1,12 +1,12 @@
 #pragma once
-// Steady states of the truncated aggregation-shattering system by PETSc SNES Newton–Krylov on the
-// mass-constrained equations (solvers/mass_constrained_system.hpp): F_k = f_k (k < N), F_N = Σ k n_k - M.
+// Steady states of the truncated aggregation-shattering system by PETSc SNES Newton–Krylov [Balay2022] on
+// the mass-constrained equations (solvers/mass_constrained_system.hpp): F_k = f_k (k < N), F_N = Σ k n_k - M.
 // J·v is the exact bilinear form of the fast O(N R log N) rates (a MatShell, no differencing); GMRES is
 // right-preconditioned by the monomer-attachment lower-triangular part of J_F (O(N) per application);
-// backtracking line search; Eisenstat–Walker forcing terms. Without an initial guess the start is the
-// state of a short CVODE run from the model's initial state (retried with a longer run if Newton fails
-// or lands on a root with negative densities). Natural-parameter continuation in λ or in the brownian
-// exponent a reuses (secant-extrapolates) the previous solutions.
+// backtracking line search; Eisenstat–Walker forcing terms [Eisenstat1996]. Without an initial guess the
+// start is the state of a short CVODE run from the model's initial state (retried with a longer run if
+// Newton fails or lands on a root with negative densities). Natural-parameter continuation in λ or in the
+// brownian exponent a reuses (secant-extrapolates) the previous solutions.
 //
 // What the steady state means under truncation: under `cutoff` (mass conserved exactly) it is the exact
 // steady state of the truncated system. Under `drop` every size below N is stationary and the largest

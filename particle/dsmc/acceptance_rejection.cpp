@@ -119,7 +119,7 @@ TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
   if (k > majorant * (1.0 + 1e-12))
     throw std::runtime_error("dsmc: kernel K(" + std::to_string(p.size) + ", " + std::to_string(q.size) +
                              ") exceeds its bin majorant; the kernel is not quasi-convex in each size");
-  // One uniform number decides all three outcomes (Kalinov et al.): u' in [0, (1+λ) K̄).
+  // One uniform number decides all three outcomes ([Kalinov2022, Sec. 3]): u' in [0, (1+λ) K̄).
   const double x = random.uniform() * (1.0 + lambda) * majorant;
   if (!(x < (1.0 + lambda) * k)) return TrialOutcome::rejected;
 

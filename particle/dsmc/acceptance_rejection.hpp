@@ -1,11 +1,11 @@
 #pragma once
 // Acceptance-rejection DSMC with a binned majorant kernel (the `ar` method).
 //
-// The textbook method (Kalinov et al.; Gillespie, J. Atmos. Sci. 32 (1975) 1977) draws a uniform pair and
+// The textbook method ([Kalinov2022, Algorithms 1 and 3]; [Gillespie1975]) draws a uniform pair and
 // accepts it with K_ij / K_max: its cost per accepted event grows with K_max / mean K, i.e. with the
 // spread of sizes. Here the bound is a majorant kernel K̄(b, c) >= K_ij, constant on pairs of size bins
-// (size_bins.hpp) — the "majorant kernel" idea of Eibeck & Wagner (Ann. Appl. Probab. 11 (2001) 1137) in
-// the binned form of Michelotti, Heath & West (Multiscale Model. Simul. 11 (2013) 1071). The majorant
+// (size_bins.hpp) — the "majorant kernel" idea of Eibeck & Wagner [Eibeck2001] in the binned form of
+// Michelotti, Heath & West [Michelotti2013]. The majorant
 // pair process is sampled exactly: bin b with weight n_b Σ_c K̄(b,c)(n_c - δ_bc), bin c with weight
 // K̄(b,c)(n_c - δ_bc), then a uniform particle in each; the pair is accepted with K_ij / K̄(b, c). The
 // row sums Σ_c K̄(b,c) n_c are updated in O(#bins) per event, so the cost per trial is O(#bins + log B)

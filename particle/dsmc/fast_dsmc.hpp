@@ -1,10 +1,11 @@
 #pragma once
-// Fast (two-stage) DSMC, the `fast` method (Kalinov et al.): the first particle i is chosen with
-// probability S_i / Σ S, S_i = Σ_{j != i} K_ij, then the partner j with probability K_ij / S_i — no
-// rejection. Particles of one size <= B share a group (count + the per-particle rate S of that size);
-// larger particles are groups of their own. Keeping every S exact costs O(D) kernel evaluations per event
-// (D = number of groups), the price of this method that the paper's run times show; it is kept as an
-// independent check of the majorant sampler of acceptance_rejection.hpp, which is the fast one here.
+// Fast (two-stage) DSMC, the `fast` method ([Kalinov2022, Algorithms 2 and 4]): the first particle i is
+// chosen with probability S_i / Σ S, S_i = Σ_{j != i} K_ij, then the partner j with probability K_ij / S_i
+// — no rejection. Particles of one size <= B share a group (count + the per-particle rate S of that size,
+// [Kalinov2022, Sec. 4]); larger particles are groups of their own. Keeping every S exact costs O(D) kernel
+// evaluations per event (D = number of groups), the price of this method that the paper's run times show
+// ([Kalinov2022, Tables 3–4]); it is kept as an independent check of the majorant sampler of
+// acceptance_rejection.hpp, which is the fast one here.
 #include <cstddef>
 #include <vector>
 

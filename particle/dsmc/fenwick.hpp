@@ -1,5 +1,5 @@
 #pragma once
-// Binary indexed tree (Fenwick, Softw. Pract. Exper. 24 (1994) 327) of particle counts per size 1..B:
+// Binary indexed tree [Fenwick1994] of particle counts per size 1..B:
 // O(log B) count updates and selection of the r-th particle in size order.
 #include <cstdint>
 #include <vector>

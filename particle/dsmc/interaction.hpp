@@ -1,8 +1,8 @@
 #pragma once
-// What one DSMC collision does (Kalinov et al.): a pair (i, j) interacts at rate (1+λ)K_ij; it shatters
-// into i+j monomers with probability λ/(1+λ), else it merges into one cluster of size i+j. Optional
-// truncation (DESIGN.md "Kinetic model"): `cutoff` sets K_ij = 0 for i+j > N; `drop` removes merged
-// clusters larger than N (their mass is counted as leaked).
+// What one DSMC collision does ([Kalinov2022, Sec. 3, PairInteraction of Algorithm 3]): a pair (i, j)
+// interacts at rate (1+λ)K_ij; it shatters into i+j monomers with probability λ/(1+λ), else it merges into
+// one cluster of size i+j. Optional truncation, as for the kinetic equations (solvers/model.hpp): `cutoff`
+// sets K_ij = 0 for i+j > N; `drop` removes merged clusters larger than N (their mass is counted as leaked).
 #include <cstdint>
 
 #include "solvers/kernels.hpp"

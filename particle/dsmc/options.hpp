@@ -1,5 +1,6 @@
 #pragma once
-// Options of a DSMC run (DESIGN.md "Stochastic numerics"; Kalinov et al., DSMC with shattering).
+// Options of a DSMC run [Kalinov2022]: method (acceptance-rejection or fast DSMC, Algorithms 3–4), initial
+// particle count, seeds, grouping of sizes <= B into buckets (Sec. 4) and population control (Sec. 2).
 #include <cstddef>
 #include <cstdint>
 #include <string>

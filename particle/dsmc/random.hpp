@@ -1,6 +1,5 @@
 #pragma once
-// Random numbers for DSMC: xoshiro256** (Blackman & Vigna, "Scrambled linear pseudorandom number
-// generators", ACM TOMS 47 (2021)), seeded through SplitMix64 (Steele, Lea & Flood, OOPSLA 2014).
+// Random numbers for DSMC: xoshiro256** [Blackman2021], seeded through SplitMix64 [Steele2014].
 // Ensemble seeds: run_seed(S, r) of particle/common/seeds.hpp; the generator of a run is then seeded from
 // that value, again through SplitMix64.
 #include <cstdint>
@@ -30,8 +29,7 @@ class Random {
   }
   // Uniform in [0, 1) with 53 random bits.
   double uniform() { return double(next() >> 11) * 0x1.0p-53; }
-  // Uniform integer in [0, n), n >= 1, without bias (Lemire, "Fast random integer generation in an
-  // interval", ACM TOMACS 29 (2019)).
+  // Uniform integer in [0, n), n >= 1, without bias [Lemire2019].
   std::uint64_t below(std::uint64_t n) {
     unsigned __int128 m = (unsigned __int128)next() * n;
     std::uint64_t low = std::uint64_t(m);

@@ -1,10 +1,10 @@
 #pragma once
-// One DSMC realisation of the aggregation-shattering model (Kalinov et al.): the initial densities become
+// One DSMC realisation of the aggregation-shattering model [Kalinov2022]: the initial densities become
 // N(0) particles in the volume V = N(0) / Σ_k n_k(0); trials of the chosen method (stepper.hpp) advance
-// the time by τ = 2V / ((1+λ(t)) W) each. Population control (Kalinov et al.; Liffman, J. Comput. Phys.
-// 100 (1992) 116): when N(t) < N(0)/2 every particle is duplicated and V doubles, so densities are
-// unchanged. A population where no pair can interact any more (one cluster left — "extinction" — or,
-// under a cutoff, only pairs beyond it) is frozen and reported, not looped on.
+// the time by τ = 2V / ((1+λ(t)) W) each. Population control ([Kalinov2022, Sec. 2]; [Liffman1992]):
+// when N(t) < N(0)/2 every particle is duplicated and V doubles, so densities are unchanged. A population
+// where no pair can interact any more (one cluster left — "extinction" [Kalinov2022, Sec. 5.2] — or, under
+// a cutoff, only pairs beyond it) is frozen and reported, not looped on.
 #include <cstdint>
 #include <memory>
 

@@ -1,8 +1,7 @@
 #pragma once
 // Size classes ("bins") of the binned majorant: sizes 1, 2, 3 each alone, then every octave
-// [2^o, 2^{o+1}) split in two halves, so hi/lo < 1.5 in every bin (Michelotti, Heath & West, "Binning
-// for efficient stochastic multiscale particle simulations", Multiscale Model. Simul. 11 (2013) 1071:
-// the acceptance rate of a bin pair is bounded below by the kernel's variation across the bins).
+// [2^o, 2^{o+1}) split in two halves, so hi/lo < 1.5 in every bin ([Michelotti2013]: the acceptance rate
+// of a bin pair is bounded below by the kernel's variation across the bins).
 #include <bit>
 #include <cstddef>
 #include <cstdint>

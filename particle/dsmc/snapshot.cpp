@@ -6,7 +6,7 @@
 namespace aggkit::dsmc {
 
 double Snapshot::moment(double p) const {
-  // Neumaier-compensated sum, as analysis/moments.cpp does for densities.
+  // Neumaier-compensated sum [Neumaier1974], as analysis/moments.cpp does for densities.
   double sum = 0.0, compensation = 0.0;
   for (const auto& [size, count] : groups) {
     const double term = (p == 0.0 ? 1.0 : p == 1.0 ? double(size) : std::pow(double(size), p)) * double(count);

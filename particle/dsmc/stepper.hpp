@@ -3,7 +3,7 @@
 // (simulation.hpp): each trial takes τ = 2V / ((1+λ) W), where W is the stepper's ordered-pair sum of the
 // rates it samples from (the majorant for acceptance-rejection, the exact rates for fast DSMC), so that
 // trials form a process of rate (1+λ) W / (2V) and accepted pairs one of rate (1+λ) Σ_{i<j} K_ij / V
-// (Kalinov et al., τ = 2 / (n̂ (N-1) K_max (1+λ)) for a single global bound K_max).
+// ([Kalinov2022, eq. 7]: τ = 2 / (n̂ (N-1) K_max (1+λ)) for a single global bound K_max).
 #include <cstdint>
 #include <functional>
 

@@ -5,7 +5,7 @@
 namespace aggkit {
 
 namespace {
-std::uint64_t mix(std::uint64_t x) {  // SplitMix64 finaliser
+std::uint64_t mix(std::uint64_t x) {  // SplitMix64 finaliser [Steele2014]
   x ^= x >> 30;
   x *= 0xbf58476d1ce4e5b9ULL;
   x ^= x >> 27;

@@ -1,8 +1,8 @@
 #pragma once
 // Contact time of two spheres in free flight: the smallest root t >= 0 of |Δx + Δv t| = σ (σ = R_i + R_j),
-// i.e. of a t² + 2 b t + c = 0 with a = |Δv|², b = Δx·Δv, c = |Δx|² − σ² (Allen & Tildesley, "Computer
-// Simulation of Liquids", §3.7). Only approaching pairs (b < 0) with a real root collide. The root is
-// taken as t = c / (−b + sqrt(b² − a c)), which has no cancellation (−b > 0), unlike (−b − sqrt(..))/a.
+// i.e. of a t² + 2 b t + c = 0 with a = |Δv|², b = Δx·Δv, c = |Δx|² − σ² ([Allen2017, §3.7]). Only
+// approaching pairs (b < 0) with a real root collide. The root is taken as t = c / (−b + sqrt(b² − a c)),
+// which has no cancellation (−b > 0), unlike (−b − sqrt(..))/a.
 // A pair that already overlaps by round-off (c < 0) while approaching collides at once (t = 0).
 #include <cmath>
 #include <limits>

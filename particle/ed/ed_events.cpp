@@ -27,7 +27,7 @@ void EventDrivenAggregation::collide(std::uint32_t i, std::uint32_t j) {
     return;
   }
   // Elastic collision of two singletons of equal mass: the normal components of the velocities swap
-  // (Allen & Tildesley §3.7): v_i += (Δv·n) n, v_j −= (Δv·n) n with n = Δx/|Δx|, Δv = v_j − v_i.
+  // ([Allen2017, §3.7]): v_i += (Δv·n) n, v_j −= (Δv·n) n with n = Δx/|Δx|, Δv = v_j − v_i.
   const Vector3 n = (1.0 / norm(dx)) * dx;
   const double dvn = dot(velocity_[cj] - velocity_[ci], n);
   velocity_[ci] = velocity_[ci] + dvn * n;

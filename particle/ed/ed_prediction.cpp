@@ -165,7 +165,7 @@ EventDrivenAggregation::Contact EventDrivenAggregation::first_contact(std::uint3
 }
 
 // Member `ray` of another cluster, at `start` in `owner`'s frame at time 0 and moving with w, walks the
-// owner's index cells (Amanatides & Woo DDA) from `from` to `to`; at each cell entered the members in the
+// owner's index cells (DDA of [Amanatides1987]) from `from` to `to`; at each cell entered the members in the
 // new stencil layer are tested for an exact contact (all of the stencil at the first cell).
 void EventDrivenAggregation::cast(std::uint32_t owner, const Vector3& start, const Vector3& w, double from,
                                   double to, std::uint32_t ray, Contact& best) const {

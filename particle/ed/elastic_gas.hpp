@@ -1,13 +1,14 @@
 #pragma once
 // Event-driven elastic hard discs (2-D) or spheres (3-D) of equal mass: the thermalisation stage of the ED
-// aggregation runs (González, Thornton & Luding, ../shared/reference/PUBLISHED.md C: "thermalise
-// elastically, every particle >= 10 collisions, then switch sticking on") and a reference hard-sphere gas.
+// aggregation runs ([Gonzalez2011, Sec. 3]: from a square lattice, every particle collides elastically at
+// least 10 times, then sticking is switched on) and a reference hard-sphere gas.
 //
-// Built for throughput (issue 5: >= 10x a general-purpose event-driven MD code):
+// Built for throughput (target: 10x the collision rate of a general-purpose event-driven MD code,
+// bench/ed_elastic.cpp):
 // - one event slot per particle — its earliest predicted collision and its next cell crossing or wall
 //   contact — in a tournament tree (particle/common/tournament_tree.hpp), so the queue holds exactly N
 //   entries; a collision predicted with a partner whose trajectory has changed since is found stale when
-//   it comes up and only that particle is re-predicted (Marín, Risso & Cordero 1993);
+//   it comes up and only that particle is re-predicted [Marin1993];
 // - delayed states: a particle's position is stored at the time of its own last event and extrapolated on
 //   demand, so an event touches only the particles involved;
 // - a cell crossing predicts only against the newly entered layer of cells;

@@ -329,7 +329,7 @@ void ElasticGasIn<D>::count_collision(std::uint32_t i) {
 }
 
 // Elastic collision of equal masses: the normal components of the velocities are exchanged
-// (Allen & Tildesley, "Computer Simulation of Liquids", §3.7): v_i += (Δv·n) n, v_j −= (Δv·n) n.
+// ([Allen2017, §3.7]): v_i += (Δv·n) n, v_j −= (Δv·n) n.
 template <int D>
 void ElasticGasIn<D>::collide(std::uint32_t i, std::uint32_t j) {
   bring_to_now(i);
@@ -430,7 +430,7 @@ bool ElasticGasIn<D>::step() {
   // its slot, state, cell index and queue block; then its cell table and, for a crossing, the destination
   // cell's (+5–20 % in 2-D). Three quarters of the events have been winners for 4 events or more, yet
   // further stages — the tables it will predict against, then their particles' states — measured no gain
-  // within the ±15 % run-to-run scatter (bench/RESULTS.md, session 5).
+  // within the ±15 % run-to-run scatter (bench/RESULTS.md, event-driven aggregation: the elastic gas).
   int k = 0;
   tree_.for_each_subtree_winner(4, [&](std::uint32_t j) {
     std::uint8_t& age = lookahead_age_[k];

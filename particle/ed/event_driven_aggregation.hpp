@@ -1,8 +1,8 @@
 #pragma once
-// Event-driven ballistic aggregation (DESIGN.md "Particle level", ED; Degond, Dimarco, Ferreira & Hecht,
-// ../shared/reference/PUBLISHED.md B): N equal hard discs (2-D) or spheres (3-D) of radius R and unit mass fly
-// freely; two particles of different clusters that touch stick, and their clusters merge into one rigid,
-// non-rotating cluster moving with the momentum-weighted mean velocity (momentum conserved, energy lost).
+// Event-driven ballistic aggregation ([Degond2024, Sec. 2]; cluster-level events as in [Gonzalez2011,
+// Sec. 2]): N equal hard discs (2-D) or spheres (3-D) of radius R and unit mass fly freely; two particles
+// of different clusters that touch stick, and their clusters merge into one rigid, non-rotating cluster
+// moving with the momentum-weighted mean velocity ([Degond2024, eq. 2.9]; momentum conserved, energy lost).
 // With sticking off (thermalisation) collisions are elastic instead (equal masses: normal components swap).
 // Walls: periodic, or reflecting (a cluster touching a wall has that velocity component reversed as a whole).
 //

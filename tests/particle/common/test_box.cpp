@@ -9,7 +9,7 @@
 using namespace aggkit;
 
 TEST_CASE("box side from the volume fraction and back", "[particle_common][box]") {
-  // 2-D: L = R sqrt(Nπ/ν) (PUBLISHED.md B); 3-D: L³ = N (4π/3) R³ / ν.
+  // 2-D: L = R sqrt(Nπ/ν) ([Degond2024, Table 1]); 3-D: L³ = N (4π/3) R³ / ν.
   CHECK(box_side_for_volume_fraction(2, 100, 0.2, 0.1) == Approx(0.2 * std::sqrt(100 * std::numbers::pi / 0.1)));
   CHECK(box_side_for_volume_fraction(3, 1000, 1.0, 0.25) == Approx(std::cbrt(1000 * 4.0 / 3 * std::numbers::pi / 0.25)));
   const double L = box_side_for_volume_fraction(3, 500, 0.5, 0.3);

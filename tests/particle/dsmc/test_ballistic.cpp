@@ -1,5 +1,6 @@
-// DSMC against CVODE for the ballistic kernel with shattering (Kalinov et al., λ = 0.01, monodisperse):
-// ensemble means of M0, M2, M3 at t = 1 and 10 within a few standard errors of the integrated equations.
+// DSMC against CVODE for the ballistic kernel with shattering, λ = 0.01, monodisperse ([Kalinov2022,
+// Table 2]): ensemble means of M0, M2, M3 at t = 1 and 10 within a few standard errors of the integrated
+// equations.
 #include <catch2/catch.hpp>
 
 #include <cmath>

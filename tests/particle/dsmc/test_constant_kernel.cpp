@@ -1,5 +1,5 @@
 // DSMC against the exact solution of the constant kernel (λ = 0, unit monodisperse start):
-// M0 = 2/(t+2), M2 = 1 + t (DESIGN.md; Leyvraz, Phys. Rep. 383 (2003) 95).
+// M0 = 2/(t+2), M2 = 1 + t ([Leyvraz2003, Sec. 2]).
 #include <catch2/catch.hpp>
 
 #include <cmath>
