@@ -45,7 +45,7 @@ TEST_CASE("harness: constant kernel against the exact solution writes every outp
     CHECK(aggkit::testing::first_line(out / engine / "series.csv") == "t,M0,M1,M2,n1,mass_leak");
     const auto rows = aggkit::testing::csv_rows(out / engine / "series.csv");
     REQUIRE(rows.size() == 3);
-    // Exact solution, constant kernel (DESIGN.md): M0 = 2/(t+2), M1 = 1, M2 = 1 + t, n_1 = 4/(t+2)^2.
+    // Exact solution, constant kernel [Leyvraz2003]: M0 = 2/(t+2), M1 = 1, M2 = 1 + t, n_1 = 4/(t+2)^2.
     for (const auto& row : rows) {
       const double t = row[0];
       CHECK(row[1] == Approx(2.0 / (t + 2.0)).epsilon(1e-8));

@@ -1,5 +1,5 @@
 // Real CVODE runs classified by the scan: the published regimes of the Brownian-type kernel with
-// shattering (PUBLISHED.md A: a = 0.95, λ = 0.01 oscillates steadily; a = 0.9, λ = 0.01 converges to the
+// shattering ([Kalinov2022, Sec. 5.2]: a = 0.95, λ = 0.01 oscillates steadily; a = 0.9, λ = 0.01 converges to the
 // steady state).
 #include <catch2/catch.hpp>
 
