@@ -241,7 +241,51 @@ std::optional<SceneTable> SceneTable::optional_table(std::string_view name) cons
   return table(name);
 }
 
+namespace {
+
+// toml++ 3.3 parses nesting by recursion: a header or dotted key tens of thousands of levels deep overflows
+// the stack. Scenes need a handful of levels, so the text is measured before the parser sees it: bracket
+// depth ([ and {) and the components of one dotted key or table header, outside strings and comments.
+constexpr std::size_t max_nesting = 64;
+
+void check_nesting(std::string_view text, const std::string& source) {
+  std::size_t depth = 0, dots = 0, line = 1;
+  const auto fail = [&](const std::string& what) {
+    throw InputError("scene", source,
+                     what + " at line " + std::to_string(line) + ": at most " + std::to_string(max_nesting) +
+                         " levels (a scene needs a few)");
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (c == '#') {  // comment: to the end of the line
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {  // basic or literal string, single- or multi-line
+      const bool triple = text.substr(i, 3) == std::string(3, c);
+      const std::string_view close = triple ? std::string_view(c == '"' ? "\"\"\"" : "'''") : std::string_view(&text[i], 1);
+      for (i += triple ? 3 : 1; i < text.size() && text.substr(i, close.size()) != close; ++i) {
+        if (text[i] == '\n') ++line;
+        if (c == '"' && text[i] == '\\') ++i;  // an escape: skip the escaped character
+      }
+      if (triple) i += 2;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_nesting) fail("arrays or tables nested deeper");
+      dots = 0;
+    } else if (c == ']' || c == '}') {
+      if (depth > 0) --depth;
+      dots = 0;
+    } else if (c == '.') {
+      if (++dots > max_nesting) fail("a dotted key or table header with more components");
+    } else if (c == '=' || c == ',' || c == '\n') {
+      dots = 0;
+    }
+  }
+}
+
+}  // namespace
+
 toml::table parse_toml_text(std::string_view text, const std::string& source) {
+  check_nesting(text, source);
   try {
     return toml::parse(text, std::string_view(source));
   } catch (const toml::parse_error& e) {
@@ -258,10 +302,14 @@ std::string read_scene_file(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(path, error)) throw InputError("scene", shown, "a TOML file, not a folder");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << file.rdbuf();
+  // A scene is a few kilobytes; reading stops past 4 MiB (e.g. /dev/zero, or a data file given by mistake).
+  constexpr std::size_t max_bytes = std::size_t(4) << 20;
+  std::string text(max_bytes + 1, '\0');
+  file.read(text.data(), std::streamsize(text.size()));
   if (file.bad()) throw InputError("scene", shown, std::string("a readable TOML file (") + std::strerror(errno) + ")");
-  return text.str();
+  text.resize(std::size_t(file.gcount()));
+  if (text.size() > max_bytes) throw InputError("scene", shown, "a scene file of at most 4 MiB (this one is larger)");
+  return text;
 }
 
 }  // namespace aggkit
