@@ -93,7 +93,7 @@ class EdEngine final : public Engine {
     for (std::size_t r = 0; r < system.realizations; ++r) {
       const auto started = std::chrono::steady_clock::now();
       const std::vector<Vector3> x = system.initial_positions(), v = system.initial_velocities(r);
-      EventDrivenAggregation ed(system.box, system.radius, x, v, true, options_.cells);
+      EventDrivenAggregation ed(system.box, system.mean_radius(), x, v, true, options_.cells);
       // Progress in words for the long stretches between output times (at most about once a second).
       const std::string run = system.realizations > 1 ? "realization " + std::to_string(r + 1) + "/" +
                                                             std::to_string(system.realizations) + ", "
