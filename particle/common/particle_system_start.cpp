@@ -60,11 +60,14 @@ std::vector<Vector3> velocities_of(const ParticleSystem& system, std::uint64_t r
                                const Packing& packing) {
   const CloudStart& cloud = std::get<CloudStart>(system.start);
   const int d = system.box.dimension;
-  std::string key = "volume_fraction";
-  double value = system.volume_fraction();
-  if (region.shape != PackingRegion::Shape::whole_box) {
+  std::string key = "volume_fraction", value;
+  if (region.shape == PackingRegion::Shape::whole_box) {
+    std::ostringstream fraction;  // computed from the box: 6 digits
+    fraction << system.volume_fraction();
+    value = fraction.str();
+  } else {
     key = cloud.size ? "initial.size" : "initial.volume_fraction";
-    value = cloud.size ? *cloud.size : *cloud.volume_fraction;
+    value = format_value(cloud.size ? *cloud.size : *cloud.volume_fraction);
   }
   double occupied = 0;
   for (double r : radii) occupied += particle_volume(d, r);
@@ -89,7 +92,7 @@ std::vector<Vector3> velocities_of(const ParticleSystem& system, std::uint64_t r
             << ") found no free place in " << packing_attempts_per_particle << " trials at volume fraction "
             << fraction << " of its region (RSA jams near " << rsa_jamming_2d << " for equal discs in 2-D and near "
             << rsa_jamming_3d << " for equal spheres in 3-D)";
-  throw InputError(key, format_value(value), allowed.str());
+  throw InputError(key, value, allowed.str());
 }
 
 }  // namespace

@@ -152,7 +152,7 @@ void PropertyLaw::validate(const std::string& name) const {
     std::ostringstream allowed;
     allowed << "a truncation window [min, max] holding at least " << min_window_probability
             << " of the law (values are drawn by rejection); [" << format_value(min) << ", " << format_value(max)
-            << "] holds " << probability;
+            << (std::isinf(max) ? ")" : "]") << " holds " << probability;
     fail(name + (above ? ".min" : ".max"), above ? min : max, allowed.str());
   }
 }
