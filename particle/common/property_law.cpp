@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -30,15 +31,22 @@ LogNormal log_normal(double mean, double sd) {
   return {std::log(mean) - variance / 2, std::sqrt(variance)};
 }
 
-// GSL's default error handler aborts the process; within this scope errors come back as status codes.
+// GSL's default error handler aborts the process; within this scope errors come back as status codes. The
+// handler is process-wide: the lock keeps concurrent quadratures (realizations started in threads) from
+// interleaving their save and restore.
 class GslStatusReturned {
  public:
-  GslStatusReturned() : previous_(gsl_set_error_handler_off()) {}
+  GslStatusReturned() : lock_(mutex()), previous_(gsl_set_error_handler_off()) {}
   ~GslStatusReturned() { gsl_set_error_handler(previous_); }
   GslStatusReturned(const GslStatusReturned&) = delete;
   GslStatusReturned& operator=(const GslStatusReturned&) = delete;
 
  private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
   gsl_error_handler_t* previous_;
 };
 

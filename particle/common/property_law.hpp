@@ -48,7 +48,8 @@ struct PropertyLaw {
 
   // Probability of [min, max] under the untruncated law (1 for fixed and uniform).
   double window_probability() const;
-  // E[g(X)] under the truncated law (g(value) for fixed); GSL quadrature to a relative 1e-10.
+  // E[g(X)] under the truncated law (g(value) for fixed); GSL quadrature to a relative 1e-10. Thread-safe;
+  // g must not itself call expectation (the quadratures are serialised).
   double expectation(const std::function<double(double)>& g) const;
   double expected_value() const;  // E[X]
   double smallest() const;        // the smallest value a draw can take (min, or value)
