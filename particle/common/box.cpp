@@ -1,6 +1,7 @@
 #include "particle/common/box.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "analysis/input_error.hpp"
@@ -10,12 +11,21 @@ namespace aggkit {
 Boundary boundary_from_name(std::string_view name) {
   if (name == "periodic") return Boundary::periodic;
   if (name == "reflecting") return Boundary::reflecting;
-  throw InputError("boundary", "\"" + std::string(name) + "\"", "\"periodic\" or \"reflecting\"");
+  if (name == "open") return Boundary::open;
+  throw InputError("boundary", "\"" + std::string(name) + "\"", "\"periodic\", \"reflecting\" or \"open\"");
 }
 
-std::string to_string(Boundary boundary) { return boundary == Boundary::periodic ? "periodic" : "reflecting"; }
+std::string to_string(Boundary boundary) {
+  switch (boundary) {
+    case Boundary::periodic: return "periodic";
+    case Boundary::reflecting: return "reflecting";
+    case Boundary::open: return "open";
+  }
+  return "unknown";
+}
 
 double Box::volume() const {
+  if (boundary == Boundary::open) return std::numeric_limits<double>::infinity();
   double v = 1.0;
   for (int d = 0; d < dimension; ++d) v *= side[d];
   return v;
@@ -40,6 +50,7 @@ Vector3 Box::wrap(const Vector3& position) const {
 
 void Box::validate() const {
   if (dimension != 2 && dimension != 3) throw InputError("dimension", std::to_string(dimension), "2 or 3");
+  if (boundary == Boundary::open) return;  // no box
   for (int d = 0; d < dimension; ++d)
     if (!std::isfinite(side[d]) || side[d] <= 0) throw InputError("box", format_value(side[d]), "box sides finite and > 0");
 }

@@ -9,6 +9,8 @@ namespace aggkit {
 
 CellGrid::CellGrid(const Box& box, double min_side, std::size_t target_cells) : box_(box) {
   box.validate();
+  if (box.boundary == Boundary::open)
+    throw InputError("boundary", "\"open\"", "\"periodic\" or \"reflecting\": a cell grid covers a finite box");
   const double wanted = std::max(min_side, std::pow(box.volume() / double(std::max<std::size_t>(target_cells, 1)),
                                                     1.0 / box.dimension));
   for (int d = 0; d < 3; ++d) {

@@ -17,8 +17,8 @@ using CellCoords = std::array<int, 3>;
 
 class CellGrid {
  public:
-  // Cells of side >= max(min_side, (V/target_cells)^{1/d}); throws InputError when a periodic axis cannot
-  // hold 3 cells of side min_side.
+  // Cells of side >= max(min_side, (V/target_cells)^{1/d}); throws InputError for an open boundary (no box)
+  // and when a periodic axis cannot hold 3 cells of side min_side.
   CellGrid(const Box& box, double min_side, std::size_t target_cells);
 
   const Box& box() const { return box_; }

@@ -22,4 +22,19 @@ inline std::uint64_t run_seed(std::uint64_t master, std::uint64_t run) {
   return value;
 }
 
+// Independent streams of one run: the velocities use run_seed(master, run) itself (unchanged since the first
+// starts), and each further random ingredient of a start draws from its own stream, seeded by one more
+// SplitMix64 step from the run seed offset by a distinct constant. Adding an ingredient therefore never
+// changes the velocities, and the radii do not depend on how many positions were tried.
+enum class StartStream : std::uint64_t {
+  radii = 0x5261646969000001ULL,      // per-particle radii
+  masses = 0x4d61737365000002ULL,     // per-particle masses
+  positions = 0x506f736974000003ULL,  // random placement (clouds)
+};
+
+inline std::uint64_t stream_seed(std::uint64_t run_seed_value, StartStream stream) {
+  std::uint64_t state = run_seed_value ^ std::uint64_t(stream);
+  return splitmix64(state);
+}
+
 }  // namespace aggkit

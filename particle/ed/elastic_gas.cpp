@@ -11,6 +11,8 @@ ElasticGasIn<D>::ElasticGasIn(const Box& box, double radius, std::span<const Vec
                               double particles_per_cell)
     : periodic_(box.boundary == Boundary::periodic), sigma_(2 * radius), radius_(radius) {
   box.validate();
+  if (box.boundary == Boundary::open)
+    throw InputError("boundary", "\"open\"", "\"periodic\" or \"reflecting\": the elastic gas needs a box");
   if (!(radius > 0) || !std::isfinite(radius)) throw InputError("radius", format_value(radius), "a finite radius > 0");
   if (x.empty() || x.size() >= none) throw InputError("count", std::to_string(x.size()), "1 <= N < 2^32 - 1");
   if (v.size() != x.size()) throw InputError("velocities", std::to_string(v.size()), "one velocity per particle");

@@ -23,11 +23,17 @@ double index_cell_side(const Box& box, double radius) {
   for (int a = 1; a < box.dimension; ++a) shortest = std::min(shortest, box.side[a]);
   return std::max(2 * radius, std::min(8 * radius, shortest / 3.001));
 }
+// The engine moves particles in a box: walls or periodic images, never open space.
+const Box& walled_box(const Box& box) {
+  if (box.boundary == Boundary::open)
+    throw InputError("boundary", "\"open\"", "\"periodic\" or \"reflecting\": the event-driven engine needs a box");
+  return box;
+}
 }  // namespace
 
 EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, std::span<const Vector3> positions,
                                                std::span<const Vector3> velocities, bool sticking, std::size_t cells)
-    : box_(box),
+    : box_(walled_box(box)),
       radius_(radius),
       margin_(1e-6 * radius),
       sticking_(sticking),

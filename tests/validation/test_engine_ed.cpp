@@ -261,3 +261,36 @@ TEST_CASE("ed: observables a kinetic engine cannot give are refused for it, nami
     CHECK_THAT(std::string(e.what()), Contains("cvode") && Contains("particle velocities"));
   }
 }
+
+TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the key; the others run", "[ed][particles]") {
+  const std::string base = ed_scene();
+  auto replace = [&](const std::string& from, const std::string& to) {
+    std::string s = base;
+    s.replace(s.find(from), from.size(), to);
+    return s;
+  };
+  const std::string cloud = replace("lattice = \"square\", speed = 1.0", "cloud = \"cube\", speed = 1.0");
+  std::string unequal = cloud;
+  unequal.replace(unequal.find("radius = 0.5"), 12, "radius = { distribution = \"uniform\", min = 0.4, max = 0.6 }");
+  check_bad(unequal, "particles.radius", "distribution");
+  check_bad(replace("radius = 0.5", "radius = 0.5\nmass = { distribution = \"uniform\", min = 1, max = 2 }"),
+            "particles.mass", "unequal");
+  check_bad(replace("speed = 1.0", "speed = 0"), "particles.initial.speed", "0");
+  check_bad(replace("volume_fraction = 0.2\nboundary = \"reflecting\"\ninitial = { lattice = \"square\", speed = 1.0, "
+                    "directions = \"uniform\" }",
+                    "boundary = \"open\"\ninitial = { cloud = \"sphere\", volume_fraction = 0.2 }"),
+            "particles.boundary", "open");
+
+  // A random cloud filling the box, and equal masses from a density: both are forms ED can run.
+  const auto out = aggkit::testing::scratch_folder("ed-cloud");
+  std::string heavy = cloud;
+  heavy.replace(heavy.find("radius = 0.5"), 12, "radius = 0.5\nmass = { density = 2.0 }");
+  const RunResult run = run_scene(aggkit::testing::parse_checked(heavy), quiet(out));
+  REQUIRE(run.records[0].completed());
+  const auto final = nlohmann::json::parse(aggkit::testing::read_text(out / "ed" / "final.json"));
+  CHECK(final["clusters"].get<double>() == 1.0);  // stop = "one_cluster"
+  CHECK(final["momentum_drift"].get<double>() < 1e-12);
+  // m = ρ π R² = 2π/4 per disc: the kinetic energy at t = 1 is at most ½ N m v² = 100 π / 4.
+  CHECK(run.records[0].values.front()[1] <= 100 * 3.14159265358979 / 4 * (1 + 1e-12));
+  CHECK(run.records[0].values.front()[1] > 0.5 * 100 * 3.14159265358979 / 4 * 0.1);
+}

@@ -37,11 +37,10 @@ struct EdSettings {
 
 class EdSimulation final : public ParticleSimulation {
  public:
-  EdSimulation(const ParticleSystem& system, std::size_t realization, const EdSettings& settings)
-      : ed_(system.box, system.radius, system.initial_positions(), system.initial_velocities(realization), true,
-            settings.cells),
+  EdSimulation(const ParticleSystem& system, const ParticleStart& start, const EdSettings& settings)
+      : ed_(system.box, system.mean_radius(), start.positions, start.velocities, true, settings.cells),
         settings_(settings),
-        mass_(1.0) {}
+        mass_(system.mean_mass()) {}
 
   void prepare(const StatusSink& status) override {
     ed_.thermalize(settings_.thermalize, [&](std::size_t pending) {
@@ -106,8 +105,25 @@ class EdSimulation final : public ParticleSimulation {
   double thermal_collisions_ = 0;
 };
 
+// The forms of [particles] this engine cannot use are refused, naming the key: its clusters are of equal
+// hard spheres of one mass (the momentum-weighted velocity of a merge is then the mean), inside walls or a
+// periodic box, and move ballistically, so they must move at the start.
+void check_particles(const ParticleSystem& system) {
+  const std::string why = " (engine ed simulates equal hard discs/spheres of one mass)";
+  if (!system.equal_radii())
+    throw InputError("particles.radius", system.start_kind() == ParticleSystem::StartKind::file ? "(from the start file)" : "a distribution",
+                     "one radius for every particle" + why);
+  if (!system.equal_masses())
+    throw InputError("particles.mass", "unequal masses", "one mass for every particle" + why);
+  if (system.box.boundary == Boundary::open)
+    throw InputError("particles.boundary", "\"open\"", "\"periodic\" or \"reflecting\" for engine ed (it has no forces to hold an open cloud)");
+  if (system.cold())
+    throw InputError("particles.initial.speed", "0", "a speed > 0 for engine ed (without forces nothing would ever move)");
+}
+
 ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scene) {
   const ParticleSystem& system = *scene.particles;
+  check_particles(system);
   EdSettings settings;
   if (given.has("stop")) {
     const nlohmann::json& stop = given.value("stop");
@@ -131,7 +147,9 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
   settings.thermalize = std::size_t(given.integer("thermalize", std::int64_t(system.thermalize)));
   const std::string stop = settings.target_clusters == 0 ? "at time.end"
                                                           : "at " + std::to_string(settings.target_clusters) + " cluster(s)";
-  return {[system, settings](std::size_t r) { return std::make_unique<EdSimulation>(system, r, settings); },
+  return {[system, settings](std::size_t r) {
+            return std::make_unique<EdSimulation>(system, system.initial_state(r), settings);
+          },
           "event-driven, stop " + stop};
 }
 

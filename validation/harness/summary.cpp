@@ -41,7 +41,7 @@ Json scene_json(const Scene& scene) {
     const ParticleSystem& p = *scene.particles;
     json["particles"] = {{"dimension", p.box.dimension},
                          {"count", p.count},
-                         {"radius", p.radius},
+                         {"radius", p.mean_radius()},
                          {"volume_fraction", p.volume_fraction()},
                          {"boundary", to_string(p.box.boundary)},
                          {"realizations", p.realizations}};

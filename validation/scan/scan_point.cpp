@@ -51,7 +51,11 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   times.reserve(run.time.outputs.size());
   values.reserve(run.time.outputs.size());
   EngineObserver observer;
-  observer.measure = [&](double, const ObservedState& state) { return Measurement{{state.moment(plan.series_order)}}; };
+  observer.measure = [&](double, const ObservedState& state) {
+    Measurement m;
+    m.values = {state.moment(plan.series_order)};
+    return m;
+  };
   observer.record = [&](double t, std::vector<Measurement> m) {
     times.push_back(t);
     values.push_back(m.front().values.front());

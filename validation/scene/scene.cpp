@@ -18,7 +18,7 @@ const Tolerance* ComparisonPlan::tolerance_for(std::string_view observable) cons
 
 namespace {
 
-Scene read_scene(const toml::table& document) {
+Scene read_scene(const toml::table& document, const std::filesystem::path& folder) {
   const SceneTable root(document, "");
   root.allow_only({"name", "model", "particles", "time", "engine", "observe", "compare"});
   Scene scene;
@@ -29,7 +29,7 @@ Scene read_scene(const toml::table& document) {
     read_model(*model, scene);
     scene.has_model = true;
   }
-  if (const auto particles = root.optional_table("particles")) scene.particles = read_particles(*particles);
+  if (const auto particles = root.optional_table("particles")) scene.particles = read_particles(*particles, folder);
   read_engines(root, scene);
   scene.observe = read_observation(root.table("observe"), scene);
   if (const auto compare = root.optional_table("compare")) scene.compare = read_comparison(*compare, scene);
@@ -38,10 +38,10 @@ Scene read_scene(const toml::table& document) {
 
 }  // namespace
 
-Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml_text(text, source)); }
+Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml_text(text, source), {}); }
 
 Scene load_scene(const std::filesystem::path& path) {
-  Scene scene = parse_scene(read_scene_file(path), path.string());
+  Scene scene = read_scene(parse_toml_text(read_scene_file(path), path.string()), path.parent_path());
   scene.path = path;
   return scene;
 }

@@ -7,7 +7,8 @@ namespace aggkit {
 
 TimeGrid read_time(const SceneTable& time);                      // [time]
 void read_model(const SceneTable& model, Scene& scene);          // [model]; needs scene.time
-ParticleSystem read_particles(const SceneTable& particles);        // [particles]
+// [particles]; a start file's relative path is taken from `folder` (the scene file's; empty: the current one).
+ParticleSystem read_particles(const SceneTable& particles, const std::filesystem::path& folder);
 void read_engines(const SceneTable& root, Scene& scene);         // [[engine]]; needs model/particles and time
 Observation read_observation(const SceneTable& observe, const Scene& scene);  // [observe]
 ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene);  // [compare]

@@ -35,3 +35,19 @@ TEST_CASE("bad boxes and boundary names are InputErrors", "[particle_common][box
   CHECK_THROWS_AS((Box{4, {1, 1, 1}, Boundary::periodic}.validate()), InputError);
   CHECK_THROWS_AS((Box{2, {1, -1, 0}, Boundary::periodic}.validate()), InputError);
 }
+
+TEST_CASE("an open boundary has no box: no sides needed, positions left as they are", "[particle_common][box][particles]") {
+  CHECK(boundary_from_name("open") == Boundary::open);
+  CHECK(to_string(Boundary::open) == "open");
+  const Box open{3, {0, 0, 0}, Boundary::open};
+  CHECK_NOTHROW(open.validate());
+  CHECK(std::isinf(open.volume()));
+  CHECK(open.wrap({-50, 1e6, 3}) == Vector3{-50, 1e6, 3});
+  CHECK(open.minimum_image({-50, 1e6, 3}) == Vector3{-50, 1e6, 3});
+  CHECK_THROWS_AS((Box{4, {0, 0, 0}, Boundary::open}.validate()), InputError);
+  try {
+    boundary_from_name("sticky");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("\"open\"") != std::string::npos);
+  }
+}

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <vector>
 
+#include "analysis/input_error.hpp"
+#include "particle/common/cell_grid.hpp"
+#include "particle/ed/elastic_gas.hpp"
 #include "particle/ed/event_driven_aggregation.hpp"
 
 using namespace aggkit;
@@ -113,4 +116,21 @@ TEST_CASE("3-D: two spheres merge head-on", "[ed][3d]") {
   CHECK(ed.time() == Approx(2.0).epsilon(1e-14));
   check_vector(ed.position(0), {5, 5, 4});
   check_vector(ed.position(1), {5, 5, 5});
+}
+
+TEST_CASE("the engine, its elastic gas and cell grids refuse an open boundary", "[ed][particles]") {
+  const std::vector<Vector3> x{{2, 5, 0}, {6, 5, 0}}, v{{1, 0, 0}, {-1, 0, 0}};
+  const Box open{2, {10, 10, 0}, Boundary::open};
+  const auto refuses = [](const auto& make) {
+    try {
+      make();
+      FAIL("no InputError");
+    } catch (const InputError& e) {
+      CHECK(e.key() == "boundary");
+      CHECK(std::string(e.what()).find("\"open\"") != std::string::npos);
+    }
+  };
+  refuses([&] { EventDrivenAggregation ed(open, 0.5, x, v); });
+  refuses([&] { (void)make_elastic_gas(open, 0.5, x, v); });
+  refuses([&] { CellGrid grid(open, 1.0, 10); });
 }
