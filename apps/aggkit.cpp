@@ -15,6 +15,7 @@
 #include "validation/engines/engine.hpp"
 #include "validation/io/exit_code.hpp"
 #include "validation/harness/harness.hpp"
+#include "validation/harness/output_folder.hpp"
 #include "validation/scene/kernel_catalogue.hpp"
 #include "validation/scan/scan.hpp"
 #include "validation/scan/scan_mpi.hpp"
@@ -41,13 +42,17 @@ struct RunArguments {
   std::string out;
   bool quiet = false;
   bool no_plot = false;
+  bool force = false;
 };
 
 int run(const RunArguments& arguments) {
+  // Before the scene is read: a run refused for bad input must not leave an earlier run's summary behind.
+  aggkit::OutputFolder(arguments.out).forget_summary();
   const aggkit::Scene scene = aggkit::load_scene(arguments.scene);
   aggkit::RunOptions options;
   options.out = arguments.out;
   options.plot = !arguments.no_plot;
+  options.force = arguments.force;
   if (arguments.quiet) options.progress = nullptr;
   return aggkit::run_scene(scene, options).exit_code;
 }
@@ -77,6 +82,8 @@ int main(int argc, char** argv) {
   run_command->add_option("--out,-o", arguments.out, "output folder (created if needed)")->required();
   run_command->add_flag("--quiet,-q", arguments.quiet, "no progress lines on stderr");
   run_command->add_flag("--no-plot", arguments.no_plot, "do not draw report.png");
+  run_command->add_flag("--force", arguments.force,
+                        "write into a non-empty folder that no aggkit run wrote (files of other names are left alone)");
   run_command->footer(engine_help());
   RunArguments scan_arguments;
   CLI::App* scan_command = app.add_subcommand(

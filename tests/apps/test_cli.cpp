@@ -61,6 +61,25 @@ TEST_CASE("cli: bad input exits 2 naming the key and value, and leaves no output
   CHECK(checked >= 12);
 }
 
+TEST_CASE("cli: a run refused for bad input leaves no summary of the earlier run in its folder") {
+  const auto folder = aggkit::testing::scratch_folder("cli-bad-after-good");
+  const auto out = folder / "out";
+  const auto good = aggkit::testing::write_text(folder / "good.toml", SceneText{}.text());
+  REQUIRE(aggkit_cli({"run", good.string(), "--out", out.string(), "--quiet", "--no-plot"}, folder).exit_code == 0);
+  REQUIRE(std::filesystem::exists(out / "summary.json"));
+  SceneText text;
+  text.model = "kernel = { name = \"constant\" }\nlambda = -0.5\nsize = 64\n";
+  const auto bad = aggkit::testing::write_text(folder / "bad.toml", text.text());
+  const Outcome run = aggkit_cli({"run", bad.string(), "--out", out.string(), "--quiet", "--no-plot"}, folder);
+  CHECK(run.exit_code == 2);
+  CHECK_FALSE(std::filesystem::exists(out / "summary.json"));  // no "pass": true from the earlier run
+  // A folder aggkit never wrote is refused, and --force writes into it.
+  const auto foreign = folder / "foreign";
+  aggkit::testing::write_text(foreign / "data.csv", "1,2\n");
+  CHECK(aggkit_cli({"run", good.string(), "--out", foreign.string(), "--quiet", "--no-plot"}, folder).exit_code == 2);
+  CHECK(aggkit_cli({"run", good.string(), "--out", foreign.string(), "--quiet", "--no-plot", "--force"}, folder).exit_code == 0);
+}
+
 TEST_CASE("cli: a missing or unreadable scene exits 2 naming the path") {
   const auto folder = aggkit::testing::scratch_folder("cli-missing");
   const auto missing = folder / "no-such-scene.toml";

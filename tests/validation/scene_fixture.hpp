@@ -147,6 +147,7 @@ inline std::filesystem::path scratch_folder(const std::string& name) {
 }
 
 inline std::filesystem::path write_text(const std::filesystem::path& file, const std::string& text) {
+  std::filesystem::create_directories(file.parent_path());
   std::ofstream(file) << text;
   return file;
 }

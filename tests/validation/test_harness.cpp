@@ -125,7 +125,11 @@ TEST_CASE("harness: an output folder under a regular file is refused before anyt
   const auto out = folder / "out";
   std::filesystem::create_directories(out);
   aggkit::testing::write_text(out / "exact", "a file where the exact engine's folder goes\n");
-  CHECK_THROWS_WITH(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out)), Contains((out / "exact").string()));
+  RunOptions forced = quiet_options(out);
+  forced.force = true;  // the folder is not aggkit's: without --force it is refused before anything else
+  CHECK_THROWS_WITH(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out)),
+                    Contains(out.string()) && Contains("--force"));
+  CHECK_THROWS_WITH(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), forced), Contains((out / "exact").string()));
   CHECK_FALSE(std::filesystem::exists(out / "cvode" / "series.csv"));
 }
 
@@ -137,6 +141,7 @@ TEST_CASE("harness: stale outputs of an earlier run are removed before a run sta
   aggkit::testing::write_text(out / "cvode" / "series.csv", "stale\n");
   aggkit::testing::write_text(out / "report.png", "stale\n");
   aggkit::testing::write_text(out / "notes.txt", "the user's\n");
+  aggkit::testing::write_text(out / ".aggkit-outputs", "summary.json\nreport.png\ncvode/series.csv\n");  // an earlier run's
   OutputFolder(out).prepare({{"cvode", {}}, {"exact", {}}});
   CHECK_FALSE(std::filesystem::exists(out / "summary.json"));
   CHECK_FALSE(std::filesystem::exists(out / "cvode" / "series.csv"));
@@ -147,6 +152,38 @@ TEST_CASE("harness: stale outputs of an earlier run are removed before a run sta
   CHECK(result.exit_code == 0);
   const auto summary = nlohmann::json::parse(aggkit::testing::read_text(out / "summary.json"));
   CHECK_FALSE(summary.contains("stale"));
+}
+
+TEST_CASE("harness: a rerun removes what the previous run wrote, engines it no longer has included") {
+  const auto out = aggkit::testing::scratch_folder("harness-fewer-engines");
+  SceneText two;
+  two.engines = "[[engine]]\nname = \"cvode\"\n[[engine]]\nname = \"cvode\"\nlabel = \"adams\"\nmethod = \"adams\"\n"
+                "[[engine]]\nname = \"exact\"\n";
+  REQUIRE(run_scene(aggkit::testing::parse_checked(two.text()), quiet_options(out)).exit_code == 0);
+  REQUIRE(std::filesystem::exists(out / "adams" / "series.csv"));
+  aggkit::testing::write_text(out / "adams" / "my-notes.txt", "the user's\n");
+  REQUIRE(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out)).exit_code == 0);
+  CHECK_FALSE(std::filesystem::exists(out / "adams" / "series.csv"));  // the old engine's output is gone
+  CHECK(std::filesystem::exists(out / "adams" / "my-notes.txt"));       // what aggkit did not write stays
+  CHECK(std::filesystem::exists(out / "cvode" / "series.csv"));
+}
+
+TEST_CASE("harness: a non-empty folder aggkit did not write is refused unless forced") {
+  const auto out = aggkit::testing::scratch_folder("harness-foreign");
+  aggkit::testing::write_text(out / "thesis.tex", "\\documentclass{article}\n");
+  try {
+    run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out));
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(e.key() == "--out");
+    CHECK_THAT(e.what(), Contains("--force"));
+  }
+  CHECK_FALSE(std::filesystem::exists(out / "cvode"));
+  RunOptions forced = quiet_options(out);
+  forced.force = true;
+  CHECK(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), forced).exit_code == 0);
+  CHECK(std::filesystem::exists(out / "thesis.tex"));
+  CHECK(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out)).exit_code == 0);  // marked now
 }
 
 namespace {

@@ -64,7 +64,7 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
     const EngineType* type = find_engine_type(engine->name());
     files.emplace_back(engine->label(), type ? type->files : std::vector<std::string>{});
   }
-  folder.prepare(files);
+  folder.prepare(files, options.force);
 
   RunResult result;
   Progress progress(options.progress);
@@ -93,6 +93,9 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
   }
 
   write_file_atomically(folder.summary_file(), summary_json(scene, result, folder));  // last: marks completion
+  std::vector<std::string> labels;
+  for (const auto& engine : engines) labels.push_back(engine->label());
+  folder.mark(labels);
   if (options.report) print_report(*options.report, scene, result, folder);
   return result;
 }

@@ -18,6 +18,7 @@ namespace aggkit {
 struct RunOptions {
   std::filesystem::path out;
   bool plot = true;
+  bool force = false;                   // write into a non-empty folder aggkit did not write (OutputFolder)
   std::ostream* report = &std::cout;    // the human summary; nullptr: none
   std::ostream* progress = &std::cerr;  // progress of long runs; nullptr: quiet
   std::ostream* warnings = &std::cerr;  // e.g. a failed plot; nullptr: none
