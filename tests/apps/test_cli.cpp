@@ -197,3 +197,80 @@ TEST_CASE("cli: run --help lists every engine option with its default, and every
   text.engines = "[[engine]]\nname = \"cvode\"\nkrylof = 7\n[[engine]]\nname = \"exact\"\n";
   CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Contains("engine[0].krylof"));
 }
+
+namespace {
+
+// A scene that once crashed, hung, ran out of memory or printed nonsense, and what aggkit must do now.
+struct Hardened {
+  std::string what, text, key, value;
+};
+
+std::string ed_text(const std::string& particles, const std::string& engine = "stop = \"one_cluster\"\n") {
+  return "name = \"probe\"\n[particles]\ndimension = 2\n" + particles + "boundary = \"reflecting\"\n[time]\nend = 1.0\n"
+         "[[engine]]\nname = \"ed\"\n" + engine + "[observe]\nseries = [\"clusters\"]\n";
+}
+
+std::string kinetic_text(const std::string& model, const std::string& engine, const std::string& series = "[\"M0\"]") {
+  return "name = \"probe\"\n[model]\n" + model + "[time]\nend = 1.0\n[[engine]]\n" + engine + "[observe]\nseries = " +
+         series + "\n";
+}
+
+}  // namespace
+
+TEST_CASE("cli: input that once crashed, hung or printed nonsense exits 2 naming the key, in bounded time") {
+  const std::string constant = "kernel = { name = \"constant\" }\nsize = 200\n";
+  const std::vector<Hardened> cases{
+      {"a count ED cannot hold", ed_text("count = 4294967294\nradius = 0.5\nvolume_fraction = 0.2\n"), "particles.count", "4294967294"},
+      {"a speed whose event times underflow", ed_text("count = 100\nradius = 0.5\nvolume_fraction = 0.2\ninitial = { speed = 1e300 }\n"),
+       "particles.initial.speed", "1e+300"},
+      {"a box positions cannot resolve", ed_text("count = 100\nradius = 0.5\nbox = 1e300\n"), "particles.box", "1e+300"},
+      {"a radius whose box overflows", ed_text("count = 100\nradius = 1e300\nvolume_fraction = 0.2\n"), "particles.radius", "1e+300"},
+      {"DSMC that would run for days", kinetic_text("kernel = { name = \"constant\" }\nlambda = 1e300\nsize = 200\n",
+                                                    "name = \"dsmc\"\nparticles = 1000\n"), "engine[0].particles", "1000"},
+      {"DSMC runs = 1e12", kinetic_text(constant, "name = \"dsmc\"\nruns = 1000000000000\n"), "engine[0].runs", "1000000000000"},
+      {"DSMC particles = -1", kinetic_text(constant, "name = \"dsmc\"\nparticles = -1\n"), "engine[0].particles", "an integer in 2.."},
+      {"CVODE beyond memory", kinetic_text("kernel = { name = \"constant\" }\nsize = 99999999\n", "name = \"cvode\"\n"),
+       "model.size", "99999999"},
+      {"moments beyond the tolerance's control",
+       kinetic_text(constant, "name = \"cvode\"\n", "[\"M0\", \"M100\"]"), "observe.series[1]", "M100"},
+      {"a steady state without shattering", kinetic_text(constant, "name = \"snes\"\n"), "model.lambda", "0"},
+      {"a float size", kinetic_text("kernel = { name = \"constant\" }\nsize = 200.0\n", "name = \"cvode\"\n"), "model.size", "200.0"},
+      {"escape codes in the name", "name = \"\\u001b[31mred\"\n" + kinetic_text(constant, "name = \"cvode\"\n").substr(15), "name",
+       "\\u001b"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Hardened& c = cases[i];
+    INFO(c.what << "\n" << c.text);
+    const auto folder = aggkit::testing::scratch_folder("cli-hardened-" + std::to_string(i));
+    const auto scene = aggkit::testing::write_text(folder / "scene.toml", c.text);
+    const Outcome run = aggkit_cli({"run", scene.string(), "--out", (folder / "out").string(), "--quiet", "--no-plot"},
+                                   folder, "timeout 60");
+    CHECK(run.exit_code == 2);
+    CHECK_THAT(run.err, Contains("aggkit: error: " + c.key + " = ") && Contains(c.value));
+    CHECK(aggkit::testing::count_files_named(folder / "out", "summary.json") == 0);
+  }
+}
+
+TEST_CASE("cli: a scene nested 40000 levels deep or an endless file is refused, not a crash") {
+  const auto folder = aggkit::testing::scratch_folder("cli-deep");
+  std::string deep = "name = \"x\"\n[";
+  for (int i = 0; i < 40000; ++i) deep += i ? ".a" : "a";
+  deep += "]\n";
+  const auto scene = aggkit::testing::write_text(folder / "deep.toml", deep);
+  const Outcome nested = aggkit_cli({"run", scene.string(), "--out", (folder / "out").string()}, folder);
+  CHECK(nested.exit_code == 2);
+  CHECK_THAT(nested.err, Contains("at most 64 levels"));
+  const Outcome endless = aggkit_cli({"run", "/dev/zero", "--out", (folder / "out").string()}, folder, "timeout 60");
+  CHECK(endless.exit_code == 2);
+  CHECK_THAT(endless.err, Contains("at most 4 MiB"));
+}
+
+TEST_CASE("cli: a scene name that looks like an option still gets its plot") {
+  const auto folder = aggkit::testing::scratch_folder("cli-dash-name");
+  SceneText text;
+  text.top = "name = \"-h\"\n";
+  const auto scene = aggkit::testing::write_text(folder / "scene.toml", text.text());
+  const Outcome run = aggkit_cli({"run", scene.string(), "--out", (folder / "out").string(), "--quiet"}, folder);
+  CHECK(run.exit_code == 0);
+  CHECK(summary_of(folder / "out")["plot"]["status"] == "written");
+}

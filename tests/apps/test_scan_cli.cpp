@@ -127,6 +127,23 @@ TEST_CASE("scan cli: an interrupted scan resumes without recomputing its finishe
   // The phase diagram is a PNG.
   CHECK(aggkit::testing::read_text(out / "phase_diagram.png").substr(1, 3) == "PNG");
 
+  // A damaged cached Hopf point (e.g. a disk filled mid-write) is computed again with a warning, not a crash.
+  bool damaged = false;
+  for (const auto& entry : fs::directory_iterator(out / "points"))
+    if (entry.path().filename().string().starts_with("hopf_") && !damaged) {
+      aggkit::testing::write_text(entry.path(), "a,found,lambda_crit,lambda_tolerance,omega,note\n0.6,yes,zz,1e-3,0.1,\n");
+      damaged = true;
+    }
+  REQUIRE(damaged);  // the scan keeps its Hopf points in points/ (stability analysis is always built)
+  {
+    fs::remove(out / "scan.csv");
+    const Outcome repaired = run(scan_command("", scene, out), folder);
+    INFO(repaired.err);
+    CHECK(repaired.exit_code == 0);
+    CHECK_THAT(repaired.err, Contains("is damaged; computing that point again"));
+    CHECK(aggkit::testing::read_text(out / "scan.csv") == complete);
+  }
+
   // A changed scene (here the time grid) does not reuse the old points.
   const auto changed = aggkit::testing::write_text(folder / "changed.toml",
                                                    std::string(small_scan).replace(std::string(small_scan).find("end = 100.0"), 11, "end = 90.0"));

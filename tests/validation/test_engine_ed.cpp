@@ -294,3 +294,33 @@ TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the ke
   CHECK(run.records[0].values.front()[1] <= 100 * 3.14159265358979 / 4 * (1 + 1e-12));
   CHECK(run.records[0].values.front()[1] > 0.5 * 100 * 3.14159265358979 / 4 * 0.1);
 }
+
+TEST_CASE("ed: extreme but valid scales finish; scales doubles cannot resolve are refused", "[ed][input]") {
+  const std::string base = ed_scene();
+  auto replace = [&](const std::string& from, const std::string& to) {
+    std::string s = base;
+    s.replace(s.find(from), from.size(), to);
+    return s;
+  };
+  // Collisions ~1e10 time.end apart: the run to one cluster goes on in doubling chunks and ends.
+  const auto out = aggkit::testing::scratch_folder("ed-slow");
+  const RunResult slow = run_scene(aggkit::testing::parse_checked(replace("speed = 1.0", "speed = 1e-10")), quiet(out));
+  REQUIRE(slow.records[0].completed());
+  const auto final = nlohmann::json::parse(aggkit::testing::read_text(out / "ed" / "final.json"));
+  CHECK(final["clusters"].get<double>() == 1.0);
+  CHECK(final["stop_time"].get<double>() > 1e9);
+  check_bad(replace("speed = 1.0", "speed = 1e300"), "particles.initial.speed", "1e+300");
+  check_bad(replace("volume_fraction = 0.2", "box = 1e300"), "particles.box", "1e+300");
+}
+
+TEST_CASE("ed: the wall-time budget stops a run that would take too long, as a failed engine", "[ed][harness]") {
+  const auto out = aggkit::testing::scratch_folder("ed-budget");
+  const std::string text = "name = \"budget\"\n[particles]\ndimension = 2\ncount = 40000\nradius = 0.5\nvolume_fraction = 0.2\n"
+                           "boundary = \"periodic\"\n[time]\nend = 1000.0\n[[engine]]\nname = \"ed\"\nstop = \"one_cluster\"\n"
+                           "max_wall_seconds = 1e-6\n[observe]\nseries = [\"clusters\"]\n";
+  const RunResult result = run_scene(aggkit::testing::parse_checked(text), quiet(out));
+  REQUIRE(result.records.size() == 1);
+  REQUIRE_FALSE(result.records[0].completed());
+  CHECK_THAT(*result.records[0].failure, Contains("max_wall_seconds"));
+  CHECK(result.exit_code == 1);
+}

@@ -2,11 +2,15 @@
 // Options: the table below. Each realisation's state is measured (densities = counts / volume); the
 // harness records the mean over the realisations and, with runs > 1, the standard error of each observable
 // (series.csv column <name>_stderr).
+#include <algorithm>
 #include <chrono>
+#include <thread>
 #include <cmath>
 
 #include "particle/dsmc/ensemble.hpp"
 #include "validation/engines/engine.hpp"
+#include "validation/io/machine.hpp"
+#include "validation/io/text.hpp"
 #include "validation/scene/scene_table.hpp"
 
 namespace aggkit {
@@ -105,9 +109,9 @@ class DsmcEngine final : public Engine {
 const OptionTable& dsmc_options() {
   static const OptionTable table{
       word_option("method", "ar", "acceptance-rejection against a binned majorant, or two-stage fast DSMC", {"ar", "fast"}),
-      integer_option("particles", "100000", "initial number of particles N(0)", 2),
+      integer_option("particles", "100000", "initial number of particles N(0)", 2, 1e12),
       integer_option("seed", "1", "master seed of the ensemble", 0, 1.8446744073709552e19),
-      integer_option("runs", "1", "independent realisations (threads); > 1 gives standard errors", 1),
+      integer_option("runs", "1", "independent realisations (threads); > 1 gives standard errors", 1, 1e6),
       integer_option("bucket", "1024", "sizes <= bucket are grouped per size", 1, 67108864),
       flag_option("truncate", false, "apply model.size and model.truncation (default: the untruncated system)"),
       flag_option("population_control", true, "duplicate the population when it falls below N(0)/2"),
@@ -116,7 +120,34 @@ const OptionTable& dsmc_options() {
   return table;
 }
 
-std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec& spec, const Scene&) {
+// What a run would cost, refused before it starts when it cannot finish: memory (each concurrent run holds
+// at most about 3 N(0) clusters after shattering refills the population, some 16 bytes each, plus its
+// per-size buckets) and events. The collision rate of a run starts at ½ N(0) n(0) K_max (1 + λ) [Kalinov2022,
+// eqs. 6-7]; population control keeps N >= N(0)/2, so with shattering the rate stays of that order:
+// ½ N(0) n(0) K(1,1) (1 + λ_max) t_end events per run is the estimate (an upper bound without shattering).
+void check_resources(const EngineOptions& given, const dsmc::Options& options, const Scene& scene) {
+  const double runs = double(options.runs);
+  const std::size_t threads = options.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options.threads;
+  const double concurrent = std::min(runs, double(threads));
+  const double bytes = concurrent * (48.0 * double(options.particles) + 16.0 * double(options.bucket));
+  check_memory(given.key("particles"), std::to_string(options.particles), bytes,
+               "about 48 bytes per particle and 16 per bucket, for " + std::to_string(std::size_t(concurrent)) + " concurrent runs");
+  const AggregationModel& model = scene.model;
+  double lambda_max = 0;
+  for (int i = 0; i <= 100; ++i) lambda_max = std::max(lambda_max, model.lambda(scene.time.end * i / 100.0));
+  double density = 0;
+  for (double n : model.initial) density += n;
+  const double events = 0.5 * double(options.particles) * density * model.kernel(1, 1) * (1 + lambda_max) * scene.time.end * runs;
+  constexpr double max_events = 1e13;  // about a day at 1e8 events/s
+  if (!(events <= max_events))
+    throw InputError(given.key("particles"), std::to_string(options.particles),
+                     "a run that can finish: with runs = " + std::to_string(options.runs) + ", lambda up to " +
+                         shortest_text(lambda_max) + " and time.end = " + shortest_text(scene.time.end) + " it needs about " +
+                         shortest_text(events) + " collision events (at most 1e13, about a day): fewer particles or runs, "
+                         "a smaller lambda or an earlier end");
+}
+
+std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec& spec, const Scene& scene) {
   const auto rekey = [&given](const std::string& parameter) { return given.key(leaf_key(parameter)); };
   dsmc::Options options;
   options.method = dsmc::method_from_name(given.word("method", dsmc::to_string(options.method)));
@@ -128,6 +159,7 @@ std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec&
   options.population_control = given.boolean("population_control", options.population_control);
   options.threads = std::size_t(given.integer("threads", std::int64_t(options.threads)));
   under_key(rekey, [&] { options.validate(); });  // the model (λ >= 0, N, start) is validated with the scene
+  check_resources(given, options, scene);
   return std::make_unique<DsmcEngine>(spec.label, options, solver_keys(spec, dsmc_options()));
 }
 

@@ -5,11 +5,13 @@
 // engine's options and one realization. final.json gains `events` and, with thermalisation, the elastic
 // collisions before sticking (`thermalization_collisions`; run on particle/ed/elastic_gas.hpp, after which
 // the clock restarts at 0).
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 
 #include "analysis/input_error.hpp"
 #include "particle/ed/ed_configuration.hpp"
+#include "validation/io/machine.hpp"
 #include "validation/engines/particle_runner.hpp"
 
 namespace aggkit {
@@ -54,9 +56,10 @@ class EdSimulation final : public ParticleSimulation {
     return ed_.advance(t, settings_.target_clusters, [&] { report(status); }) == EdStop::clusters_reached;
   }
 
-  // With a cluster target not reached by time.end, runs on in chunks of time.end until it is, or until no
-  // event remains (nothing will ever change: the engine's events can be far apart, so a quiet chunk alone
-  // proves nothing).
+  // With a cluster target not reached by time.end, runs on in chunks until it is, or until no event remains
+  // (nothing will ever change: the engine's events can be far apart, so a quiet chunk alone proves nothing).
+  // The chunks start at time.end and double, so a system whose collisions are rare on the scale of time.end
+  // (a tiny speed, a dilute box) still gets there in a number of chunks logarithmic in its time scale.
   void finish(double chunk, const StatusSink& status) override {
     if (settings_.target_clusters == 0) return;
     while (ed_.clusters() > settings_.target_clusters) {
@@ -64,6 +67,8 @@ class EdSimulation final : public ParticleSimulation {
       if (ed_.advance(ed_.time() + chunk, settings_.target_clusters, [&] { report(status); }) == EdStop::clusters_reached)
         return;
       if (ed_.counters().events() == before && ed_.exhausted()) return;
+      report(status);
+      chunk *= 2;
     }
   }
 
@@ -119,6 +124,26 @@ void check_particles(const ParticleSystem& system) {
     throw InputError("particles.boundary", "\"open\"", "\"periodic\" or \"reflecting\" for engine ed (it has no forces to hold an open cloud)");
   if (system.cold())
     throw InputError("particles.initial.speed", "0", "a speed > 0 for engine ed (without forces nothing would ever move)");
+  // Event times are absolute doubles: contacts must be resolved against positions of the box's magnitude
+  // (L ε ≪ R, ε = 2.2e-16), and the time a particle needs to cross its radius must stay a normal double far
+  // from under- and overflow (a speed of 1e300 made every event time ~1e-301 and the clock stall).
+  const double R = system.mean_radius();
+  double L = 0;
+  for (int d = 0; d < system.box.dimension; ++d) L = std::max(L, system.box.side[d]);
+  if (!(L / R <= 1e12))
+    throw InputError("particles.box", format_value(L),
+                     "a box side at most 1e12 radii for engine ed (R = " + format_value(R) +
+                         "): positions of that size are resolved to L·2.2e-16, which must stay far below R");
+  // Measured peak memory: about 2.4 kB per disc in 2-D and 4.6 kB per sphere in 3-D (with thermalisation,
+  // N = 2e5); the estimate takes 3 and 5 kB.
+  const double per_particle = system.box.dimension == 2 ? 3e3 : 5e3;
+  check_memory("particles.count", std::to_string(system.count), per_particle * double(system.count),
+               "engine ed: about " + memory_text(per_particle) + " per particle");
+  const double crossing = R / system.speed;
+  if (!(crossing >= 1e-100 && L / system.speed <= 1e100))
+    throw InputError("particles.initial.speed", format_value(system.speed),
+                     "a speed with R/speed >= 1e-100 and L/speed <= 1e100 for engine ed (its event times are doubles; "
+                     "here R/speed = " + format_value(crossing) + ", L/speed = " + format_value(L / system.speed) + ")");
 }
 
 ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scene) {

@@ -83,6 +83,10 @@ std::unique_ptr<Engine> build_snes(const EngineOptions& given, const EngineSpec&
   under_key(rekey, [&] { options.validate(); });
   if (!scene.model.lambda.is_constant())
     throw InputError("model.lambda", scene.model.lambda.describe(), "a constant shattering rate for engine snes");
+  if (scene.model.lambda.is_zero())
+    throw InputError("model.lambda", "0",
+                     "a shattering rate > 0 for engine snes: without shattering nothing returns mass to small sizes and "
+                     "there is no steady state (all mass ends at k = N)");
   return std::make_unique<SnesEngine>(spec.label, options, solver_keys(spec, snes_options()));
 }
 

@@ -71,7 +71,8 @@ OptionSpec custom_option(std::string key, std::string fallback, std::string doc,
 }
 
 std::string option_text(const nlohmann::json& value) {
-  if (value.is_number_float()) return shortest_text(value.get<double>());
+  if (value.is_number_float()) return float_text(value.get<double>());
+  if (value.is_string()) return "\"" + printable_text(value.get<std::string>()) + "\"";
   if (value.is_array()) {
     std::string text = "[";
     for (std::size_t i = 0; i < value.size() && i < 8; ++i) text += (i ? ", " : "") + option_text(value[i]);

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <exception>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "validation/engines/particle_outputs.hpp"
@@ -34,8 +35,10 @@ struct RealizationResult {
 
 class ParticleEngine final : public Engine {
  public:
-  ParticleEngine(std::string name, std::string label, ParticleEngineKind::Setup setup, std::size_t threads)
-      : Engine(std::move(name), std::move(label)), setup_(std::move(setup)), threads_(threads) {}
+  ParticleEngine(std::string name, std::string label, ParticleEngineKind::Setup setup, std::size_t threads,
+                 double max_wall_seconds)
+      : Engine(std::move(name), std::move(label)), setup_(std::move(setup)), threads_(threads),
+        max_wall_seconds_(max_wall_seconds) {}
 
   std::string describe() const override {
     return setup_.description + (threads_ != 1 ? ", " + (threads_ == 0 ? std::string("all cores") : std::to_string(threads_) + " threads") : "");
@@ -103,13 +106,18 @@ class ParticleEngine final : public Engine {
     const std::size_t realizations = scene.particles->realizations;
     const std::string prefix =
         realizations > 1 ? "realization " + std::to_string(r + 1) + "/" + std::to_string(realizations) + ", " : "";
+    const auto started = std::chrono::steady_clock::now();
+    // The wall-time budget is checked whenever the engine reports (ED: every 2^16 events and every chunk).
     const StatusSink status = [&](const std::string& what) {
+      if (max_wall_seconds_ > 0 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() > max_wall_seconds_)
+        throw std::runtime_error("stopped: the wall-time budget of " + std::to_string(max_wall_seconds_) +
+                                 " s (engine option max_wall_seconds) ran out at " + what);
       if (!observer.status) return;
       std::lock_guard lock(report);
       observer.status(prefix + what);
     };
     RealizationResult result;
-    const auto started = std::chrono::steady_clock::now();
     const std::unique_ptr<ParticleSimulation> simulation = setup_.start(r);
     simulation->prepare(status);
     const Vector3 p0 = simulation->momentum() + simulation->wall_impulse();
@@ -156,6 +164,7 @@ class ParticleEngine final : public Engine {
 
   ParticleEngineKind::Setup setup_;
   std::size_t threads_;
+  double max_wall_seconds_;
 };
 
 }  // namespace
@@ -163,6 +172,8 @@ class ParticleEngine final : public Engine {
 EngineType particle_engine_type(ParticleEngineKind kind) {
   OptionTable options = kind.options;
   options.push_back(integer_option("threads", "1", "realizations run at once (0: one per core); results do not depend on it", 0, 4096));
+  options.push_back(number_option("max_wall_seconds", "0", "wall-time budget of each realization; the run fails when it is spent (0: none)",
+                                  0.0, 1e9));
   std::vector<std::string> files{"final.json", "final.vtu", "final.png"};
   for (auto& f : profile_files()) files.push_back(f);
   auto setup = kind.setup;
@@ -170,7 +181,8 @@ EngineType particle_engine_type(ParticleEngineKind kind) {
   return {kind.name, kind.description, options, need::particles, /*needs_model=*/false, files,
           [setup, name](const EngineOptions& given, const EngineSpec& spec, const Scene& scene) -> std::unique_ptr<Engine> {
             const auto threads = std::size_t(given.integer("threads", 1));
-            return std::make_unique<ParticleEngine>(name, spec.label, setup(given, scene), threads);
+            return std::make_unique<ParticleEngine>(name, spec.label, setup(given, scene), threads,
+                                                    given.number("max_wall_seconds", 0.0));
           }};
 }
 

@@ -31,7 +31,7 @@ std::string to_string(PlotOutcome::Status status) {
 PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder) {
   AtomicFile png(folder.report_file());
   std::vector<std::string> argv{plot_interpreter(), series_plot_script().string(), "--output", png.temporary_path().string(),
-                                "--title", scene.name};
+                                "--title=" + scene.name};  // one word: a name starting with '-' is no option
   if (scene.compare) argv.insert(argv.end(), {"--reference", scene.compare->reference});
   std::size_t plotted = 0;
   for (const auto& record : records) {

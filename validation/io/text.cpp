@@ -29,4 +29,24 @@ std::string join(const std::vector<std::string>& words, std::string_view separat
   return out;
 }
 
+std::string float_text(double value) {
+  std::string text = shortest_text(value);
+  if (text.find_first_not_of("-0123456789") == std::string::npos) text += ".0";
+  return text;
+}
+
+std::string printable_text(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (c < 0x20 || c == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof escape, "\\u%04x", unsigned(c));
+      out += escape;
+    } else {
+      out += char(c);
+    }
+  }
+  return out;
+}
+
 }  // namespace aggkit

@@ -154,7 +154,35 @@ class RunCache {
   std::size_t reused_ = 0, computed_ = 0, failed_ = 0;
 };
 
-// λ_crit(a) by locate_hopf over the scan's λ range at truncation `size`; cached in DIR/points like the runs.
+// One cached Hopf result (DIR/points/hopf_*.csv), or nullopt if the file is missing or damaged.
+struct HopfRecord {
+  bool found = false;
+  double lambda_crit = 0, tolerance = 0, omega = 0;
+  std::string note;
+};
+std::optional<HopfRecord> parse_hopf_file(const std::string& text, const std::string& header) {
+  std::istringstream in(text);
+  std::string line, field;
+  if (!std::getline(in, line) || line != header || !std::getline(in, line)) return std::nullopt;
+  std::vector<std::string> f;
+  std::istringstream fields(line);
+  while (std::getline(fields, field, ',')) f.push_back(field);
+  if (f.size() < 5 || (f[1] != "yes" && f[1] != "no")) return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const auto number = [&](const std::string& x) {
+      const double v = std::stod(x, &used);
+      if (used != x.size()) throw std::invalid_argument(x);
+      return v;
+    };
+    return HopfRecord{f[1] == "yes", number(f[2]), number(f[3]), number(f[4]), f.size() > 5 ? f[5] : ""};
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+// λ_crit(a) by locate_hopf over the scan's λ range at truncation `size`; cached in DIR/points like the runs
+// (a damaged cache file is computed again, with a warning).
 void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points, std::vector<LambdaCritRow>& crit,
                       bool doubled, std::ostream* progress) {
   const MpiWorld world = mpi_world();
@@ -168,8 +196,12 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
   };
   const std::string header = "a,found,lambda_crit,lambda_tolerance,omega,note";
   std::vector<double> todo;
-  for (double a : plan.a)
-    if (read_text(file(a)).rfind(header + "\n", 0) != 0) todo.push_back(a);
+  for (double a : plan.a) {
+    if (parse_hopf_file(read_text(file(a)), header)) continue;
+    if (progress && world.rank == 0 && std::filesystem::exists(file(a)))
+      *progress << "aggkit scan: warning: " << file(a).string() << " is damaged; computing that point again\n";
+    todo.push_back(a);
+  }
   mpi_barrier();
   if (progress && world.rank == 0 && !todo.empty())
     *progress << "aggkit scan: locating the Hopf point lambda_crit(a) at N = " << size << " for " << todo.size()
@@ -194,17 +226,11 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
   }
   mpi_sum(failed);
   for (auto& row : crit) {
-    std::istringstream in(read_text(file(row.a)));
-    std::string line, field;
-    std::getline(in, line);
-    if (!std::getline(in, line)) continue;
-    std::vector<std::string> f;
-    std::istringstream fields(line);
-    while (std::getline(fields, field, ',')) f.push_back(field);
-    if (f.size() < 5) continue;
-    const bool found = f[1] == "yes";
-    const double lambda_crit = std::stod(f[2]), tolerance = std::stod(f[3]), omega = std::stod(f[4]);
-    const std::string note = f.size() > 5 ? f[5] : "";
+    const std::optional<HopfRecord> h = parse_hopf_file(read_text(file(row.a)), header);
+    if (!h) continue;  // its computation failed (counted and reported above)
+    const bool found = h->found;
+    const double lambda_crit = h->lambda_crit, tolerance = h->tolerance, omega = h->omega;
+    const std::string note = h->note;
     if (doubled) {
       if (found && row.method == "hopf") {
         row.lambda_crit_2N = lambda_crit;

@@ -1,5 +1,6 @@
 #include "validation/scene/scene.hpp"
 
+#include "validation/io/text.hpp"
 #include "validation/scene/scene_sections.hpp"
 
 namespace aggkit {
@@ -24,6 +25,8 @@ Scene read_scene(const toml::table& document, const std::filesystem::path& folde
   Scene scene;
   scene.name = root.string("name");
   if (scene.name.empty()) root.fail("name", "a non-empty name");
+  if (scene.name.size() > 200 || printable_text(scene.name) != scene.name)
+    root.fail("name", "a name of at most 200 characters without control characters (it titles the report)");
   scene.time = read_time(root.table("time"));
   if (const auto model = root.optional_table("model")) {
     read_model(*model, scene);

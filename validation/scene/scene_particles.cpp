@@ -48,6 +48,7 @@
 #include <cmath>
 #include <limits>
 
+#include "validation/io/machine.hpp"
 #include "validation/scene/scene_sections.hpp"
 
 namespace aggkit {
@@ -173,6 +174,9 @@ void read_box(const SceneTable& particles, ParticleSystem& system) {
     const bool fixed = system.start_kind() != ParticleSystem::StartKind::file && system.radius_law.is_fixed();
     const double side = fixed ? box_side_for_volume_fraction(d, system.count, system.radius_law.value, nu)
                               : std::pow(in_section(particles, [&] { return system.expected_particle_volume(); }) / nu, 1.0 / d);
+    if (!std::isfinite(side) || !(side > 0))  // e.g. radius = 1e300: the side overflows
+      particles.fail("radius", "a radius whose box at volume_fraction = " + shortest_text(nu) + " is a finite length "
+                               "(here the side (N v / nu)^(1/d) is " + shortest_text(side) + ")");
     system.box.side = {side, side, d == 3 ? side : 0.0};
     return;
   }
@@ -207,6 +211,10 @@ ParticleSystem read_particles(const SceneTable& particles, const std::filesystem
     system.count = particles.optional_count("count", 2).value_or(rows);
   } else {
     system.count = particles.count("count", 2);
+    // The start itself (positions, velocities, radii, masses: 64 bytes a particle, with working copies) is
+    // made to check it: refuse a count this machine cannot hold before allocating.
+    check_memory(particles.key("count"), std::to_string(system.count), 200.0 * double(system.count),
+                 "the particles' start: about 200 bytes per particle");
     // Range checks of the laws (and of every other value) are ParticleSystem::validate's.
     system.radius_law = read_law(particles, "radius");
     in_section(particles, [&] { system.radius_law.validate("radius"); });

@@ -29,11 +29,11 @@ std::string type_name(const toml::node& node) {
 
 void render(std::ostream& out, const toml::node& node) {
   if (auto s = node.as_string()) {
-    out << '"' << s->get() << '"';
+    out << '"' << printable_text(s->get()) << '"';
   } else if (auto i = node.as_integer()) {
     out << i->get();
   } else if (auto f = node.as_floating_point()) {
-    out << shortest_text(f->get());
+    out << float_text(f->get());
   } else if (auto b = node.as_boolean()) {
     out << (b->get() ? "true" : "false");
   } else if (auto a = node.as_array()) {
