@@ -15,13 +15,14 @@ Ensemble::Ensemble(const AggregationModel& model, const Options& options, double
   threads_ = std::min(options.runs, options.threads == 0 ? hardware : options.threads);
 }
 
-std::vector<Snapshot> Ensemble::advance_to(double t) {
+std::vector<Snapshot> Ensemble::advance_to(double t, const std::function<void(std::size_t run, double time)>& every) {
   std::vector<Snapshot> snapshots(runs_.size());
   std::vector<std::exception_ptr> failures(threads_);
   const auto work = [&](std::size_t worker) {
     try {
       for (std::size_t r = worker; r < runs_.size(); r += threads_) {
-        runs_[r]->advance_to(t);
+        if (every) runs_[r]->advance_to(t, [&every, r](double time) { every(r, time); });
+        else runs_[r]->advance_to(t);
         snapshots[r] = runs_[r]->snapshot();
       }
     } catch (...) {

@@ -4,6 +4,7 @@
 // not depend on the number of threads: the same master seed gives the same series bit for bit on the
 // same build. The runs advance together from output time to output time, so only one snapshot per run
 // is held at a time.
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -15,8 +16,10 @@ class Ensemble {
  public:
   Ensemble(const AggregationModel& model, const Options& options, double t_end);
 
-  // Advances every realisation to t (in parallel) and returns their states, in run order.
-  std::vector<Snapshot> advance_to(double t);
+  // Advances every realisation to t (in parallel) and returns their states, in run order. `every`, if given,
+  // is called as every(run, time) from the thread running that run every 2^20 trials (Simulation::advance_to);
+  // run 0 always runs on the calling thread.
+  std::vector<Snapshot> advance_to(double t, const std::function<void(std::size_t run, double time)>& every = {});
   std::size_t runs() const { return runs_.size(); }
   std::size_t threads() const { return threads_; }
   const Simulation& run(std::size_t r) const { return *runs_[r]; }

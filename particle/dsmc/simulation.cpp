@@ -85,9 +85,10 @@ void Simulation::freeze() {
   next_trial_ = std::numeric_limits<double>::infinity();
 }
 
-void Simulation::advance_to(double t) {
+void Simulation::advance_to(double t, const std::function<void(double time)>& every) {
   if (t < time_) throw std::invalid_argument("dsmc: advance_to a time before the current one");
   while (true) {
+    if (every && (statistics_.trials & ((std::uint64_t(1) << 20) - 1)) == 0 && statistics_.trials > 0) every(time_);
     if (next_trial_ < time_) {
       const double weight = stepper_->particles() < 2 ? 0.0 : stepper_->trial_weight();
       if (!(weight > 0.0)) {

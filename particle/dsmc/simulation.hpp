@@ -6,6 +6,7 @@
 // where no pair can interact any more (one cluster left — "extinction" [Kalinov2022, Sec. 5.2] — or, under
 // a cutoff, only pairs beyond it) is frozen and reported, not looped on.
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "particle/dsmc/options.hpp"
@@ -35,7 +36,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  void advance_to(double t);  // t >= time(); the state at t
+  // t >= time(); the state at t. `every`, if given, is called with the current time every 2^20 trials (for
+  // progress and budgets; it may throw to stop the run). Advancing in several calls gives the same run.
+  void advance_to(double t, const std::function<void(double time)>& every = {});
   double time() const { return time_; }
   Snapshot snapshot() const;
   const RunStatistics& statistics() const { return statistics_; }

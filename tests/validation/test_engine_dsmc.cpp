@@ -91,3 +91,15 @@ TEST_CASE("scene: the tolerance table form is read and checked") {
   text.compare = "reference = \"exact\"\ntolerance = { M0 = {} }\n";
   CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Catch::Matchers::Contains("compare.tolerance.M0"));
 }
+
+TEST_CASE("engine dsmc: the wall-time budget stops a long ensemble as a failed engine", "[dsmc][harness]") {
+  const auto out = aggkit::testing::scratch_folder("dsmc-budget");
+  const std::string text = "name = \"budget\"\n[model]\nkernel = { name = \"constant\" }\nlambda = 0.1\nsize = 64\n"
+                           "[time]\nend = 1000.0\n[[engine]]\nname = \"dsmc\"\nparticles = 1000000\nmax_wall_seconds = 1e-6\n"
+                           "[observe]\nseries = [\"M0\"]\n";
+  RunOptions options = aggkit::testing::quiet_run(out);
+  const RunResult result = run_scene(aggkit::testing::parse_checked(text), options);
+  REQUIRE_FALSE(result.records[0].completed());
+  CHECK_THAT(*result.records[0].failure, Catch::Matchers::Contains("max_wall_seconds"));
+  CHECK(result.exit_code == 1);
+}

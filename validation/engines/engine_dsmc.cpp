@@ -38,8 +38,9 @@ class SnapshotState final : public ObservedState {
 
 class DsmcEngine final : public Engine {
  public:
-  DsmcEngine(std::string label, dsmc::Options options, std::function<std::string(const std::string&)> keys)
-      : Engine("dsmc", std::move(label)), options_(options), keys_(std::move(keys)) {}
+  DsmcEngine(std::string label, dsmc::Options options, std::function<std::string(const std::string&)> keys,
+             double max_wall_seconds)
+      : Engine("dsmc", std::move(label)), options_(options), keys_(std::move(keys)), max_wall_seconds_(max_wall_seconds) {}
 
   std::string describe() const override {
     return dsmc::to_string(options_.method) + ", " + std::to_string(options_.particles) + " particles, " +
@@ -56,9 +57,21 @@ class DsmcEngine final : public Engine {
   EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     const auto started = std::chrono::steady_clock::now();
     dsmc::Ensemble ensemble(scene.model, options_, scene.time.end);
+    // Progress between output times (run 0, on this thread) and the wall-time budget (every run).
+    double last_note = -1;
+    const auto every = [&](std::size_t run, double time) {
+      const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      if (max_wall_seconds_ > 0 && spent > max_wall_seconds_)
+        throw std::runtime_error("stopped: the wall-time budget of " + shortest_text(max_wall_seconds_) +
+                                 " s (engine option max_wall_seconds) ran out at t = " + shortest_text(time));
+      if (run == 0 && observer.status && spent - last_note >= 1.0) {
+        last_note = spent;
+        observer.status("t = " + shortest_text(time) + " of " + shortest_text(scene.time.end));
+      }
+    };
     for (double t : scene.time.outputs) {
       std::vector<Measurement> runs;
-      for (auto& snapshot : ensemble.advance_to(t))
+      for (auto& snapshot : ensemble.advance_to(t, every))
         runs.push_back(observer.measure(t, SnapshotState(std::move(snapshot), scene.model.size)));
       observer.record(t, std::move(runs));
       if (observer.progress) observer.progress(t);
@@ -104,6 +117,7 @@ class DsmcEngine final : public Engine {
 
   dsmc::Options options_;
   std::function<std::string(const std::string&)> keys_;  // solver parameter -> scene key
+  double max_wall_seconds_;
 };
 
 const OptionTable& dsmc_options() {
@@ -116,6 +130,8 @@ const OptionTable& dsmc_options() {
       flag_option("truncate", false, "apply model.size and model.truncation (default: the untruncated system)"),
       flag_option("population_control", true, "duplicate the population when it falls below N(0)/2"),
       integer_option("threads", "0", "worker threads (0: every core)", 0),
+      number_option("max_wall_seconds", "0", "wall-time budget of the whole ensemble; the run fails when it is spent (0: none)",
+                    0.0, 1e9),
   };
   return table;
 }
@@ -160,7 +176,8 @@ std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec&
   options.threads = std::size_t(given.integer("threads", std::int64_t(options.threads)));
   under_key(rekey, [&] { options.validate(); });  // the model (λ >= 0, N, start) is validated with the scene
   check_resources(given, options, scene);
-  return std::make_unique<DsmcEngine>(spec.label, options, solver_keys(spec, dsmc_options()));
+  return std::make_unique<DsmcEngine>(spec.label, options, solver_keys(spec, dsmc_options()),
+                                      given.number("max_wall_seconds", 0.0));
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 
 namespace aggkit {
 
-double machine_memory_bytes();             // physical memory (sysconf); +inf if unknown
+double machine_memory_bytes();             // memory available now (MemAvailable), else physical; +inf if unknown
 std::string memory_text(double bytes);     // "1.2 GiB"
 // Throws InputError for `key` = `value` if `bytes` exceeds 80 % of the machine's memory; `what` says how
 // the estimate was made ("about 2.5 kB per particle").
