@@ -324,3 +324,31 @@ TEST_CASE("ed: the wall-time budget stops a run that would take too long, as a f
   CHECK_THAT(*result.records[0].failure, Contains("max_wall_seconds"));
   CHECK(result.exit_code == 1);
 }
+
+TEST_CASE("ed: [compare] final tolerances compare final.json means with their standard errors", "[ed][harness]") {
+  // Two ED engines on the same realizations (only the broad-phase cell count differs): identical physics, so
+  // every final value agrees exactly and passes any tolerance; a tolerance on a value the engine does not
+  // report fails, and a final tolerance names only observe.final numbers.
+  const std::string text =
+      "name = \"ed-vs-ed\"\n[particles]\ndimension = 2\ncount = 100\nradius = 0.5\nvolume_fraction = 0.2\n"
+      "boundary = \"reflecting\"\nrealizations = 3\n[time]\nend = 2.0\n[[engine]]\nname = \"ed\"\nstop = \"one_cluster\"\n"
+      "[[engine]]\nname = \"ed\"\nlabel = \"ed-cells\"\ncells = 7\nstop = \"one_cluster\"\n[observe]\nseries = [\"clusters\"]\n"
+      "final = [\"contacts\", \"fractal_dimension_mass\", \"pair_distribution\"]\n[compare]\nreference = \"ed\"\n"
+      "final = { contacts = { relative = 0, stderr = 0 }, fractal_dimension_mass = 1e-12 }\n";
+  const auto out = aggkit::testing::scratch_folder("ed-final-compare");
+  const RunResult result = run_scene(aggkit::testing::parse_checked(text), quiet(out));
+  CHECK(result.exit_code == 0);
+  int finals = 0;
+  for (const auto& c : result.comparisons)
+    if (c.final_state) {
+      ++finals;
+      CHECK(c.pass);
+      CHECK(c.max_relative_error == 0.0);
+    }
+  CHECK(finals == 2);  // the profile is not compared as a number
+  const auto summary = nlohmann::json::parse(aggkit::testing::read_text(out / "summary.json"));
+  CHECK(summary["comparisons"].back()["kind"] == "final");
+  std::string bad = text;
+  bad.replace(bad.find("fractal_dimension_mass = 1e-12"), 30, "pair_distribution = 0.1");
+  check_bad(bad, "compare.final.pair_distribution", "0.1");
+}
