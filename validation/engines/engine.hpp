@@ -49,6 +49,8 @@ struct EngineObserver {
   std::function<void(double t, std::vector<Measurement> realizations)> record;
   // A particle engine's final-state values (observe.final and its own), once at the end; may be unset.
   std::function<void(std::vector<FinalStatistic> values)> final_state;
+  // A particle engine's final configuration of its first realization, once; may be unset.
+  std::function<void(const ParticleView& configuration)> final_configuration;
   std::function<void(double t)> progress;                // the time reached, as often as it likes
   std::function<void(const std::string& what)> status;   // a stage or count in words, as often as it likes
   std::filesystem::path folder;  // the engine's output folder (exists), for the files it declares

@@ -153,6 +153,7 @@ class ParticleEngine final : public Engine {
     result.finals.emplace_back("momentum_drift", momentum_scale > 0 ? drift / momentum_scale : drift);
     result.finals.emplace_back("stop_time", simulation->time());
     result.counters = simulation->counters();
+    if (r == 0 && observer.final_configuration) observer.final_configuration(final);
     if (r == 0 && scene.observe.snapshots) {
       write_vtu_snapshot(observer.folder / "final.vtu", final.configuration(), final.cluster_labels(), final.velocities());
       std::string error;

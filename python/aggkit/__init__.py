@@ -1,0 +1,229 @@
+"""aggkit: aggregation kinetics, fast and checked — the Python interface.
+
+The kinetic solvers (CVODE, SNES steady states), DSMC and the particle engines of the C++ suite, on numpy
+arrays. Every call goes through the same engines and the same option tables as `aggkit run`: keyword
+arguments are the scene keys, and bad input raises ValueError with the message the command line prints.
+
+    import aggkit
+    model = aggkit.Model("brownian", a=0.95, lam=0.01, size=2048)
+    sol = aggkit.integrate(model, times=np.linspace(1, 2000, 2000))
+    sol.moment(0)        # M0(t)
+"""
+import json
+import os
+
+import numpy as np
+
+# FFTW's measured plans ("wisdom") are remembered across runs only if the caller opts in by setting
+# AGGKIT_FFTW_WISDOM to a file before importing aggkit; the command line keeps ~/.cache/aggkit/fftw-wisdom.
+os.environ.setdefault("AGGKIT_FFTW_WISDOM", "")
+
+from . import _aggkit  # noqa: E402
+from . import _scene  # noqa: E402
+from . import analysis  # noqa: E402
+
+__all__ = ["Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
+           "ed", "run", "analysis", "engine_options"]
+
+
+def engine_options(engine):
+    """The option table of an engine: a list of dicts with key, default, allowed, doc."""
+    return _aggkit.option_table(engine)
+
+
+def _options_doc(engine):
+    rows = engine_options(engine)
+    return "\n".join(f"    {r['key']} (default {r['default']}; {r['allowed']}): {r['doc']}" for r in rows)
+
+
+class Model:
+    """A truncated aggregation–shattering model.
+
+    kernel: a name ("constant", "sum", "product", "linear" with A, B, "genproduct" with mu, "ballistic",
+        "brownian" with a) or a Python callable K(i, j) -> float (called pair by pair on floats: the core
+        samples it to build a low-rank factorisation; K must be symmetric and >= 0).
+    lam: the shattering rate λ: a number, {"initial": λ0, "slope": s} (λ0 + s t) or
+        {"times": [...], "values": [...]} (piecewise linear).
+    size: the truncation N >= 2.  truncation: "drop" or "cutoff".
+    initial: None (unit monodisperse start) or an array n_1.. of densities (padded with zeros to N).
+    kernel_parameters: the kernel's parameters by name (a=0.95, mu=0.5, A=1, B=0).
+    """
+
+    def __init__(self, kernel, lam=0.0, size=None, truncation="drop", initial=None, **kernel_parameters):
+        if size is None:
+            raise ValueError("size = None: the truncation N, an integer >= 2, is required")
+        if callable(lam):
+            raise ValueError("lam = <callable>: a number, {'initial': .., 'slope': ..} or {'times': [..], 'values': [..]}")
+        self.kernel = kernel
+        self.lam = lam
+        self.size = size
+        self.truncation = truncation
+        self.initial = None if initial is None else np.ascontiguousarray(initial, dtype=float)
+        self.kernel_parameters = dict(kernel_parameters)
+        if callable(kernel) and kernel_parameters:
+            raise ValueError("kernel parameters are for named kernels; a callable kernel takes none")
+
+    def _section(self):
+        name = "constant" if callable(self.kernel) else self.kernel  # a callable replaces it in the core
+        return {"kernel": {"name": name, **self.kernel_parameters}, "lambda": self.lam, "size": self.size,
+                "truncation": self.truncation}
+
+    def _run(self, times, engine, series, distributions, progress):
+        observe = {"series": list(series)}
+        if distributions:
+            observe["distributions"] = [float(t) for t in np.asarray(times, dtype=float).ravel()]
+        text = _scene.scene("python", model=self._section(), times=times, engine=engine, observe=observe)
+        return _aggkit.run_engine(text, 0, self.kernel if callable(self.kernel) else None, self.initial, progress)
+
+    def __repr__(self):
+        k = "callable" if callable(self.kernel) else self.kernel
+        return f"Model({k!r}, lam={self.lam!r}, size={self.size}, truncation={self.truncation!r})"
+
+
+def _moment(n, p):
+    k = np.arange(1, n.shape[-1] + 1, dtype=float)
+    return n @ (k ** p)
+
+
+class Solution:
+    """A CVODE solution: t (1-D), n (2-D, one row per time; numpy views of the core's buffer),
+    mass_leak, statistics (dict), moment(p)."""
+
+    def __init__(self, raw):
+        self.t = raw["t"]
+        self.n = raw["n"]
+        self.mass_leak = raw["series"]["mass_leak"]
+        self.statistics = raw["statistics"]
+
+    def moment(self, p):
+        """M_p(t) = Σ_k k^p n_k(t). The absolute tolerance controls M_p for p <= atol_exponent (3)."""
+        return _moment(self.n, p)
+
+
+def integrate(model, times, progress=None, **options):
+    r = model._run(times, {"name": "cvode", **options}, ["M0", "mass_leak"], True, progress)
+    return Solution(r)
+
+
+integrate.__doc__ = """integrate(model, times, progress=None, **options) -> Solution
+
+The truncated equations integrated by SUNDIALS CVODE to each of `times` (increasing, > 0). `progress`, if
+given, is called with a line of text at most ten times a second; Ctrl-C interrupts. Options (the cvode
+engine's option table):
+""" + _options_doc("cvode")
+
+
+class SteadyState:
+    """n (the steady state), residual, leak_rate, newton_iterations, statistics."""
+
+    def __init__(self, raw):
+        self.n = raw["n"][0]
+        self.statistics = raw["statistics"]
+        self.residual = self.statistics["relative_residual"]
+        self.leak_rate = self.statistics["leak_rate"]
+        self.newton_iterations = self.statistics["newton_iterations"]
+
+    def moment(self, p):
+        return _moment(self.n, p)
+
+
+def steady_state(model, progress=None, **options):
+    return SteadyState(model._run([1.0], {"name": "snes", **options}, ["M0"], True, progress))
+
+
+steady_state.__doc__ = """steady_state(model, progress=None, **options) -> SteadyState
+
+The steady state of the truncated equations by PETSc SNES Newton–Krylov (λ > 0, constant). Options:
+""" + _options_doc("snes")
+
+
+class EnsembleSolution:
+    """DSMC: t, n (mean distribution, one row per time), series and stderr (dicts of arrays: the means of the
+    requested observables over the runs and their standard errors), statistics."""
+
+    def __init__(self, raw):
+        self.t = raw["t"]
+        self.n = raw["n"]
+        self.series = raw["series"]
+        self.stderr = raw["stderr"]
+        self.statistics = raw["statistics"]
+
+
+def dsmc(model, particles, times, method="ar", runs=1, seed=0, observables=("M0", "M1", "M2", "M3"), progress=None,
+         **options):
+    engine = {"name": "dsmc", "particles": particles, "method": method, "runs": runs, "seed": seed, **options}
+    return EnsembleSolution(model._run(times, engine, observables, True, progress))
+
+
+dsmc.__doc__ = """dsmc(model, particles, times, method="ar", runs=1, seed=0, observables=("M0", "M1", "M2", "M3"),
+     progress=None, **options) -> EnsembleSolution
+
+Direct Simulation Monte Carlo of the model; with runs > 1 every observable gets its standard error.
+Options:
+""" + _options_doc("dsmc")
+
+
+class ParticleRun:
+    """A particle engine's run: t, series and stderr (dicts of arrays over the realizations), final (dict:
+    name -> (mean, standard error)), statistics, and the first realization's final configuration: positions
+    (N×3), velocities, masses, radii, cluster (ids), box, periodic."""
+
+    def __init__(self, raw):
+        self.t = raw["t"]
+        self.series = raw["series"]
+        self.stderr = raw["stderr"]
+        self.final = raw["final"]
+        self.statistics = raw["statistics"]
+        c = raw.get("configuration", {})
+        self.positions = c.get("positions")
+        self.velocities = c.get("velocities")
+        self.masses = c.get("masses")
+        self.radii = c.get("radii")
+        self.cluster = c.get("cluster")
+        self.box = c.get("box")
+        self.periodic = c.get("periodic")
+
+
+def _particle_engine(name, times, particles, series, final, progress, keywords):
+    table = {r["key"] for r in engine_options(name)}
+    engine = {"name": name}
+    section = dict(particles or {})
+    for key, v in keywords.items():
+        (engine if key in table else section)[key] = v
+    observe = {"series": list(series)}
+    if final:
+        observe["final"] = list(final)
+    text = _scene.scene("python", particles=section, times=times, engine=engine, observe=observe)
+    return ParticleRun(_aggkit.run_engine(text, 0, None, None, progress))
+
+
+def ed(times, particles=None, series=("clusters", "kinetic_energy", "M2"), final=("clusters",), progress=None, **keywords):
+    return _particle_engine("ed", times, particles, series, final, progress, keywords)
+
+
+ed.__doc__ = """ed(times, particles=None, series=("clusters", "kinetic_energy", "M2"), final=("clusters",), progress=None,
+   **keywords) -> ParticleRun
+
+Event-driven ballistic aggregation of hard discs/spheres. The [particles] keys (dimension, count, radius,
+volume_fraction or box, boundary, initial, seed, realizations, ...) come as the dict `particles` or as
+keywords; keywords in the engine's option table go to the engine:
+""" + _options_doc("ed")
+
+
+def run(scene, out=None, force=False, plot=False):
+    """Runs a scene (a path to a TOML file, or a dict with its structure) through the harness, as
+    `aggkit run`, and returns summary.json as a dict. `out`: the output folder (None: a scratch folder that
+    is removed)."""
+    if isinstance(scene, (str, os.PathLike)):
+        path = os.fspath(scene)
+        try:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        except OSError as e:
+            raise ValueError(f"scene = {path}: a readable TOML file ({e.strerror})") from None
+        source = path
+    elif isinstance(scene, dict):
+        text, source = _scene.document(scene), "scene"
+    else:
+        raise ValueError(f"scene = {scene!r}: a path to a scene file or a dict")
+    return json.loads(_aggkit.run_scene(text, source, "" if out is None else os.fspath(out), force, plot))

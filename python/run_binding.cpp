@@ -1,0 +1,243 @@
+// Engines and scenes from Python. A call builds a scene (TOML text written by python/aggkit/_scene.py from
+// keyword arguments, so every value is checked as in a scene file, with the same messages), runs one engine
+// with the GIL released and returns what the harness records: the series (means and standard errors), the
+// size distributions, the statistics, a particle engine's final values and final configuration.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <thread>
+#include <fstream>
+#include <iterator>
+#include <unistd.h>
+
+#include "analysis/input_error.hpp"
+#include "validation/engines/engine.hpp"
+#include "validation/harness/engine_record.hpp"
+#include "validation/harness/harness.hpp"
+#include "validation/io/atomic_file.hpp"
+#include "validation/io/text.hpp"
+
+namespace py = pybind11;
+using namespace aggkit;
+
+namespace {
+
+// A numpy array that owns its buffer (no copy on the way out).
+py::array_t<double> owned_array(std::vector<double>&& values, std::vector<py::ssize_t> shape) {
+  auto* buffer = new std::vector<double>(std::move(values));
+  py::capsule owner(buffer, [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  return py::array_t<double>(shape, buffer->data(), owner);
+}
+
+// Raised from inside an engine when the caller pressed Ctrl-C; turned into KeyboardInterrupt with the GIL.
+struct Interrupted {};
+
+// Checks for Ctrl-C and calls the user's progress callback, at most every 0.1 s, from the calling thread only
+// (Python handles signals on the main thread).
+class Watcher {
+ public:
+  explicit Watcher(py::object progress) : progress_(std::move(progress)), caller_(std::this_thread::get_id()) {}
+  void tick(const std::string& what) {
+    if (std::this_thread::get_id() != caller_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) {
+      PyErr_Clear();
+      interrupted_ = true;
+      throw Interrupted{};
+    }
+    if (!progress_.is_none()) progress_(what);
+  }
+  bool interrupted() const { return interrupted_; }
+
+ private:
+  py::object progress_;
+  std::thread::id caller_;
+  std::chrono::steady_clock::time_point last_{};
+  bool interrupted_ = false;
+};
+
+// A scratch folder for the files an engine writes besides what it reports (final.json, snapshots).
+struct ScratchFolder {
+  std::filesystem::path path;
+  ScratchFolder() {
+    static std::atomic<int> counter{0};
+    path = std::filesystem::temp_directory_path() /
+           ("aggkit-python-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    std::filesystem::create_directories(path);
+  }
+  ~ScratchFolder() {
+    std::error_code error;
+    std::filesystem::remove_all(path, error);
+  }
+};
+
+struct FinalConfiguration {
+  std::vector<double> positions, velocities, masses;
+  std::vector<std::uint32_t> cluster;
+  double radius = 0;
+  int dimension = 0;
+  std::array<double, 3> box{};
+  bool periodic = false;
+};
+
+py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py::object kernel, py::object initial,
+                    py::object progress) {
+  Scene scene = parse_scene(scene_text, "arguments");
+  if (!kernel.is_none()) {
+    // A Python kernel K(i, j): called with the GIL, pair by pair (the kernel's factorisation samples it).
+    py::function k = kernel.cast<py::function>();
+    scene.model.kernel = Kernel::user("python", [k](double i, double j) {
+      py::gil_scoped_acquire gil;
+      const double value = k(i, j).cast<double>();
+      if (!(value >= 0) || !std::isfinite(value))
+        throw InputError("kernel", shortest_text(value) + " at (" + shortest_text(i) + ", " + shortest_text(j) + ")",
+                         "a finite kernel value >= 0");
+      return value;
+    });
+  }
+  if (!initial.is_none()) {
+    const auto n = initial.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+    if (n.ndim() != 1 || std::size_t(n.shape(0)) > scene.model.size)
+      throw InputError("initial", std::to_string(n.size()) + " entries",
+                       "a 1-D array of at most size = " + std::to_string(scene.model.size) + " densities");
+    scene.model.initial.assign(scene.model.size, 0.0);
+    std::copy(n.data(), n.data() + n.shape(0), scene.model.initial.begin());
+    scene.model.validate(scene.time.end);  // keys as the Python arguments name them ("initial.n[3]")
+  }
+  const std::unique_ptr<Engine> engine = build_engine(scene, engine_index);
+
+  EngineRecord record;
+  record.label = engine->label();
+  record.name = engine->name();
+  std::vector<FinalStatistic> finals;
+  std::optional<FinalConfiguration> configuration;
+  Watcher watcher(progress);
+  const ScratchFolder scratch;
+  EngineObserver observer;
+  observer.measure = [&scene](double t, const ObservedState& state) { return measure_state(scene, t, state); };
+  observer.record = [&](double t, std::vector<Measurement> m) {
+    record_measurements(record, scene, t, m);
+    watcher.tick("t = " + shortest_text(t));
+  };
+  observer.progress = [&](double t) { watcher.tick("t = " + shortest_text(t)); };
+  observer.status = [&](const std::string& what) { watcher.tick(what); };
+  observer.final_state = [&](std::vector<FinalStatistic> v) { finals = std::move(v); };
+  observer.final_configuration = [&](const ParticleView& view) {
+    FinalConfiguration c;
+    const ParticleConfiguration& config = view.configuration();
+    for (const auto& x : config.positions) c.positions.insert(c.positions.end(), x.begin(), x.end());
+    for (const auto& v : view.velocities()) c.velocities.insert(c.velocities.end(), v.begin(), v.end());
+    c.masses.assign(view.masses().begin(), view.masses().end());
+    c.cluster.assign(view.cluster_labels().begin(), view.cluster_labels().end());
+    c.radius = config.radius, c.dimension = config.dimension, c.box = config.box, c.periodic = config.periodic;
+    configuration = std::move(c);
+  };
+  observer.folder = scratch.path;
+  EngineStatistics statistics;
+  try {
+    py::gil_scoped_release release;
+    statistics = engine->run(scene, observer);
+  } catch (const Interrupted&) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+
+  py::dict out;
+  const auto T = py::ssize_t(record.times.size());
+  out["t"] = owned_array(std::vector<double>(record.times), {T});
+  py::dict series, errors;
+  for (std::size_t j = 0; j < scene.observe.series.size(); ++j) {
+    std::vector<double> column, error;
+    for (std::size_t i = 0; i < record.times.size(); ++i) {
+      column.push_back(record.values[i][j]);
+      if (!record.standard_errors.empty()) error.push_back(record.standard_errors[i][j]);
+    }
+    series[py::str(scene.observe.series[j].name())] = owned_array(std::move(column), {T});
+    if (!error.empty()) errors[py::str(scene.observe.series[j].name())] = owned_array(std::move(error), {T});
+  }
+  out["series"] = series;
+  out["stderr"] = errors;
+  if (!record.distributions.empty()) {
+    std::size_t width = 0;
+    for (const auto& d : record.distributions) width = std::max(width, d.n.size());
+    std::vector<double> n(record.distributions.size() * width, 0.0), times;
+    for (std::size_t i = 0; i < record.distributions.size(); ++i) {
+      std::copy(record.distributions[i].n.begin(), record.distributions[i].n.end(), n.begin() + i * width);
+      times.push_back(record.distributions[i].t);
+    }
+    out["n"] = owned_array(std::move(n), {py::ssize_t(record.distributions.size()), py::ssize_t(width)});
+    out["n_times"] = owned_array(std::move(times), {py::ssize_t(record.distributions.size())});
+  }
+  py::dict stats;
+  for (const auto& s : statistics) std::visit([&](const auto& v) { stats[py::str(s.name)] = v; }, s.value);
+  out["statistics"] = stats;
+  py::dict final_values;
+  for (const auto& f : finals) final_values[py::str(f.name)] = py::make_tuple(f.mean, f.standard_error);
+  out["final"] = final_values;
+  if (configuration) {
+    const auto count = py::ssize_t(configuration->cluster.size());
+    py::dict c;
+    c["positions"] = owned_array(std::move(configuration->positions), {count, 3});
+    c["velocities"] = owned_array(std::move(configuration->velocities), {count, 3});
+    c["masses"] = owned_array(std::move(configuration->masses), {count});
+    std::vector<double> radii(std::size_t(count), configuration->radius);
+    c["radii"] = owned_array(std::move(radii), {count});
+    c["cluster"] = py::array_t<std::uint32_t>(count, configuration->cluster.data());
+    c["dimension"] = configuration->dimension;
+    c["box"] = py::make_tuple(configuration->box[0], configuration->box[1], configuration->box[2]);
+    c["periodic"] = configuration->periodic;
+    out["configuration"] = c;
+  }
+  return out;
+}
+
+// The whole harness on a scene: returns summary.json's text.
+std::string run_scene_text(const std::string& scene_text, const std::string& source, const std::string& out,
+                           bool force, bool plot) {
+  const Scene scene = parse_scene(scene_text, source);
+  const std::unique_ptr<ScratchFolder> scratch = out.empty() ? std::make_unique<ScratchFolder>() : nullptr;
+  RunOptions options;
+  options.out = out.empty() ? scratch->path / "run" : std::filesystem::path(out);
+  options.force = force;
+  options.plot = plot;
+  options.report = nullptr;
+  options.progress = nullptr;
+  options.warnings = nullptr;
+  {
+    py::gil_scoped_release release;
+    run_scene(scene, options);
+  }
+  std::ifstream in(options.out / "summary.json");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+py::list option_table(const std::string& engine) {
+  const EngineType* type = find_engine_type(engine);
+  if (!type) throw InputError("engine", "\"" + engine + "\"", "one of " + join(engine_names()));
+  py::list rows;
+  for (const OptionSpec& o : type->options) {
+    py::dict row;
+    row["key"] = o.key, row["default"] = o.default_text, row["allowed"] = o.allowed(), row["doc"] = o.doc;
+    rows.append(row);
+  }
+  return rows;
+}
+
+}  // namespace
+
+void bind_runs(py::module_& m) {
+  m.def("run_engine", &run_engine, py::arg("scene_text"), py::arg("engine") = 0, py::arg("kernel") = py::none(),
+        py::arg("initial") = py::none(), py::arg("progress") = py::none());
+  m.def("run_scene", &run_scene_text, py::arg("scene_text"), py::arg("source"), py::arg("out"), py::arg("force"),
+        py::arg("plot"));
+  m.def("option_table", &option_table, py::arg("engine"));
+  m.def("engine_names", &engine_names);
+}

@@ -1,0 +1,87 @@
+"""Particle engines, scenes, analysis and bad input from Python."""
+import os
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+import aggkit
+from aggkit import analysis
+
+PARTICLES = dict(dimension=2, count=100, radius=0.5, volume_fraction=0.2, boundary="reflecting")
+
+
+def test_ed_series_final_values_and_final_configuration():
+    r = aggkit.ed([1.0, 2.0, 5.0], PARTICLES, final=["clusters", "contacts"], stop="one_cluster", realizations=3, seed=4)
+    assert r.series["clusters"].shape == (3,) and r.stderr["clusters"].shape == (3,)
+    assert np.all(np.diff(r.series["clusters"]) <= 0)
+    assert r.final["clusters"] == (1.0, 0.0)
+    assert r.positions.shape == (100, 3) and r.cluster.shape == (100,)
+    assert np.all(r.cluster == 0)  # one cluster at the end
+    # The analysis functions on the returned configuration give the engine's own final observable (run 1).
+    one = aggkit.ed([1.0], PARTICLES, final=["contacts"], stop="one_cluster", seed=4)
+    contacts = analysis.relative_contacts(one.positions[:, :2], 0.5, box=list(one.box[:2]), periodic=False)
+    assert contacts == pytest.approx(one.final["contacts"][0], rel=1e-15)
+    labels = analysis.contact_clusters(one.positions[:, :2], 0.5)
+    sizes, counts = analysis.size_distribution(labels)
+    assert list(sizes) == [100] and list(counts) == [1]
+
+
+def test_analysis_on_a_hand_made_configuration():
+    # Three touching discs in a row and one apart.
+    x = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [10.0, 0.0]])
+    labels = analysis.contact_clusters(x, 0.5)
+    assert labels[0] == labels[1] == labels[2] != labels[3]
+    g = analysis.gyration(x[:3])
+    assert g["radius_of_gyration"] == pytest.approx(np.sqrt(2 / 3))
+    r, p = analysis.pair_distribution(x, 0.5, r=[1.5, 2.5])
+    assert list(p) == pytest.approx([4 / 4, 6 / 4])  # pairs within r, counted from both ends, per particle
+
+
+def test_run_a_scene_file_and_a_dict():
+    here = os.path.dirname(os.path.abspath(__file__))
+    scene = os.path.join(here, "..", "..", "validation", "scenes", "constant-exact.toml")
+    summary = aggkit.run(scene)
+    assert summary["pass"] is True and summary["exit_code"] == 0
+    d = {"name": "dict", "model": {"kernel": {"name": "constant"}, "size": 64}, "time": {"end": 2.0},
+         "engine": [{"name": "cvode", "rtol": 1e-9}, {"name": "exact"}], "observe": {"series": ["M0"]},
+         "compare": {"reference": "exact", "tolerance": {"M0": 1e-5}}}
+    assert aggkit.run(d)["comparisons"][0]["pass"] is True
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: aggkit.integrate(aggkit.Model("constant", size=64), [1.0], rtol=-1), "engine[0].rtol = -1"),
+    (lambda: aggkit.integrate(aggkit.Model("constant", size=64), [1.0], rtl=1e-6), "engine[0].rtl"),
+    (lambda: aggkit.integrate(aggkit.Model("gravity", size=64), [1.0]), "model.kernel.name = \"gravity\""),
+    (lambda: aggkit.integrate(aggkit.Model("constant", lam=-0.5, size=64), [1.0]), "model.lambda = -0.5"),
+    (lambda: aggkit.Model("constant"), "size = None"),
+    (lambda: aggkit.Model("constant", lam=lambda t: t, size=64), "lam"),
+    (lambda: aggkit.integrate(aggkit.Model("constant", size=64), []), "times = []"),
+    (lambda: aggkit.ed([1.0], dict(PARTICLES, radius=-1.0)), "particles.radius = -1"),
+    (lambda: aggkit.ed([1.0], PARTICLES, stop="never"), "engine[0].stop"),
+    (lambda: aggkit.run({"name": "x"}), "time"),
+    (lambda: aggkit.run("/no/such/scene.toml"), "/no/such/scene.toml"),
+    (lambda: analysis.gyration(np.zeros((3, 4))), "positions"),
+])
+def test_bad_input_raises_ValueError_with_the_command_line_message(call, message):
+    with pytest.raises(ValueError) as e:
+        call()
+    assert message in str(e.value)
+
+
+def test_ctrl_c_interrupts_a_long_run_within_a_second():
+    import time
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        aggkit.dsmc(aggkit.Model("constant", lam=0.5, size=100), particles=2_000_000, times=[1e6], observables=["M0"])
+    assert time.monotonic() - started < 0.5 + 1.5
+    timer.join()
+
+
+def test_help_lists_every_option_with_its_default():
+    for name, function in [("cvode", aggkit.integrate), ("snes", aggkit.steady_state), ("dsmc", aggkit.dsmc), ("ed", aggkit.ed)]:
+        for row in aggkit.engine_options(name):
+            assert f"{row['key']} (default {row['default']};" in function.__doc__
