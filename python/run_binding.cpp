@@ -3,11 +3,14 @@
 // with the GIL released and returns what the harness records: the series (means and standard errors), the
 // size distributions, the statistics, a particle engine's final values and final configuration.
 #include <pybind11/functional.h>
+#include <pybind11/complex.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cmath>
+#include <complex>
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -16,6 +19,7 @@
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
+#include "solvers/stability.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/harness/engine_record.hpp"
 #include "validation/harness/harness.hpp"
@@ -219,6 +223,49 @@ std::string run_scene_text(const std::string& scene_text, const std::string& sou
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+// The model of a scene's [model] section (the Python Model's), with a Python kernel if given.
+AggregationModel model_of(const std::string& scene_text, py::object kernel) {
+  Scene scene = parse_scene(scene_text, "arguments");
+  if (!kernel.is_none()) {
+    py::function k = kernel.cast<py::function>();
+    scene.model.kernel = Kernel::user("python", [k](double i, double j) {
+      py::gil_scoped_acquire gil;
+      return k(i, j).cast<double>();
+    });
+  }
+  return scene.model;
+}
+
+py::array_t<std::complex<double>> rightmost_eigenvalues(const std::string& scene_text, py::object kernel,
+                                                        const py::array_t<double, py::array::c_style | py::array::forcecast>& state,
+                                                        int count) {
+  const AggregationModel model = model_of(scene_text, kernel);
+  if (state.ndim() != 1 || std::size_t(state.shape(0)) != model.size)
+    throw InputError("state", std::to_string(state.size()) + " entries", "a 1-D array of size = " + std::to_string(model.size) + " densities");
+  if (count < 1) throw InputError("count", std::to_string(count), "an integer >= 1");
+  const std::vector<double> n(state.data(), state.data() + state.shape(0));
+  StabilityResult result;
+  {
+    py::gil_scoped_release release;
+    result = analyse_stability(model, n, count);
+  }
+  return py::array_t<std::complex<double>>(py::ssize_t(result.rightmost.size()), result.rightmost.data());
+}
+
+py::dict hopf(const std::string& scene_text, double a, double lambda_lo, double lambda_hi, double tolerance) {
+  const AggregationModel model = model_of(scene_text, py::none());
+  HopfPoint h;
+  {
+    py::gil_scoped_release release;
+    h = locate_hopf(model, a, lambda_lo, lambda_hi, tolerance);
+  }
+  py::dict d;
+  d["a"] = h.a, d["found"] = h.found, d["lambda_crit"] = h.lambda_crit, d["lambda_tolerance"] = h.lambda_tolerance;
+  d["omega"] = h.omega, d["period"] = h.omega > 0 ? 2 * M_PI / h.omega : NAN, d["note"] = h.note;
+  d["evaluations"] = h.evaluations, d["seconds"] = h.seconds;
+  return d;
+}
+
 py::list option_table(const std::string& engine) {
   const EngineType* type = find_engine_type(engine);
   if (!type) throw InputError("engine", "\"" + engine + "\"", "one of " + join(engine_names()));
@@ -239,5 +286,9 @@ void bind_runs(py::module_& m) {
   m.def("run_scene", &run_scene_text, py::arg("scene_text"), py::arg("source"), py::arg("out"), py::arg("force"),
         py::arg("plot"));
   m.def("option_table", &option_table, py::arg("engine"));
+  m.def("rightmost_eigenvalues", &rightmost_eigenvalues, py::arg("scene_text"), py::arg("kernel"), py::arg("state"),
+        py::arg("count"));
+  m.def("locate_hopf", &hopf, py::arg("scene_text"), py::arg("a"), py::arg("lambda_lo"), py::arg("lambda_hi"),
+        py::arg("tolerance"));
   m.def("engine_names", &engine_names);
 }

@@ -23,7 +23,7 @@ from . import _scene  # noqa: E402
 from . import analysis  # noqa: E402
 
 __all__ = ["Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
-           "ed", "run", "analysis", "engine_options"]
+           "ed", "run", "analysis", "engine_options", "rightmost_eigenvalues", "locate_hopf"]
 
 
 def engine_options(engine):
@@ -74,6 +74,10 @@ class Model:
             observe["distributions"] = [float(t) for t in np.asarray(times, dtype=float).ravel()]
         text = _scene.scene("python", model=self._section(), times=times, engine=engine, observe=observe)
         return _aggkit.run_engine(text, 0, self.kernel if callable(self.kernel) else None, self.initial, progress)
+
+    def _text(self):
+        return _scene.scene("python", model=self._section(), times=[1.0], engine={"name": "cvode"},
+                            observe={"series": ["M0"]})
 
     def __repr__(self):
         k = "callable" if callable(self.kernel) else self.kernel
@@ -208,6 +212,21 @@ Event-driven ballistic aggregation of hard discs/spheres. The [particles] keys (
 volume_fraction or box, boundary, initial, seed, realizations, ...) come as the dict `particles` or as
 keywords; keywords in the engine's option table go to the engine:
 """ + _options_doc("ed")
+
+
+def rightmost_eigenvalues(model, state, count=6):
+    """The `count` rightmost eigenvalues of the Jacobian at `state` (a steady state n_1..n_N) on the mass
+    shell (the trivial mass-conservation mode excluded), real part descending: dense for small N,
+    shift-invert Arnoldi (Spectra) for large N. A positive real part means the state is unstable."""
+    state = np.ascontiguousarray(state.n if isinstance(state, SteadyState) else state, dtype=float)
+    return _aggkit.rightmost_eigenvalues(model._text(), model.kernel if callable(model.kernel) else None, state, count)
+
+
+def locate_hopf(model, a, lambda_lo, lambda_hi, tolerance=1e-3):
+    """λ_crit(a) of the Brownian-type kernel (i/j)^a + (j/i)^a: where the rightmost complex pair of the
+    steady state crosses Re = 0 for λ in [lambda_lo, lambda_hi] (continuation in λ). `model` gives N and the
+    truncation. Returns a dict with found, lambda_crit, lambda_tolerance, omega, period, note."""
+    return _aggkit.locate_hopf(model._text(), a, lambda_lo, lambda_hi, tolerance)
 
 
 def run(scene, out=None, force=False, plot=False):

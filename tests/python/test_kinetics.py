@@ -84,3 +84,26 @@ def test_the_gil_is_released_while_a_solver_runs():
         spinner.join()
     # With the GIL held for the whole run the other thread would hardly run (a few switch intervals).
     assert during > 10000
+
+
+def test_stability_at_the_published_regimes():
+    # a = 0.95, λ = 0.01 oscillates forever (unstable steady state); a = 0.5 relaxes [Brilliantov2018].
+    unstable = aggkit.Model("brownian", a=0.95, lam=0.01, size=1024)
+    eigenvalues = aggkit.rightmost_eigenvalues(unstable, aggkit.steady_state(unstable), count=4)
+    assert eigenvalues.dtype == complex and eigenvalues[0].real > 0 and abs(eigenvalues[0].imag) > 0
+    stable = aggkit.Model("brownian", a=0.5, lam=0.1, size=256, truncation="cutoff")
+    assert aggkit.rightmost_eigenvalues(stable, aggkit.steady_state(stable), count=4)[0].real < 0
+    with pytest.raises(ValueError, match="state"):
+        aggkit.rightmost_eigenvalues(stable, np.ones(3))
+
+
+def test_locate_hopf_finds_where_the_rightmost_pair_crosses():
+    model = aggkit.Model("brownian", a=0.95, lam=0.01, size=512, truncation="cutoff")
+    h = aggkit.locate_hopf(model, a=0.95, lambda_lo=0.005, lambda_hi=0.5)
+    assert h["found"] and 0.005 < h["lambda_crit"] < 0.5
+    assert h["period"] == pytest.approx(2 * np.pi / h["omega"])
+    # Below the crossing the steady state is unstable, above it stable (SNES finds no steady state just
+    # above it from its default start: the slowly damped oscillation, so the check is at 1.5 λ_crit).
+    for factor, sign in [(0.9, 1), (1.5, -1)]:
+        m = aggkit.Model("brownian", a=0.95, lam=h["lambda_crit"] * factor, size=512, truncation="cutoff")
+        assert sign * aggkit.rightmost_eigenvalues(m, aggkit.steady_state(m), 2)[0].real > 0
