@@ -28,7 +28,7 @@ EngineRecord record(std::string label, std::vector<std::vector<double>> values) 
 }  // namespace
 
 TEST_CASE("harness: comparison takes the largest relative error over the output times") {
-  const ComparisonPlan plan{"exact", {{"M0", 0.02}, {"M2", 0.001}}};
+  const ComparisonPlan plan{"exact", {{"M0", 0.02}, {"M2", 0.001}}, {}};
   const std::vector<EngineRecord> records{
       record("exact", {{1.0, 2.0}, {0.5, 4.0}, {0.25, 0.0}}),
       record("cvode", {{1.01, 2.0}, {0.51, 4.0}, {0.25, 1e-3}}),
@@ -49,7 +49,7 @@ TEST_CASE("harness: comparison takes the largest relative error over the output 
 
 TEST_CASE("harness: NaN, missing tolerances and failed engines in a comparison") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const ComparisonPlan plan{"exact", {{"M0", 1.0}}};
+  const ComparisonPlan plan{"exact", {{"M0", 1.0}}, {}};
   std::vector<EngineRecord> records{
       record("exact", {{1.0, 2.0}, {0.5, 4.0}, {0.25, 8.0}}),
       record("cvode", {{1.0, 2.0}, {nan, 4.0}, {0.25, 80.0}}),

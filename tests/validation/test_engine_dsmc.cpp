@@ -60,7 +60,7 @@ TEST_CASE("harness: a standard-error tolerance allows k combined standard errors
   auto with = [&](Tolerance tolerance, std::vector<std::vector<double>> reference_errors = {}) {
     auto copy = records;
     copy[0].standard_errors = std::move(reference_errors);
-    return compare_engines(ComparisonPlan{"cvode", {tolerance}}, observe, copy).at(0);
+    return compare_engines(ComparisonPlan{"cvode", {tolerance}, {}}, observe, copy).at(0);
   };
   CHECK_FALSE(with({"M0", 0.05}).pass);  // the plain number form: relative error 0.1 > 0.05
   CHECK(with({"M0", 0.11}).pass);

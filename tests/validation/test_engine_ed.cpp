@@ -27,6 +27,12 @@ std::string ed_scene(const std::string& particles_extra = "", const std::string&
          "\n[observe]\n" + observe;
 }
 
+// `text` with its first `from` replaced by `to`.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  text.replace(text.find(from), from.size(), to);
+  return text;
+}
+
 RunOptions quiet(const std::filesystem::path& out) { return aggkit::testing::quiet_run(out); }
 
 void check_bad(const std::string& text, const std::string& key, const std::string& value) {
@@ -180,11 +186,7 @@ TEST_CASE("ed: bad [particles], stop and observe input name the key", "[ed][harn
   check_bad(ed_scene("thermalize = -1\n"), "particles.thermalize", "-1");
   check_bad(ed_scene("", "", "series = [\"clusters\"]\nfinal = [\"temperature\"]\n"), "observe.final[0]", "temperature");
   const std::string base = ed_scene();
-  auto replace = [&](const std::string& from, const std::string& to) {
-    std::string s = base;
-    s.replace(s.find(from), from.size(), to);
-    return s;
-  };
+  const auto replace = [&](const std::string& from, const std::string& to) { return replaced(base, from, to); };
   check_bad(replace("boundary = \"reflecting\"", "boundary = \"sticky\""), "particles.boundary", "sticky");
   check_bad(replace("dimension = 2", "dimension = 4"), "particles.dimension", "4");
   check_bad(replace("volume_fraction = 0.2", "volume_fraction = 0.9"), "particles.volume_fraction", "0.9");
@@ -264,15 +266,10 @@ TEST_CASE("ed: observables a kinetic engine cannot give are refused for it, nami
 
 TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the key; the others run", "[ed][particles]") {
   const std::string base = ed_scene();
-  auto replace = [&](const std::string& from, const std::string& to) {
-    std::string s = base;
-    s.replace(s.find(from), from.size(), to);
-    return s;
-  };
+  const auto replace = [&](const std::string& from, const std::string& to) { return replaced(base, from, to); };
   const std::string cloud = replace("lattice = \"square\", speed = 1.0", "cloud = \"cube\", speed = 1.0");
-  std::string unequal = cloud;
-  unequal.replace(unequal.find("radius = 0.5"), 12, "radius = { distribution = \"uniform\", min = 0.4, max = 0.6 }");
-  check_bad(unequal, "particles.radius", "distribution");
+  check_bad(replaced(cloud, "radius = 0.5", "radius = { distribution = \"uniform\", min = 0.4, max = 0.6 }"),
+            "particles.radius", "distribution");
   check_bad(replace("radius = 0.5", "radius = 0.5\nmass = { distribution = \"uniform\", min = 1, max = 2 }"),
             "particles.mass", "unequal");
   check_bad(replace("speed = 1.0", "speed = 0"), "particles.initial.speed", "0");
@@ -283,8 +280,7 @@ TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the ke
 
   // A random cloud filling the box, and equal masses from a density: both are forms ED can run.
   const auto out = aggkit::testing::scratch_folder("ed-cloud");
-  std::string heavy = cloud;
-  heavy.replace(heavy.find("radius = 0.5"), 12, "radius = 0.5\nmass = { density = 2.0 }");
+  const std::string heavy = replaced(cloud, "radius = 0.5", "radius = 0.5\nmass = { density = 2.0 }");
   const RunResult run = run_scene(aggkit::testing::parse_checked(heavy), quiet(out));
   REQUIRE(run.records[0].completed());
   const auto final = nlohmann::json::parse(aggkit::testing::read_text(out / "ed" / "final.json"));
@@ -297,11 +293,7 @@ TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the ke
 
 TEST_CASE("ed: extreme but valid scales finish; scales doubles cannot resolve are refused", "[ed][input]") {
   const std::string base = ed_scene();
-  auto replace = [&](const std::string& from, const std::string& to) {
-    std::string s = base;
-    s.replace(s.find(from), from.size(), to);
-    return s;
-  };
+  const auto replace = [&](const std::string& from, const std::string& to) { return replaced(base, from, to); };
   // Collisions ~1e10 time.end apart: the run to one cluster goes on in doubling chunks and ends.
   const auto out = aggkit::testing::scratch_folder("ed-slow");
   const RunResult slow = run_scene(aggkit::testing::parse_checked(replace("speed = 1.0", "speed = 1e-10")), quiet(out));
@@ -323,4 +315,31 @@ TEST_CASE("ed: the wall-time budget stops a run that would take too long, as a f
   REQUIRE_FALSE(result.records[0].completed());
   CHECK_THAT(*result.records[0].failure, Contains("max_wall_seconds"));
   CHECK(result.exit_code == 1);
+}
+
+TEST_CASE("ed: [compare] final tolerances compare final.json means with their standard errors", "[ed][harness]") {
+  // Two ED engines on the same realizations (only the broad-phase cell count differs): identical physics, so
+  // every final value agrees exactly and passes any tolerance; a tolerance on a value the engine does not
+  // report fails, and a final tolerance names only observe.final numbers.
+  const std::string text =
+      "name = \"ed-vs-ed\"\n[particles]\ndimension = 2\ncount = 100\nradius = 0.5\nvolume_fraction = 0.2\n"
+      "boundary = \"reflecting\"\nrealizations = 3\n[time]\nend = 2.0\n[[engine]]\nname = \"ed\"\nstop = \"one_cluster\"\n"
+      "[[engine]]\nname = \"ed\"\nlabel = \"ed-cells\"\ncells = 7\nstop = \"one_cluster\"\n[observe]\nseries = [\"clusters\"]\n"
+      "final = [\"contacts\", \"fractal_dimension_mass\", \"pair_distribution\"]\n[compare]\nreference = \"ed\"\n"
+      "final = { contacts = { relative = 0, stderr = 0 }, fractal_dimension_mass = 1e-12 }\n";
+  const auto out = aggkit::testing::scratch_folder("ed-final-compare");
+  const RunResult result = run_scene(aggkit::testing::parse_checked(text), quiet(out));
+  CHECK(result.exit_code == 0);
+  int finals = 0;
+  for (const auto& c : result.comparisons)
+    if (c.final_state) {
+      ++finals;
+      CHECK(c.pass);
+      CHECK(c.max_relative_error == 0.0);
+    }
+  CHECK(finals == 2);  // the profile is not compared as a number
+  const auto summary = nlohmann::json::parse(aggkit::testing::read_text(out / "summary.json"));
+  CHECK(summary["comparisons"].back()["kind"] == "final");
+  check_bad(replaced(text, "fractal_dimension_mass = 1e-12", "pair_distribution = 0.1"), "compare.final.pair_distribution",
+            "0.1");
 }

@@ -33,6 +33,13 @@ struct Measurement {
   std::vector<double> distribution;  // n_1..n_N at a distribution time (observe.distributions), else empty
 };
 
+// One value of a final state over an ensemble (final.json: <name> and <name>_stderr).
+struct FinalStatistic {
+  std::string name;
+  double mean = 0;
+  double standard_error = 0;  // of the mean; 0 for a single realization
+};
+
 // What an engine reports while it runs.
 struct EngineObserver {
   // Evaluates the scene's observables on `state` at output time t; safe to call from several threads.
@@ -40,6 +47,8 @@ struct EngineObserver {
   // The measurements of every realization at the next output time t, in order of t; with more than one
   // the harness records their mean and standard error.
   std::function<void(double t, std::vector<Measurement> realizations)> record;
+  // A particle engine's final-state values (observe.final and its own), once at the end; may be unset.
+  std::function<void(std::vector<FinalStatistic> values)> final_state;
   std::function<void(double t)> progress;                // the time reached, as often as it likes
   std::function<void(const std::string& what)> status;   // a stage or count in words, as often as it likes
   std::filesystem::path folder;  // the engine's output folder (exists), for the files it declares

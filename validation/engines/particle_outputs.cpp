@@ -15,19 +15,26 @@ void FinalAverages::add(const std::string& key, double value) {
   values.push_back(value);
 }
 
-std::string FinalAverages::json(std::size_t realizations) const {
-  nlohmann::ordered_json out = nlohmann::ordered_json::object();
-  const auto number = [](double x) { return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr); };
+std::vector<FinalStatistic> FinalAverages::statistics() const {
+  std::vector<FinalStatistic> out;
   for (const std::string& key : order_) {
     const std::vector<double>& v = values_.at(key);
     double mean = 0;
     for (double x : v) mean += x / double(v.size());
-    out[key] = number(mean);
-    if (realizations > 1) {
-      double variance = 0;
+    double variance = 0;
+    if (v.size() > 1)
       for (double x : v) variance += (x - mean) * (x - mean) / double(v.size() - 1);
-      out[key + "_stderr"] = number(std::sqrt(variance / double(v.size())));
-    }
+    out.push_back({key, mean, std::sqrt(variance / double(v.size()))});
+  }
+  return out;
+}
+
+std::string FinalAverages::json(std::size_t realizations) const {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  const auto number = [](double x) { return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr); };
+  for (const FinalStatistic& s : statistics()) {
+    out[s.name] = number(s.mean);
+    if (realizations > 1) out[s.name + "_stderr"] = number(s.standard_error);
   }
   out["realizations"] = realizations;
   return out.dump(2) + "\n";

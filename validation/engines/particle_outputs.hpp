@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "validation/engines/engine.hpp"
 #include "validation/observables/observable.hpp"
 
 namespace aggkit {
@@ -19,6 +20,8 @@ namespace aggkit {
 class FinalAverages {
  public:
   void add(const std::string& key, double value);
+  // Mean and standard error of the mean of each key, in order.
+  std::vector<FinalStatistic> statistics() const;
   std::string json(std::size_t realizations) const;
 
  private:

@@ -87,6 +87,7 @@ class ParticleEngine final : public Engine {
       profiles.push_back(result.profiles);
     }
     write_file_atomically(observer.folder / "final.json", finals.json(realizations));
+    if (observer.final_state) observer.final_state(finals.statistics());
     write_final_profiles(observer.folder, profiles);
 
     EngineStatistics statistics{{"particles", system.describe()},

@@ -46,6 +46,44 @@ void largest_error(const EngineRecord& engine, const EngineRecord& reference, st
   }
 }
 
+const FinalStatistic* find_final(const EngineRecord& record, const std::string& name) {
+  for (const auto& f : record.finals)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+// The final-state comparison of one observable: the same rule as a series at one time.
+ComparisonResult compare_final(const EngineRecord& engine, const EngineRecord& reference, const std::string& name,
+                               const Tolerance* tolerance) {
+  ComparisonResult result;
+  result.engine = engine.label;
+  result.reference = reference.label;
+  result.observable = name;
+  result.final_state = true;
+  result.time = not_a_number;
+  if (tolerance) {
+    result.tolerance = tolerance->relative_error;
+    result.stderr_multiple = tolerance->standard_errors;
+  }
+  const FinalStatistic* x = find_final(engine, name);
+  const FinalStatistic* ref = find_final(reference, name);
+  if (!x || !ref) {
+    result.max_relative_error = not_a_number;
+    result.note = "no final value";
+    result.pass = !tolerance;
+    return result;
+  }
+  const double sigma = std::hypot(x->standard_error, ref->standard_error);
+  if (sigma > 0) result.max_standard_errors = std::abs(x->mean - ref->mean) / sigma;
+  result.max_relative_error = relative_error(x->mean, ref->mean);
+  if (tolerance) {
+    const double allowed = tolerance->relative_error * (ref->mean != 0.0 ? std::abs(ref->mean) : 1.0) +
+                           tolerance->standard_errors.value_or(0.0) * sigma;
+    result.pass = std::abs(x->mean - ref->mean) <= allowed;
+  }
+  return result;
+}
+
 }  // namespace
 
 std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const Observation& observe,
@@ -77,6 +115,28 @@ std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const 
       // A NaN error fails any tolerance; largest_error checked every time against the tolerance.
       if (result.tolerance && !(result.max_relative_error >= 0.0)) result.pass = false;
       results.push_back(std::move(result));
+    }
+    if (!reference || !record.completed() || !reference->completed() || record.finals.empty() || reference->finals.empty())
+      continue;
+    for (const std::string& name : observe.final_state)
+      if (!Observable::from_name(name)->is_profile())
+        results.push_back(compare_final(record, *reference, name, plan.final_tolerance_for(name)));
+  }
+  // A final tolerance that no pair of engines could be checked against fails: it was asked for.
+  for (const Tolerance& t : plan.final_tolerances) {
+    bool checked = false;
+    for (const auto& r : results) checked = checked || (r.final_state && r.observable == t.observable);
+    if (!checked) {
+      ComparisonResult missing;
+      missing.reference = plan.reference;
+      missing.observable = t.observable;
+      missing.final_state = true;
+      missing.tolerance = t.relative_error;
+      missing.stderr_multiple = t.standard_errors;
+      missing.max_relative_error = missing.time = not_a_number;
+      missing.pass = false;
+      missing.note = "no engine and reference with final states to compare";
+      results.push_back(missing);
     }
   }
   return results;

@@ -17,6 +17,7 @@ struct ComparisonResult {
   std::string engine;                // label
   std::string reference;             // label
   std::string observable;
+  bool final_state = false;          // a value of observe.final (final.json), not a series
   double max_relative_error = 0.0;   // NaN if an engine failed or produced NaN
   double time = 0.0;                 // where the maximum occurs (NaN if undefined)
   std::optional<double> tolerance;   // none: reported only (relative part of the tolerance)
@@ -26,7 +27,9 @@ struct ComparisonResult {
   std::string note;                  // why there is no number, if there is none
 };
 
-// One result per non-reference engine and series observable, in scene order.
+// One result per non-reference engine and series observable, in scene order; then, for engines that report
+// final states (particle engines) when the reference does too, one per number of observe.final: the
+// relative error of the final.json means, against `final` tolerances, with σ the combined standard errors.
 std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const Observation& observe,
                                               const std::vector<EngineRecord>& records);
 

@@ -25,6 +25,7 @@ struct EngineRecord {
   // one realisation); empty otherwise.
   std::vector<std::vector<double>> standard_errors;
   std::vector<DistributionRecord> distributions;
+  std::vector<FinalStatistic> finals;         // a particle engine's final-state values (final.json)
   EngineStatistics statistics;
   double wall_seconds = 0.0;
   double final_mass_leak = std::numeric_limits<double>::quiet_NaN();

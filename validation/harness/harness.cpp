@@ -29,6 +29,7 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
     record_measurements(record, scene, t, realizations);
     progress.reached(t);
   };
+  observer.final_state = [&](std::vector<FinalStatistic> values) { record.finals = std::move(values); };
   observer.progress = [&](double t) { progress.reached(t); };
   observer.status = [&](const std::string& what) { progress.note(what); };
   observer.folder = folder.engine_folder(engine.label());

@@ -47,8 +47,9 @@ void print_report(std::ostream& out, const Scene& scene, const RunResult& result
       if (c.stderr_multiple) tolerance += " + " + shortest_text(*c.stderr_multiple) + " se";
       std::string outcome = !c.tolerance ? "(reported)" : c.pass ? "PASS" : "FAIL";
       if (!std::isnan(c.max_standard_errors)) outcome += format(" (max %.2f se)", c.max_standard_errors);
-      out << format("  %-16s %-12s %14s %12s %12s  %s\n", c.engine.c_str(), c.observable.c_str(),
-                    scientific(c.max_relative_error).c_str(), shortest_text(c.time).c_str(), tolerance.c_str(),
+      const std::string name = c.final_state ? "final " + c.observable : c.observable;
+      out << format("  %-16s %-12s %14s %12s %12s  %s\n", c.engine.c_str(), name.c_str(),
+                    scientific(c.max_relative_error).c_str(), (c.final_state ? std::string("end") : shortest_text(c.time)).c_str(), tolerance.c_str(),
                     outcome.c_str());
     }
   }

@@ -78,6 +78,7 @@ Json comparison_json(const ComparisonResult& c) {
   Json json = {{"engine", c.engine},
                {"reference", c.reference},
                {"observable", c.observable},
+               {"kind", c.final_state ? "final" : "series"},
                {"max_relative_error", number(c.max_relative_error)},
                {"time", number(c.time)},
                {"tolerance", c.tolerance ? Json(*c.tolerance) : Json(nullptr)},

@@ -11,6 +11,12 @@ const EngineSpec* Scene::find_engine(std::string_view label) const {
   return nullptr;
 }
 
+const Tolerance* ComparisonPlan::final_tolerance_for(std::string_view observable) const {
+  for (const auto& t : final_tolerances)
+    if (t.observable == observable) return &t;
+  return nullptr;
+}
+
 const Tolerance* ComparisonPlan::tolerance_for(std::string_view observable) const {
   for (const auto& t : tolerances)
     if (t.observable == observable) return &t;

@@ -37,7 +37,11 @@
 //                                                  observable; observables without one are reported only;
 //                                                  or { M0 = { relative = 0.01, stderr = 3 } }: at each time
 //                                                  |x - x_ref| <= relative |x_ref| + stderr σ, σ the combined
-//                                                  standard error of ensemble engines (dsmc with runs > 1)
+//                                                  standard error of ensemble engines (dsmc with runs > 1,
+//                                                  particle engines with realizations > 1)
+//   final = { contacts = { relative = 0.05, stderr = 3 } }  particle engines: the same forms for values of
+//                                                  observe.final (final.json means; σ their standard errors),
+//                                                  e.g. TS against ED, which agree in distribution
 //
 // Unknown keys anywhere are errors.
 #include <filesystem>
@@ -84,8 +88,10 @@ struct Tolerance {
 
 struct ComparisonPlan {
   std::string reference;  // an engine label
-  std::vector<Tolerance> tolerances;
+  std::vector<Tolerance> tolerances;        // series observables
+  std::vector<Tolerance> final_tolerances;  // observe.final values
   const Tolerance* tolerance_for(std::string_view observable) const;  // nullptr: reported only
+  const Tolerance* final_tolerance_for(std::string_view observable) const;
 };
 
 // One [[engine]] table as written: the engine is built from it (and its options checked against the kind's

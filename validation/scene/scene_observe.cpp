@@ -20,9 +20,27 @@ std::vector<std::string> read_final_state(const SceneTable& observe, const Scene
   return names;
 }
 
-bool is_series(const Scene& scene, const std::string& name) {
-  return std::any_of(scene.observe.series.begin(), scene.observe.series.end(),
-                     [&](const Observable& o) { return o.name() == name; });
+// A table of tolerances { name = r } or { name = { relative = r, stderr = k } } for the names in `allowed`.
+std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vector<std::string>& allowed,
+                                       const std::string& where) {
+  std::vector<Tolerance> tolerances;
+  for (auto&& [key, value] : table.raw()) {
+    const std::string name(key.str());
+    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+      throw InputError(table.key(name), scene_text(value),
+                       "tolerances are given for observables in " + where + ": " + (allowed.empty() ? "none" : join(allowed)));
+    if (value.is_table()) {
+      const SceneTable form = table.table(name);
+      form.allow_only({"relative", "stderr"});
+      if (!form.contains("relative") && !form.contains("stderr"))
+        throw InputError(table.key(name), scene_text(value), "a number or { relative = r, stderr = k }");
+      tolerances.push_back({name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
+                            form.optional_number("stderr", Bound::non_negative)});
+    } else {
+      tolerances.push_back({name, table.number(name, Bound::non_negative), std::nullopt});
+    }
+  }
+  return tolerances;
 }
 
 }  // namespace
@@ -67,7 +85,7 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
 }
 
 ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
-  compare.allow_only({"reference", "tolerance"});
+  compare.allow_only({"reference", "tolerance", "final"});
   ComparisonPlan plan;
   plan.reference = compare.string("reference");
   std::vector<std::string> labels;
@@ -79,22 +97,13 @@ ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
   if (const auto tolerance = compare.optional_table("tolerance")) {
     std::vector<std::string> series;
     for (const auto& o : scene.observe.series) series.push_back(o.name());
-    for (auto&& [key, value] : tolerance->raw()) {
-      const std::string name(key.str());
-      if (!is_series(scene, name))
-        throw InputError(tolerance->key(name), scene_text(value),
-                         "tolerances are given for observables in observe.series: " + join(series));
-      if (value.is_table()) {
-        const SceneTable form = tolerance->table(name);
-        form.allow_only({"relative", "stderr"});
-        if (!form.contains("relative") && !form.contains("stderr"))
-          throw InputError(tolerance->key(name), scene_text(value), "a number or { relative = r, stderr = k }");
-        plan.tolerances.push_back({name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
-                                   form.optional_number("stderr", Bound::non_negative)});
-      } else {
-        plan.tolerances.push_back({name, tolerance->number(name, Bound::non_negative), std::nullopt});
-      }
-    }
+    plan.tolerances = read_tolerances(*tolerance, series, "observe.series");
+  }
+  if (const auto final = compare.optional_table("final")) {
+    std::vector<std::string> scalars;  // profiles have no single number to compare
+    for (const auto& name : scene.observe.final_state)
+      if (!Observable::from_name(name)->is_profile()) scalars.push_back(name);
+    plan.final_tolerances = read_tolerances(*final, scalars, "observe.final (numbers, not profiles)");
   }
   return plan;
 }
