@@ -52,7 +52,7 @@ TEST_CASE("DAHA: three discs, a chain and a triangle, touch along every link wit
   }
 }
 
-TEST_CASE("DAHA: a fixed partner holds; periodic shifts are honoured", "[ts][daha]") {
+TEST_CASE("DAHA: a fixed partner holds and a periodic shift is honoured", "[ts][daha]") {
   DahaProblem p;
   p.free = 1;
   p.x = {{9.7, 0, 0}, {0.0, 0.05, 0}};  // b is the image at 10.0 + ... in a box of side 10
