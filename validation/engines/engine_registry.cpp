@@ -11,6 +11,7 @@
   X(exact)                \
   X(dsmc)                 \
   X(ed)                   \
+  X(ts)                   \
   X(snes)
 
 namespace aggkit {

@@ -1,0 +1,402 @@
+#include "particle/ts/time_stepping_aggregation.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <thread>
+#include <unordered_map>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+namespace {
+
+constexpr double paper_radius = 0.2;  // [Degond2024, Table 1]: the units the DAHA parameters are tuned in
+
+}  // namespace
+
+TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, std::span<const Vector3> positions,
+                                                 std::span<const Vector3> velocities, const TsSettings& settings)
+    : box_(box),
+      radius_(radius),
+      scale_(paper_radius / radius),
+      settings_(settings),
+      grid_(box, 2.0 * radius, positions.size()),
+      cells_(grid_.size(), positions.size()),
+      members_(positions.size()),
+      x_(positions.begin(), positions.end()),
+      velocity_(velocities.begin(), velocities.end()),
+      links_(positions.size()) {
+  if (positions.size() != velocities.size() || positions.size() < 2)
+    throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
+  if (!(settings.interaction_range >= 2.0))
+    throw InputError("interaction_range", format_value(settings.interaction_range), "Δ_W / R >= 2 (links touch at 2R)");
+  for (std::uint32_t p = 0; p < x_.size(); ++p) cells_.insert(p, grid_.index(grid_.coords_of(x_[p])));
+  const auto start_overlaps = overlaps_between_clusters({});
+  for (const auto& [a, b] : start_overlaps)
+    if (norm(sep(a, b)) < 2.0 * radius_ * (1.0 - 1e-12))
+      throw InputError("particles.initial", "particles " + std::to_string(a) + " and " + std::to_string(b) + " at distance " +
+                                                format_value(norm(sep(a, b))),
+                       "a start without overlaps (distance >= 2R = " + format_value(2 * radius_) + ")");
+  double speed = 0;
+  for (const Vector3& v : velocity_) speed = std::max(speed, norm(v));
+  if (!(speed > 0)) throw InputError("particles.initial.speed", "0", "a speed > 0 (the time step is dt_factor L / max|V|)");
+  double side = 0;
+  for (int d = 0; d < box_.dimension; ++d) side = std::max(side, box_.side[d]);
+  dt0_ = settings_.dt_factor * side / speed;
+}
+
+double TimeSteppingAggregation::time_step() const {
+  const double n = double(x_.size());
+  return dt0_ * (2.0 - std::log(double(members_.clusters())) / std::log(n));
+}
+
+template <class F>
+void TimeSteppingAggregation::for_near(std::uint32_t i, double reach, F&& f) const {
+  const CellCoords c = grid_.coords_of(x_[i]);
+  int k[3] = {0, 0, 0};
+  for (int d = 0; d < box_.dimension; ++d) k[d] = int(std::ceil(reach / grid_.cell_side()[d] - 1e-12));
+  // A small sorted set of cells: periodic axes with fewer than 2k+1 cells would visit a cell twice.
+  thread_local std::vector<std::size_t> visit;
+  visit.clear();
+  for (int z = -k[2]; z <= k[2]; ++z)
+    for (int y = -k[1]; y <= k[1]; ++y)
+      for (int xo = -k[0]; xo <= k[0]; ++xo)
+        if (const auto n = grid_.neighbour(c, {xo, y, z})) visit.push_back(grid_.index(*n));
+  std::sort(visit.begin(), visit.end());
+  visit.erase(std::unique(visit.begin(), visit.end()), visit.end());
+  for (const std::size_t cell : visit)
+    for (std::uint32_t j = cells_.first(cell); j != CellList::none; j = cells_.next(j))
+      if (j != i) f(j);
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::overlaps_between_clusters(
+    std::span<const std::uint32_t> among) const {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> found;
+  const double contact2 = 4.0 * radius_ * radius_;
+  const double same_cluster2 = contact2 * (1 - same_cluster_tolerance) * (1 - same_cluster_tolerance);
+  auto scan = [&](std::uint32_t i, bool all) {
+    for_near(i, 2.0 * radius_, [&](std::uint32_t j) {
+      if (all && j < i) return;
+      const Vector3 d = sep(i, j);
+      // Different clusters: any overlap links them. Within a cluster (only after a minimisation, `among`
+      // given): an overlap deeper than the tolerance — a free sphere that moved onto a sphere it was not
+      // constrained against — is minimised again with that pair as a link.
+      const double limit = members_.cluster_of(j) != members_.cluster_of(i) ? contact2 : (all ? 0.0 : same_cluster2);
+      if (dot(d, d) < limit) found.emplace_back(std::min(i, j), std::max(i, j));
+    });
+  };
+  if (among.empty()) {
+    for (std::uint32_t i = 0; i < x_.size(); ++i) scan(i, true);
+  } else {
+    for (const std::uint32_t i : among) scan(i, false);
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+  }
+  return found;
+}
+
+void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
+  if (box_.boundary != Boundary::reflecting) return;
+  for (int d = 0; d < box_.dimension; ++d) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) {
+      lo = std::min(lo, x_[p][d] - radius_);
+      hi = std::max(hi, x_[p][d] + radius_);
+    }
+    const double side = box_.side[d];
+    if (lo >= 0 && hi <= side) continue;
+    const double mass = double(members_.size(cluster));
+    double& v = velocity_[cluster][d];
+    double shift = 0;
+    if (hi - lo > side) {  // wider than the box: centred, at rest along d
+      shift = 0.5 * (side - hi - lo);
+      wall_impulse_[d] += mass * v;
+      v = 0;
+    } else if (lo < 0) {
+      if (v < 0) {  // specular: back by twice the penetration [Degond2024, Sec. 3 (ii)]
+        wall_impulse_[d] += 2 * mass * v;
+        v = -v;
+        shift = -2 * lo;
+      } else {
+        shift = -lo;
+      }
+      shift = std::min(shift, side - hi);
+    } else {
+      if (v > 0) {
+        wall_impulse_[d] += 2 * mass * v;
+        v = -v;
+        shift = -2 * (hi - side);
+      } else {
+        shift = side - hi;
+      }
+      shift = std::max(shift, -lo);
+    }
+    ++counters_.wall_contacts;
+    for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) x_[p][d] += shift;
+  }
+}
+
+void TimeSteppingAggregation::flight(double dt) {
+  for (std::uint32_t p = 0; p < x_.size(); ++p) x_[p] = x_[p] + dt * velocity_[members_.cluster_of(p)];
+  if (box_.boundary == Boundary::reflecting) {
+    for (std::uint32_t c = 0; c < x_.size(); ++c)
+      if (members_.size(c) > 0) reflect(c);
+  } else {
+    for (Vector3& x : x_) x = box_.wrap(x);
+  }
+  for (std::uint32_t p = 0; p < x_.size(); ++p) {
+    const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
+    if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+  }
+}
+
+void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {
+  if (std::find(links_[a].begin(), links_[a].end(), b) == links_[a].end()) {
+    links_[a].push_back(b);
+    links_[b].push_back(a);
+  }
+  std::uint32_t ca = members_.cluster_of(a), cb = members_.cluster_of(b);
+  if (ca == cb) return;
+  if (members_.size(ca) < members_.size(cb)) std::swap(ca, cb);
+  const double na = double(members_.size(ca)), nb = double(members_.size(cb));
+  // Momentum-weighted velocity of the merged cluster [Degond2024, eq. 2.9 and Sec. 3, step 3b].
+  velocity_[ca] = (1.0 / (na + nb)) * (na * velocity_[ca] + nb * velocity_[cb]);
+  velocity_[cb] = {0, 0, 0};
+  members_.merge(ca, cb, [](std::uint32_t) {});
+  ++counters_.merges;
+}
+
+DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std::uint32_t>& moved) {
+  const double range = settings_.interaction_range * radius_;       // Δ_W
+  const double constrained = std::max(range, 6.0 * radius_);        // constraint pairs closer than this
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  std::vector<std::uint32_t> order;  // local index → particle
+  auto add = [&](std::uint32_t p) {
+    if (local.emplace(p, std::uint32_t(order.size())).second) order.push_back(p);
+  };
+  if (settings_.global) {
+    for (std::uint32_t p = members_.first(group.cluster); p != ClusterMembership::none; p = members_.next(p)) add(p);
+  } else {
+    for (const std::uint32_t s : group.seeds) add(s);
+    for (const std::uint32_t s : group.seeds)
+      for_near(s, range, [&](std::uint32_t j) {
+        if (members_.cluster_of(j) == group.cluster && norm(sep(s, j)) <= range) add(j);
+      });
+    std::sort(order.begin(), order.end());  // deterministic local order
+    for (std::uint32_t k = 0; k < order.size(); ++k) local[order[k]] = k;
+  }
+  const std::size_t free = order.size();
+  DahaProblem problem;
+  problem.dimension = box_.dimension;
+  problem.contact = 2.0 * radius_ * scale_;
+  problem.free = free;
+  auto pair_of = [&](std::uint32_t i, std::uint32_t j) {
+    const Vector3 raw = x_[j] - x_[i];
+    const Vector3 image = box_.minimum_image(raw);
+    const bool linked = std::find(links_[i].begin(), links_[i].end(), j) != links_[i].end();
+    const bool attract = linked && (settings_.global || norm(image) <= range);  // eq. 3.30
+    if (local.find(j) == local.end()) add(j);
+    problem.pairs.push_back({local.at(i), local.at(j), attract, scale_ * (image - raw)});
+  };
+  if (settings_.global) {
+    for (std::uint32_t a = 0; a < free; ++a)
+      for (std::uint32_t b = a + 1; b < free; ++b) pair_of(order[a], order[b]);
+  } else {
+    for (std::uint32_t a = 0; a < free; ++a) {
+      const std::uint32_t i = order[a];
+      std::vector<std::uint32_t> near;
+      for_near(i, constrained, [&](std::uint32_t j) {
+        if (members_.cluster_of(j) != group.cluster || norm(sep(i, j)) >= constrained) return;
+        const auto it = local.find(j);
+        if (it != local.end() && it->second < free && it->second <= a) return;  // free pairs once
+        near.push_back(j);
+      });
+      std::sort(near.begin(), near.end());
+      for (const std::uint32_t j : near) pair_of(i, j);
+    }
+  }
+  problem.x.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) problem.x[k] = scale_ * x_[order[k]];
+  const DahaResult result = aggkit::minimise(problem, settings_.daha);
+  for (std::size_t k = 0; k < free; ++k) x_[order[k]] = (1.0 / scale_) * problem.x[k];
+  moved.assign(order.begin(), order.begin() + std::ptrdiff_t(free));
+  return result;
+}
+
+void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::uint32_t>> new_links) {
+  std::size_t rounds = 0;
+  while (!new_links.empty()) {
+    if (rounds++ >= settings_.max_rounds) {
+      ++counters_.round_cap_hits;
+      break;
+    }
+    ++counters_.rounds;
+    for (const auto& [a, b] : new_links) link(a, b);
+    std::vector<Group> groups;
+    std::unordered_map<std::uint32_t, std::size_t> group_of;
+    for (const auto& [a, b] : new_links) {
+      const std::uint32_t c = members_.cluster_of(a);
+      const auto [it, fresh] = group_of.emplace(c, groups.size());
+      if (fresh) groups.push_back({c, {}});
+      groups[it->second].seeds.push_back(a);
+      groups[it->second].seeds.push_back(b);
+    }
+    for (Group& g : groups) {
+      std::sort(g.seeds.begin(), g.seeds.end());
+      g.seeds.erase(std::unique(g.seeds.begin(), g.seeds.end()), g.seeds.end());
+    }
+    std::vector<DahaResult> results(groups.size());
+    std::vector<std::vector<std::uint32_t>> moved(groups.size());
+    const std::size_t workers = std::min(settings_.threads, groups.size());
+    if (workers <= 1) {
+      for (std::size_t g = 0; g < groups.size(); ++g) results[g] = minimise(groups[g], moved[g]);
+    } else {
+      // Separate clusters: disjoint free spheres, each group reads only its own cluster.
+      std::atomic<std::size_t> next{0};
+      std::vector<std::thread> pool;
+      for (std::size_t w = 0; w < workers; ++w)
+        pool.emplace_back([&] {
+          for (std::size_t g; (g = next++) < groups.size();) results[g] = minimise(groups[g], moved[g]);
+        });
+      for (auto& t : pool) t.join();
+    }
+    std::vector<std::uint32_t> check;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const DahaResult& r = results[g];
+      ++counters_.minimisations;
+      counters_.minimisation_iterations += r.iterations;
+      counters_.free_spheres += moved[g].size();
+      if (!r.converged) ++counters_.iteration_cap_hits;
+      counters_.max_overlap = std::max(counters_.max_overlap, r.max_overlap);
+      counters_.overlap_sum += r.mean_overlap;
+      last_mean_ = r.mean_overlap;
+      bool outside = false;
+      for (const std::uint32_t p : moved[g]) {
+        x_[p] = box_.wrap(x_[p]);
+        if (box_.boundary == Boundary::reflecting)
+          for (int d = 0; d < box_.dimension; ++d)
+            outside = outside || x_[p][d] < radius_ || x_[p][d] > box_.side[d] - radius_;
+      }
+      if (outside) {  // pushed past a wall by the minimisation: the cluster is moved back as a whole
+        reflect(groups[g].cluster);
+        for (std::uint32_t p = members_.first(groups[g].cluster); p != ClusterMembership::none; p = members_.next(p))
+          check.push_back(p);
+      } else {
+        check.insert(check.end(), moved[g].begin(), moved[g].end());
+      }
+    }
+    for (const std::uint32_t p : check) {
+      const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
+      if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+    }
+    new_links = overlaps_between_clusters(check);
+  }
+}
+
+void TimeSteppingAggregation::step(double dt) {
+  if (!(dt > 0)) dt = time_step();
+  flight(dt);
+  time_ += dt;
+  ++counters_.steps;
+  last_mean_ = 0;
+  resolve(overlaps_between_clusters({}));
+}
+
+TsStop TimeSteppingAggregation::advance(double t, std::size_t target_clusters, const std::function<void()>& progress) {
+  for (;;) {
+    if (target_clusters > 0 && members_.clusters() <= target_clusters) return TsStop::clusters_reached;
+    if (time_ >= t) return TsStop::time_reached;
+    const double dt = time_step();
+    if (time_ + dt >= t - 1e-12 * std::abs(t)) {
+      step(t - time_);
+      time_ = t;
+    } else {
+      step(dt);
+    }
+    if (progress && counters_.steps % 256 == 0) progress();
+  }
+}
+
+bool TimeSteppingAggregation::at_rest() const {
+  const Vector3* first = nullptr;
+  double scale = 0;
+  for (std::uint32_t c = 0; c < x_.size(); ++c)
+    if (members_.size(c) > 0) scale = std::max(scale, norm(velocity_[c]));
+  for (std::uint32_t c = 0; c < x_.size(); ++c) {
+    if (members_.size(c) == 0) continue;
+    if (!first) first = &velocity_[c];
+    else if (norm(velocity_[c] - *first) > 1e-12 * scale) return false;
+  }
+  return true;
+}
+
+std::vector<Vector3> TimeSteppingAggregation::velocities() const {
+  std::vector<Vector3> v(x_.size());
+  for (std::uint32_t p = 0; p < x_.size(); ++p) v[p] = velocity_[members_.cluster_of(p)];
+  return v;
+}
+
+std::vector<Vector3> TimeSteppingAggregation::cluster_positions(std::uint32_t cluster) const {
+  // Unwrapped along the links (breadth first from the cluster's first particle).
+  std::unordered_map<std::uint32_t, Vector3> placed;
+  std::vector<std::uint32_t> queue{members_.first(cluster)};
+  placed[queue[0]] = x_[queue[0]];
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    const std::uint32_t i = queue[k];
+    for (const std::uint32_t j : links_[i])
+      if (placed.emplace(j, placed[i] + sep(i, j)).second) queue.push_back(j);
+  }
+  std::vector<Vector3> out;
+  for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) out.push_back(placed.at(p));
+  return out;
+}
+
+std::uint32_t TimeSteppingAggregation::largest_cluster() const {
+  std::uint32_t best = 0;
+  for (std::uint32_t c = 0; c < x_.size(); ++c)
+    if (members_.size(c) > members_.size(best)) best = c;
+  return best;
+}
+
+double TimeSteppingAggregation::kinetic_energy() const {
+  double e = 0;
+  for (std::uint32_t c = 0; c < x_.size(); ++c)
+    if (members_.size(c) > 0) e += 0.5 * double(members_.size(c)) * dot(velocity_[c], velocity_[c]);
+  return e;
+}
+
+Vector3 TimeSteppingAggregation::momentum() const {
+  Vector3 p{0, 0, 0};
+  for (std::uint32_t c = 0; c < x_.size(); ++c)
+    if (members_.size(c) > 0) p = p + double(members_.size(c)) * velocity_[c];
+  return p;
+}
+
+double TimeSteppingAggregation::largest_overlap() const {
+  const double contact2 = 4.0 * radius_ * radius_;
+  double worst = 0;
+  for (std::uint32_t i = 0; i < x_.size(); ++i)
+    for_near(i, 2.0 * radius_, [&](std::uint32_t j) {
+      const Vector3 d = sep(i, j);
+      worst = std::max(worst, std::sqrt(std::max(0.0, contact2 - dot(d, d))));
+    });
+  return worst * scale_;
+}
+
+double TimeSteppingAggregation::largest_relative_overlap() const {
+  double worst = 0;
+  for (std::uint32_t i = 0; i < x_.size(); ++i)
+    for_near(i, 2.0 * radius_, [&](std::uint32_t j) { worst = std::max(worst, 1.0 - norm(sep(i, j)) / (2.0 * radius_)); });
+  return worst;
+}
+
+std::size_t TimeSteppingAggregation::links() const {
+  std::size_t n = 0;
+  for (const auto& l : links_) n += l.size();
+  return n / 2;
+}
+
+}  // namespace aggkit

@@ -1,0 +1,145 @@
+#pragma once
+// Time-stepping ballistic aggregation [Degond2024, Sec. 3]: N equal hard discs (2-D) or spheres (3-D) of
+// radius R and equal mass; clusters translate rigidly, stick on contact and move on with the
+// momentum-weighted velocity [Degond2024, eq. 2.9]. One step of length Δt:
+//   1. free flight of every cluster; with reflecting walls a cluster that crosses a wall is reflected as a
+//      whole (moved back by twice its penetration, the velocity component reversed, the momentum given to
+//      the wall recorded); periodic boxes wrap;
+//   2. every overlapping pair of different clusters becomes a link and their clusters merge (velocity:
+//      mass-weighted mean, so momentum is conserved to round-off);
+//   3. the spheres near the new links are moved by the DAHA minimisation (daha.hpp) to a configuration
+//      without overlaps in which every link touches; contacts with other clusters that appear during the
+//      minimisation (or after a wall correction) become links in turn, and 2–3 repeat until no new link
+//      appears [Degond2024, Sec. 3, steps 2c–2e].
+// The local almost rigid variant of [Degond2024, Sec. 3.3] is the default: the free spheres of a
+// minimisation are those of the merged cluster within Δ_W (interaction_range) of an end of a new link,
+// the rest of the cluster is held fixed; links attract only while within Δ_W (eq. 3.30); constraints are
+// the same-cluster pairs closer than max(Δ_W, 4R) found from the neighbouring cells of a cell list
+// (multipliers per constrained pair: memory O(contacts)). A step's minimisation cost follows the new
+// contacts, not N (flight and overlap detection stay O(N) per step). `global` (Sec. 3.1) frees every sphere
+// of the clusters touched and constrains all their pairs (O(n²): small systems only).
+// Links are the contact graph: the pairs that were linked (new links and every earlier one), stored per
+// sphere. Separate clusters are minimised independently, on `threads` workers; results do not depend on
+// the thread count.
+//
+// Time step: Δt^n = Δt(0) (2 − ln M^n / ln N), Δt(0) = dt_factor · L / max_i |V_i(0)| (L the largest box
+// side) [Degond2024, Table 1]: Δt(0) with N clusters, 2Δt(0) with one, growing with ln of the number of
+// merges so far (the cluster count falls like a power of t in ballistic aggregation, so the step grows
+// steadily through the run rather than all at once at the start).
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "particle/common/box.hpp"
+#include "particle/common/cell_grid.hpp"
+#include "particle/common/cell_list.hpp"
+#include "particle/common/cluster_membership.hpp"
+#include "particle/ts/daha.hpp"
+
+namespace aggkit {
+
+struct TsSettings {
+  DahaParameters daha;
+  double dt_factor = 0.01;         // Δt(0) = dt_factor · L / max|V(0)|
+  double interaction_range = 4.0;  // Δ_W / R
+  bool global = false;             // Sec. 3.1 instead of the local variant of Sec. 3.3
+  std::size_t threads = 1;         // workers for the minimisations of separate clusters
+  std::size_t max_rounds = 1000;   // link–minimise rounds per step before giving up (counted)
+};
+
+struct TsCounters {
+  std::uint64_t steps = 0;
+  std::uint64_t merges = 0;
+  std::uint64_t minimisations = 0;
+  std::uint64_t minimisation_iterations = 0;
+  std::uint64_t iteration_cap_hits = 0;
+  std::uint64_t rounds = 0;             // link–minimise rounds (≥ 1 per step with new links)
+  std::uint64_t round_cap_hits = 0;
+  std::uint64_t wall_contacts = 0;
+  std::uint64_t free_spheres = 0;       // summed over minimisations
+  double max_overlap = 0;               // largest √φ⁺ of a pair after any minimisation (length units)
+  double overlap_sum = 0;               // Σ over minimisations of their final mean link measure (eq. 3.28)
+};
+
+enum class TsStop { time_reached, clusters_reached };
+
+class TimeSteppingAggregation {
+ public:
+  // Relative penetration 1 − |Δx|/2R beyond which two spheres of one cluster that end a minimisation
+  // overlapping are linked and minimised again (the constraint lists are built from the positions at the
+  // start of a minimisation; a free sphere can move past them).
+  static constexpr double same_cluster_tolerance = 1e-2;
+
+  // Positions inside the box (reflecting: at least R from every wall) not overlapping (InputError naming
+  // `particles.initial` otherwise); one velocity per particle; at least one nonzero velocity.
+  TimeSteppingAggregation(const Box& box, double radius, std::span<const Vector3> positions,
+                          std::span<const Vector3> velocities, const TsSettings& settings);
+
+  // One step of length dt (the law's Δt when dt <= 0).
+  void step(double dt = 0);
+  // Steps until time t (the last step shortened to land on t) or until at most target_clusters remain.
+  // `progress` every 256 steps.
+  TsStop advance(double t, std::size_t target_clusters, const std::function<void()>& progress = {});
+  // True when no cluster moves relative to another (nothing can change any more).
+  bool at_rest() const;
+
+  double time() const { return time_; }
+  double time_step() const;  // the law's Δt^n now
+  double initial_time_step() const { return dt0_; }
+  std::size_t particles() const { return x_.size(); }
+  std::size_t clusters() const { return members_.clusters(); }
+  const Box& box() const { return box_; }
+  double radius() const { return radius_; }
+  const TsCounters& counters() const { return counters_; }
+  const std::vector<Vector3>& positions() const { return x_; }  // wrapped into the box
+  std::vector<Vector3> velocities() const;
+  Vector3 cluster_velocity(std::uint32_t particle) const { return velocity_[members_.cluster_of(particle)]; }
+  std::uint32_t cluster_of(std::uint32_t particle) const { return members_.cluster_of(particle); }
+  std::vector<std::uint32_t> cluster_labels() const { return members_.labels(); }
+  std::vector<Vector3> cluster_positions(std::uint32_t cluster) const;  // unwrapped along the links
+  std::uint32_t largest_cluster() const;
+  double kinetic_energy() const;  // Σ ½ |v|² (unit masses)
+  Vector3 momentum() const;       // Σ v (unit masses)
+  Vector3 wall_impulse() const { return wall_impulse_; }
+  // The largest √φ⁺ over all pairs, in the DAHA's units (R = 0.2), and the largest 1 − |Δx|/2R.
+  double largest_overlap() const;
+  double largest_relative_overlap() const;
+  // Mean √|φ| over the links of the last minimisation of the last step (0 if none), DAHA units.
+  double last_mean_link_measure() const { return last_mean_; }
+  double scale() const { return scale_; }  // DAHA units per length unit (0.2 / R)
+  std::size_t links() const;
+
+ private:
+  struct Group {
+    std::uint32_t cluster;
+    std::vector<std::uint32_t> seeds;  // ends of new links
+  };
+  void flight(double dt);
+  void reflect(std::uint32_t cluster);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among) const;
+  void link(std::uint32_t a, std::uint32_t b);
+  DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved);  // writes only the group's free spheres
+  void resolve(std::vector<std::pair<std::uint32_t, std::uint32_t>> new_links);
+  Vector3 sep(std::uint32_t i, std::uint32_t j) const { return box_.minimum_image(x_[j] - x_[i]); }
+  template <class F>
+  void for_near(std::uint32_t i, double reach, F&& f) const;  // every j != i within `reach` cells' span
+
+  Box box_;
+  double radius_;
+  double scale_;
+  TsSettings settings_;
+  CellGrid grid_;
+  CellList cells_;
+  ClusterMembership members_;
+  std::vector<Vector3> x_;
+  std::vector<Vector3> velocity_;  // per cluster id
+  std::vector<std::vector<std::uint32_t>> links_;  // per sphere: its linked partners
+  double time_ = 0, dt0_ = 0;
+  Vector3 wall_impulse_{0, 0, 0};
+  TsCounters counters_;
+  double last_mean_ = 0;
+};
+
+}  // namespace aggkit

@@ -1,0 +1,97 @@
+// Whole TS runs to one cluster, checked after every step: the mean link measure of every minimisation
+// ≤ ε_c (when it converged), no pair overlapping by more than 1 % of 2R, N − 1 merges, momentum plus
+// wall impulse conserved to round-off, kinetic energy never increasing; results independent of the
+// number of cluster threads.
+#include <catch2/catch.hpp>
+
+#include "particle/common/initial_state.hpp"
+#include "particle/ts/time_stepping_aggregation.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+TimeSteppingAggregation make_run(int dimension, std::size_t count, double nu, Boundary boundary, double dt_factor,
+                                 std::size_t threads = 1) {
+  const double radius = 0.5;
+  const double side = box_side_for_volume_fraction(dimension, count, radius, nu);
+  const Box box{dimension, {side, side, dimension == 3 ? side : 0.0}, boundary};
+  TsSettings settings;
+  settings.dt_factor = dt_factor;
+  settings.threads = threads;
+  return TimeSteppingAggregation(box, radius, lattice_positions(box, count, radius),
+                                 initial_velocities(dimension, count, VelocityLaw::fixed_speed, 1.0, 7), settings);
+}
+
+void check_whole_run(TimeSteppingAggregation ts) {
+  const Vector3 p0 = ts.momentum() + ts.wall_impulse();
+  double scale = 0;
+  for (const Vector3& v : ts.velocities()) scale += norm(v);
+  double energy = ts.kinetic_energy(), worst_relative = 0;
+  std::uint64_t caps = 0;
+  while (ts.clusters() > 1 && ts.counters().steps < 100000) {
+    ts.step();
+    if (ts.counters().iteration_cap_hits == caps) CHECK(ts.last_mean_link_measure() <= 1e-2);
+    caps = ts.counters().iteration_cap_hits;
+    worst_relative = std::max(worst_relative, ts.largest_relative_overlap());
+    const double e = ts.kinetic_energy();
+    REQUIRE(e <= energy * (1 + 1e-13));
+    energy = e;
+  }
+  INFO("steps " << ts.counters().steps << ", minimisations " << ts.counters().minimisations << ", cap hits " << caps
+                << ", worst relative overlap " << worst_relative);
+  CHECK(ts.clusters() == 1);
+  CHECK(ts.counters().merges == ts.particles() - 1);
+  CHECK(worst_relative <= TimeSteppingAggregation::same_cluster_tolerance);
+  CHECK(norm(ts.momentum() + ts.wall_impulse() - p0) <= 1e-12 * scale);
+  CHECK(caps <= ts.counters().minimisations / 50);
+}
+
+}  // namespace
+
+TEST_CASE("ts: 2-D reflecting run to one cluster", "[ts][whole_run]") {
+  check_whole_run(make_run(2, 225, 0.2, Boundary::reflecting, 0.005));
+}
+
+TEST_CASE("ts: 2-D periodic run to one cluster", "[ts][whole_run]") {
+  check_whole_run(make_run(2, 196, 0.1, Boundary::periodic, 0.005));
+}
+
+TEST_CASE("ts: 3-D reflecting and periodic runs to one cluster", "[ts][whole_run]") {
+  check_whole_run(make_run(3, 125, 0.1, Boundary::reflecting, 0.01));
+  check_whole_run(make_run(3, 125, 0.1, Boundary::periodic, 0.01));
+}
+
+TEST_CASE("ts: two cluster threads give the same run as one", "[ts][threads]") {
+  auto one = make_run(2, 400, 0.2, Boundary::reflecting, 0.01, 1);
+  auto two = make_run(2, 400, 0.2, Boundary::reflecting, 0.01, 2);
+  for (int s = 0; s < 60; ++s) {
+    one.step();
+    two.step();
+  }
+  CHECK(one.clusters() == two.clusters());
+  CHECK(one.positions() == two.positions());
+  CHECK(one.counters().minimisation_iterations == two.counters().minimisation_iterations);
+}
+
+TEST_CASE("ts: a start with overlaps is refused naming particles.initial", "[ts][input]") {
+  const Box box{2, {10, 10, 0}, Boundary::reflecting};
+  const std::vector<Vector3> x{{2, 2, 0}, {2.5, 2, 0}}, v{{1, 0, 0}, {-1, 0, 0}};
+  CHECK_THROWS_WITH(TimeSteppingAggregation(box, 0.5, x, v, TsSettings{}), Catch::Contains("particles.initial"));
+}
+
+TEST_CASE("ts: two discs in a head-on collision merge once, momentum conserved, touching", "[ts][few]") {
+  const Box box{2, {20, 20, 0}, Boundary::reflecting};
+  const std::vector<Vector3> x{{5, 10, 0}, {8, 10.3, 0}}, v{{1, 0, 0}, {-0.5, 0, 0}};
+  TsSettings settings;
+  settings.dt_factor = 0.002;
+  TimeSteppingAggregation ts(box, 0.5, x, v, settings);
+  ts.advance(4.0, 1);
+  REQUIRE(ts.clusters() == 1);
+  CHECK(ts.cluster_velocity(0)[0] == Approx(0.25).epsilon(1e-14));
+  CHECK(std::abs(norm(ts.positions()[1] - ts.positions()[0]) - 1.0) < 1e-3);
+  // ED: contact at t = (3 − √(1 − 0.09)) / 1.5; TS merges in the step that contains it.
+  const double contact = (3.0 - std::sqrt(1.0 - 0.09)) / 1.5;
+  CHECK(ts.time() >= contact);
+  CHECK(ts.time() <= contact + 2 * ts.time_step());
+}

@@ -1,0 +1,101 @@
+// The ts engine through the harness: the output contract (series.csv, final.json with the engine's own
+// entries), bad input naming the key, and the shipped TS-vs-ED scene: its comparison passes and the final
+// aggregates agree with ED's (box-counting D_f within 3 %, N_c of eq. 4.6 with i = j within 5 %).
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/input_error.hpp"
+#include "tests/validation/scene_fixture.hpp"
+#include "validation/harness/harness.hpp"
+
+using namespace aggkit;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string ts_scene(const std::string& engine_extra = "stop = \"one_cluster\"\n", const std::string& particles_extra = "") {
+  return "name = \"ts-test\"\n[particles]\ndimension = 2\ncount = 100\nradius = 0.5\nvolume_fraction = 0.2\n"
+         "boundary = \"reflecting\"\ninitial = { lattice = \"square\", speed = 1.0, directions = \"uniform\" }\n" +
+         particles_extra + "\n[time]\nend = 5.0\noutputs = [1.0, 2.0, 5.0]\n\n[[engine]]\nname = \"ts\"\n" + engine_extra +
+         "\n[observe]\nseries = [\"clusters\", \"kinetic_energy\", \"M1\"]\nfinal = [\"clusters\", \"contacts\"]\n";
+}
+
+void check_bad(const std::string& text, const std::string& key, const std::string& value) {
+  INFO(text);
+  try {
+    const Scene scene = aggkit::testing::parse_checked(text);
+    run_scene(scene, aggkit::testing::quiet_run(aggkit::testing::scratch_folder("ts-bad")));
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    CHECK(e.key() == key);
+    CHECK_THAT(std::string(e.what()), Contains(value));
+  }
+}
+
+double final_value(const std::filesystem::path& file, const std::string& key) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in).at(key).get<double>();
+}
+
+}  // namespace
+
+TEST_CASE("ts: series and final.json follow the contract", "[ts][harness]") {
+  const auto out = aggkit::testing::scratch_folder("ts-contract");
+  const RunResult result = run_scene(aggkit::testing::parse_checked(ts_scene("stop = \"one_cluster\"\ncluster_threads = 2\n",
+                                                                              "realizations = 3\nseed = 5\n")),
+                                     aggkit::testing::quiet_run(out));
+  REQUIRE(result.records[0].completed());
+  CHECK(aggkit::testing::first_line(out / "ts" / "series.csv") ==
+        "t,clusters,kinetic_energy,M1,clusters_stderr,kinetic_energy_stderr,M1_stderr");
+  double previous = 50.0;
+  for (const auto& row : result.records[0].values) {
+    CHECK(row[1] <= previous * (1 + 1e-12));  // merging never adds energy
+    previous = row[1];
+    CHECK(row[2] == Approx(1.0).epsilon(1e-12));
+  }
+  std::ifstream in(out / "ts" / "final.json");
+  const auto final = nlohmann::json::parse(in);
+  for (const char* key : {"clusters", "contacts", "steps", "minimisation_iterations", "iteration_cap_hits", "max_overlap",
+                          "mean_overlap", "wall_seconds", "momentum_drift", "stop_time"})
+    CHECK(final.contains(key));
+  CHECK(final["clusters"].get<double>() == 1.0);
+  CHECK(final["momentum_drift"].get<double>() < 1e-13);
+  CHECK(final["mean_overlap"].get<double>() <= 1e-2);
+  CHECK(final["max_overlap"].get<double>() < 0.1);  // √φ⁺ with R = 0.2: under 2 % of 2R
+  CHECK(final["steps"].get<double>() > 10);
+}
+
+TEST_CASE("ts: bad options and [particles] name the key", "[ts][harness]") {
+  check_bad(ts_scene("dt_factor = 0.0\n"), "engine[0].dt_factor", "0");
+  check_bad(ts_scene("eps_c = 0.0\n"), "engine[0].eps_c", "0");
+  check_bad(ts_scene("eps_s = -1.0\n"), "engine[0].eps_s", "-1");
+  check_bad(ts_scene("interaction_range = 1.5\n"), "engine[0].interaction_range", "1.5");
+  check_bad(ts_scene("max_iterations = 0\n"), "engine[0].max_iterations", "0");
+  check_bad(ts_scene("c_bar = 10.0\n"), "engine[0].c_bar", "10");
+  check_bad(ts_scene("stop = \"never\"\n"), "engine[0].stop", "never");
+  check_bad(ts_scene("variant = \"rigid\"\n"), "engine[0].variant", "rigid");
+  std::string unequal = ts_scene();
+  unequal.replace(unequal.find("lattice = \"square\""), 18, "cloud = \"cube\"");
+  unequal.replace(unequal.find("radius = 0.5"), 12, "radius = { distribution = \"uniform\", min = 0.4, max = 0.6 }");
+  check_bad(unequal, "particles.radius", "distribution");
+}
+
+TEST_CASE("ts: the shipped TS-vs-ED scene passes and the final aggregates agree", "[ts][harness][physics]") {
+  const auto out = aggkit::testing::scratch_folder("ts-vs-ed");
+  const Scene scene = load_scene(std::filesystem::path(AGGKIT_SOURCE_DIR) / "validation/scenes/ballistic-ts-vs-ed.toml");
+  const RunResult result = run_scene(scene, aggkit::testing::quiet_run(out));
+  REQUIRE(result.records.size() == 2);
+  CHECK(result.pass);
+  // Measured (10 realizations, N = 400, ν = 0.2): D_f 1.708 ± 0.007 (TS) vs 1.711 ± 0.005 (ED);
+  // contacts_with_self 0.521 vs 0.513.
+  const double df_ts = final_value(out / "ts" / "final.json", "fractal_dimension_box");
+  const double df_ed = final_value(out / "ed" / "final.json", "fractal_dimension_box");
+  CHECK(std::abs(df_ts - df_ed) <= 0.03 * df_ed);
+  const double nc_ts = final_value(out / "ts" / "final.json", "contacts_with_self");
+  const double nc_ed = final_value(out / "ed" / "final.json", "contacts_with_self");
+  CHECK(std::abs(nc_ts - nc_ed) <= 0.05 * nc_ed);
+  CHECK(final_value(out / "ts" / "final.json", "momentum_drift") < 1e-13);
+}
