@@ -23,7 +23,7 @@ from . import _scene  # noqa: E402
 from . import analysis  # noqa: E402
 
 __all__ = ["Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
-           "ed", "run", "analysis", "engine_options", "rightmost_eigenvalues", "locate_hopf"]
+           "ed", "ts", "run", "analysis", "engine_options", "rightmost_eigenvalues", "locate_hopf"]
 
 
 def engine_options(engine):
@@ -227,6 +227,18 @@ def locate_hopf(model, a, lambda_lo, lambda_hi, tolerance=1e-3):
     steady state crosses Re = 0 for λ in [lambda_lo, lambda_hi] (continuation in λ). `model` gives N and the
     truncation. Returns a dict with found, lambda_crit, lambda_tolerance, omega, period, note."""
     return _aggkit.locate_hopf(model._text(), a, lambda_lo, lambda_hi, tolerance)
+
+
+def ts(times, particles=None, series=("clusters", "kinetic_energy", "M2"), final=("clusters",), progress=None, **keywords):
+    return _particle_engine("ts", times, particles, series, final, progress, keywords)
+
+
+ts.__doc__ = """ts(times, particles=None, series=("clusters", "kinetic_energy", "M2"), final=("clusters",), progress=None,
+   **keywords) -> ParticleRun
+
+Time-stepping ballistic aggregation (damped Arrow–Hurwicz minimisation) on the same [particles] as ed;
+keywords in the engine's option table go to the engine:
+""" + _options_doc("ts")
 
 
 def run(scene, out=None, force=False, plot=False):

@@ -28,6 +28,12 @@ def test_ed_series_final_values_and_final_configuration():
     assert list(sizes) == [100] and list(counts) == [1]
 
 
+def test_ts_runs_to_one_cluster_on_the_same_particles():
+    r = aggkit.ts([1.0, 2.0], PARTICLES, final=["clusters"], stop="one_cluster", seed=2)
+    assert r.final["clusters"][0] == 1.0
+    assert np.all(r.cluster == 0)
+
+
 def test_analysis_on_a_hand_made_configuration():
     # Three touching discs in a row and one apart.
     x = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [10.0, 0.0]])
@@ -82,6 +88,7 @@ def test_ctrl_c_interrupts_a_long_run_within_a_second():
 
 
 def test_help_lists_every_option_with_its_default():
-    for name, function in [("cvode", aggkit.integrate), ("snes", aggkit.steady_state), ("dsmc", aggkit.dsmc), ("ed", aggkit.ed)]:
+    for name, function in [("cvode", aggkit.integrate), ("snes", aggkit.steady_state), ("dsmc", aggkit.dsmc), ("ed", aggkit.ed),
+                           ("ts", aggkit.ts)]:
         for row in aggkit.engine_options(name):
             assert f"{row['key']} (default {row['default']};" in function.__doc__
