@@ -55,9 +55,9 @@ struct IntegratorOptions {
   // invariant; L the leaked mass), so that mass is conserved to round-off. Without it the mass drifts by
   // the accumulated Newton/GMRES residual, which grows with λ: at rtol 1e-6 over t = 10^4 it reached 4e-7
   // (λ = 0.01), 3e-4 (λ = 1) and 8e-3 (λ = 10), with M0 off by 0.8 % (bench/RESULTS.md, stress runs).
-  // The price: the correction, although placed on the small sizes, costs some accuracy in M3 at early
-  // times (7e-6 instead of 1.5e-6 at t = 1 in work-precision case a). Below atol 1e-10 projecting the
-  // steps made CVODE take 4-5x more steps, so only the outputs are projected there.
+  // The correction goes only to the sizes in the relative-tolerance regime (solvers/cvode_integrator.cpp,
+  // project_onto_mass_shell), so it leaves the moments' errors proportional to rtol. Below atol 1e-10
+  // projecting the steps made CVODE take 4-5x more steps, so only the outputs are projected there.
   bool project_mass = true;
   long max_steps = 10'000'000;
   // Max relative entry error of the low-rank kernel form (kernels without an exact factorisation);
