@@ -43,9 +43,12 @@ struct IntegratorOptions {
   // Lower bound of atol_k, relative to the largest initial density. The FFT gain is accurate to about
   // 1e-16 of the largest densities; below that, tolerance-level junk in the far tail evolves
   // non-smoothly and a smaller atol_k makes CVODE chase it with tiny steps (30x more steps were seen
-  // for the ballistic kernel at λ = 1 without the floor; bench/RESULTS.md, stress runs). The floor
-  // costs accuracy in the high moments of large systems (M3 of N = 4096 to ~1e-6), so it follows the
-  // tolerance: 0 (default) chooses 1e-10 rtol, i.e. 1e-16 at rtol 1e-6.
+  // for the ballistic kernel at λ = 1 without the floor; bench/RESULTS.md, stress runs). 0 (default)
+  // chooses 1e-10 rtol, i.e. 1e-16 at rtol 1e-6. The floor does not bound M3 by itself (Σ k³ · floor
+  // over N sizes is ~N^4/4 · floor): the moments stay proportional to rtol because sizes beyond the
+  // distribution's support stay exactly empty (the mass projection leaves them alone). A start that
+  // fills every size with sub-tolerance values (e.g. 1e-30) defeats the tilted convolution, and FFT
+  // round-off below the floor then sets M3 to ~1e-5 whatever rtol (N = 32768; bench/RESULTS.md).
   double atol_floor = 0.0;
   double effective_atol_floor() const { return atol_floor > 0.0 ? atol_floor : 1e-10 * rtol; }
   Preconditioner preconditioner = Preconditioner::monomer;
