@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "analysis/input_error.hpp"
+#include "analysis/least_squares.hpp"
 
 namespace aggkit {
 
@@ -39,34 +40,6 @@ struct TurningPoint {
   double t, x;
   bool maximum;
 };
-
-struct LineFit {
-  double slope = 0, slope_error = 0;
-};
-
-// Least-squares line y = c + s x with the standard error of s.
-LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
-  const double n = double(x.size());
-  const double mx = std::accumulate(x.begin(), x.end(), 0.0) / n;
-  const double my = std::accumulate(y.begin(), y.end(), 0.0) / n;
-  double sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxx += (x[i] - mx) * (x[i] - mx);
-    sxy += (x[i] - mx) * (y[i] - my);
-  }
-  LineFit fit;
-  if (sxx <= 0) return fit;
-  fit.slope = sxy / sxx;
-  if (x.size() > 2) {
-    double residual = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const double r = y[i] - my - fit.slope * (x[i] - mx);
-      residual += r * r;
-    }
-    fit.slope_error = std::sqrt(residual / (n - 2) / sxx);
-  }
-  return fit;
-}
 
 // The vertex of the parabola through (i-1, i, i+1): position and value of a sampled extremum to O(Δt^4)
 // for a smooth signal (the discrete maximum alone is off by O(Δt^2)).
@@ -163,8 +136,10 @@ OscillationClassification classify_oscillation(std::span<const double> t_all, st
         logs.push_back(std::log(dx));
       }
     }
+    // Unweighted: ln|Δx| has about the same scatter at every time (relative noise of the increments),
+    // so ordinary least squares is the estimator, and its slope error the standard error of γ.
     const LineFit fit = fit_line(times, logs);
-    c.decay_rate = -fit.slope;
+    c.decay_rate = -fit.slope;  // NaN if fewer than two increments are non-zero
     c.decay_rate_error = fit.slope_error;
     // Either way it does not oscillate: damped (no persistent oscillation), converged only for a clean
     // exponential relaxation.
@@ -208,6 +183,10 @@ OscillationClassification classify_oscillation(std::span<const double> t_all, st
     c.period_change = std::abs(p2 - p1) / p2;
   }
 
+  // ln A_j against time, unweighted: the cycle amplitudes carry about the same relative error, i.e. the
+  // same absolute error in ln A, whatever their size (a nonlinear fit of A0 e^{-γt} to A_j would instead
+  // weight the large early cycles more and needs a start; the log-linear fit is exact for an exponential
+  // envelope).
   const LineFit fit = fit_line(amplitude_times, log_amplitudes);
   c.decay_rate = -fit.slope;
   c.decay_rate_error = fit.slope_error;

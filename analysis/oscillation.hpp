@@ -9,7 +9,8 @@
 //     has fallen `prominence` × half swing below it, and vice versa; small noise creates no cycles) and refined
 //     by a parabola through the three samples around each (error O((Δt/T)^4) for a smooth signal);
 //  3. the half differences of successive turning points are the cycle amplitudes A_j; a least-squares fit of
-//     ln A_j against time gives the envelope decay rate γ (> 0 decaying, < 0 growing) and its standard error;
+//     ln A_j against time (analysis/least_squares.hpp) gives the envelope decay rate γ (> 0 decaying, < 0
+//     growing) and its standard error;
 //     the spacing of turning points of the same kind gives the period;
 //  4. relative envelope change γ·W over the fitted span W above `drift_tolerance`: damped; below
 //     -drift_tolerance: sustained but still growing (unstable steady state, limit cycle not yet reached);

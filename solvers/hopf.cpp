@@ -1,9 +1,16 @@
 // locate_hopf (declared in solvers/stability.hpp): λ_crit(a) of the brownian kernel (i/j)^a + (j/i)^a,
 // where the rightmost complex pair of the Jacobian at the steady state crosses Re μ = 0.
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_roots.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <new>
+#include <stdexcept>
+#include <string>
 
 #include "analysis/input_error.hpp"
 #include "solvers/stability.hpp"
@@ -26,6 +33,8 @@ class GrowthRate {
   }
 
   Sample at(double x, HopfPoint& point) {
+    for (const Sample& s : samples_)  // the root finder asks again for the ends it was given
+      if (s.x == x) return s;
     AggregationModel model = base_;
     model.lambda = ShatteringRate::constant(std::exp(x));
     // Continuation: start from the steady state at the nearest λ already solved.
@@ -104,28 +113,75 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
     point.note += "stable at lambda_lo = " + format_value(lambda_lo) + ": lambda_crit < lambda_lo (or no Hopf point)";
     return finish();
   }
-  // Illinois regula falsi on g(ln λ): lower has g ≥ 0, upper g < 0. The bracket always holds the
-  // crossing; it is narrowed until λ_upper / λ_lower ≤ 1 + relative_tolerance.
-  double g_lower = lower.growth, g_upper = upper.growth;
-  int side = 0;
+  // Brent's method (gsl_root_fsolver_brent: inverse quadratic interpolation and secant steps, bisection
+  // whenever they do not shrink the bracket fast enough) on g(ln λ): lower has g ≥ 0, upper g < 0. Every
+  // iterate keeps a bracket [x_lower, x_upper] of evaluated points around the crossing; it is narrowed
+  // until λ_upper / λ_lower ≤ 1 + relative_tolerance (gsl_root_test_interval with that width in ln λ).
+  // GSL's Brent resolves the root to machine precision, so once the iterates converge from one side
+  // (the other end of the bracket stays put) it would spend evaluations — each a steady state and a
+  // spectrum — on ε-sized steps. As in Brent's own algorithm with a user tolerance, a step shorter than a
+  // quarter of the wanted width is therefore followed by a probe half a width beyond the root estimate,
+  // which closes the bracket (or moves its far end), and the solver restarts on the narrowed bracket
+  // (its ends are cached: no new evaluations).
+  // An evaluation that throws (no steady state) is parked and rethrown after the solver is freed; GSL's
+  // abort-on-error handler is switched off meanwhile, and its status codes are checked instead.
   const double width = std::log1p(relative_tolerance);
-  for (int iteration = 0; upper.x - lower.x > width && iteration < 60; ++iteration) {
-    double x = (lower.x * g_upper - upper.x * g_lower) / (g_upper - g_lower);
-    // Keep the trial point strictly inside (and not glued to an end that has stopped moving).
-    const double margin = 0.05 * (upper.x - lower.x);
-    x = std::clamp(x, lower.x + std::min(margin, 0.5 * width), upper.x - std::min(margin, 0.5 * width));
-    Sample s = growth.at(x, point);
-    if (s.growth >= 0.0) {
-      lower = s;
-      g_lower = s.growth;
-      if (side == +1) g_upper *= 0.5;
-      side = +1;
-    } else {
-      upper = s;
-      g_upper = s.growth;
-      if (side == -1) g_lower *= 0.5;
-      side = -1;
+  struct Call {
+    GrowthRate* growth;
+    HopfPoint* point;
+    std::exception_ptr error;
+  } call{&growth, &point, nullptr};
+  gsl_function function;
+  function.function = [](double x, void* data) {
+    auto* c = static_cast<Call*>(data);
+    if (c->error) return std::numeric_limits<double>::quiet_NaN();
+    try {
+      return c->growth->at(x, *c->point).growth;
+    } catch (...) {
+      c->error = std::current_exception();
+      return std::numeric_limits<double>::quiet_NaN();  // GSL then stops with GSL_EBADFUNC
     }
+  };
+  function.params = &call;
+  struct Solver {
+    gsl_root_fsolver* s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    gsl_error_handler_t* previous = gsl_set_error_handler_off();
+    ~Solver() {
+      gsl_root_fsolver_free(s);
+      gsl_set_error_handler(previous);
+    }
+  } solver;
+  if (!solver.s) throw std::bad_alloc();
+  double x_lower = lower.x, x_upper = upper.x, previous_root = NAN;
+  int status = gsl_root_fsolver_set(solver.s, &function, x_lower, x_upper);
+  for (int iteration = 0; status == GSL_SUCCESS && x_upper - x_lower > width && iteration < 60; ++iteration) {
+    status = gsl_root_fsolver_iterate(solver.s);
+    if (status != GSL_SUCCESS) break;
+    x_lower = gsl_root_fsolver_x_lower(solver.s);
+    x_upper = gsl_root_fsolver_x_upper(solver.s);
+    const double root = gsl_root_fsolver_root(solver.s);
+    if (gsl_root_test_interval(x_lower, x_upper, width, 0.0) == GSL_SUCCESS) break;
+    if (std::abs(root - previous_root) < 0.25 * width) {
+      // Converging from one side: probe across the root, half a width towards the bracket's far end.
+      const bool at_lower = root - x_lower < x_upper - root;
+      const double probe = at_lower ? root + 0.5 * width : root - 0.5 * width;
+      const double g_root = growth.at(root, point).growth, g_probe = function.function(probe, &call);
+      if (call.error) break;
+      if ((g_probe >= 0.0) != (g_root >= 0.0))
+        (at_lower ? x_upper : x_lower) = probe, (at_lower ? x_lower : x_upper) = root;
+      else
+        (at_lower ? x_lower : x_upper) = probe;
+      status = gsl_root_fsolver_set(solver.s, &function, x_lower, x_upper);
+    }
+    previous_root = root;
+  }
+  if (call.error) std::rethrow_exception(call.error);
+  if (status != GSL_SUCCESS)
+    throw std::runtime_error(std::string("locate_hopf: Brent iteration failed: ") + gsl_strerror(status));
+  // The bracket's ends are evaluated points: take their samples (growth rate and ω).
+  for (double end : {x_lower, x_upper}) {
+    const Sample s = growth.at(end, point);  // cached, no new evaluation
+    (s.growth >= 0.0 ? lower : upper) = s;
   }
   // The crossing from the final bracket's true growth rates (linear in ln λ); the bound is the bracket.
   const double t = lower.growth / (lower.growth - upper.growth);

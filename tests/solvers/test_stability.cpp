@@ -143,6 +143,9 @@ TEST_CASE("locate_hopf brackets λ_crit(a) and reports ω", "[stability][hopf]")
   CHECK(p.lambda_crit < 0.02);
   CHECK(p.lambda_tolerance <= 1e-2 * p.lambda_crit * 1.02);
   CHECK(p.omega > 0.1);
+  // Against the earlier regula-falsi locator (Illinois, same growth rates): it put λ_crit at 0.0126719
+  // (bracket 6e-7 at tolerance 1e-4); Brent's bracket must hold that value.
+  CHECK(std::abs(p.lambda_crit - 0.0126719) <= p.lambda_tolerance);
   // Check the crossing independently: the pair is unstable just below and stable just above.
   for (double factor : {0.97, 1.03}) {
     AggregationModel model = base;
