@@ -93,8 +93,19 @@ struct FinalConfiguration {
 };
 
 py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py::object kernel, py::object initial,
-                    py::object progress) {
+                    py::object lambda, py::object progress) {
   Scene scene = parse_scene(scene_text, "arguments");
+  if (!lambda.is_none()) {
+    // λ(t) from Python: called with the GIL at every evaluation of the rates.
+    py::function f = lambda.cast<py::function>();
+    scene.model.lambda = ShatteringRate::function(
+        [f](double t) {
+          py::gil_scoped_acquire gil;
+          return f(t).cast<double>();
+        },
+        "callable");
+    scene.model.lambda.validate(scene.time.end, "lam");
+  }
   if (!kernel.is_none()) {
     // A Python kernel K(i, j): called with the GIL, pair by pair (the kernel's factorisation samples it).
     py::function k = kernel.cast<py::function>();
@@ -282,7 +293,7 @@ py::list option_table(const std::string& engine) {
 
 void bind_runs(py::module_& m) {
   m.def("run_engine", &run_engine, py::arg("scene_text"), py::arg("engine") = 0, py::arg("kernel") = py::none(),
-        py::arg("initial") = py::none(), py::arg("progress") = py::none());
+        py::arg("initial") = py::none(), py::arg("lam") = py::none(), py::arg("progress") = py::none());
   m.def("run_scene", &run_scene_text, py::arg("scene_text"), py::arg("source"), py::arg("out"), py::arg("force"),
         py::arg("plot"));
   m.def("option_table", &option_table, py::arg("engine"));

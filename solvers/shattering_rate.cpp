@@ -36,6 +36,13 @@ ShatteringRate ShatteringRate::table(std::vector<double> times, std::vector<doub
   return r;
 }
 
+ShatteringRate ShatteringRate::function(std::function<double(double)> lambda, std::string name) {
+  ShatteringRate r;
+  r.function_ = std::move(lambda);
+  r.name_ = std::move(name);
+  return r;
+}
+
 double ShatteringRate::operator()(double t) const {
   // Values within round-off below zero (e.g. a linear law that reaches 0 exactly at the end) are 0;
   // validate() has checked that nothing more negative occurs on [0, end].
@@ -43,6 +50,7 @@ double ShatteringRate::operator()(double t) const {
 }
 
 double ShatteringRate::unclamped(double t) const {
+  if (function_) return function_(t);
   if (linear_) return values_[0] + slope_ * t;
   if (times_.size() == 1 || t <= times_.front()) return values_.front();
   if (t >= times_.back()) return values_.back();
@@ -57,6 +65,8 @@ void ShatteringRate::validate(double t_end, const std::string& key) const {
   std::vector<double> probes{0.0, t_end};
   for (double t : times_)
     if (t > 0.0 && t < t_end) probes.push_back(t);
+  if (function_)  // a function is only sampled: 1001 points on [0, t_end]
+    for (int i = 1; i < 1000; ++i) probes.push_back(t_end * i / 1000.0);
   double scale = 0.0;
   for (double v : values_) scale = std::max(scale, std::abs(v));
   for (double t : probes) {
@@ -71,7 +81,9 @@ void ShatteringRate::validate(double t_end, const std::string& key) const {
 
 std::string ShatteringRate::describe() const {
   std::ostringstream out;
-  if (times_.size() == 1) {
+  if (function_) {
+    out << name_;
+  } else if (times_.size() == 1) {
     out << format_value(values_[0]);
   } else if (linear_) {
     out << format_value(values_[0]) << (slope_ < 0 ? " - " : " + ") << format_value(std::abs(slope_)) << " t";

@@ -42,8 +42,9 @@ class Model:
     kernel: a name ("constant", "sum", "product", "linear" with A, B, "genproduct" with mu, "ballistic",
         "brownian" with a) or a Python callable K(i, j) -> float (called pair by pair on floats: the core
         samples it to build a low-rank factorisation; K must be symmetric and >= 0).
-    lam: the shattering rate λ: a number, {"initial": λ0, "slope": s} (λ0 + s t) or
-        {"times": [...], "values": [...]} (piecewise linear).
+    lam: the shattering rate λ: a number, {"initial": λ0, "slope": s} (λ0 + s t),
+        {"times": [...], "values": [...]} (piecewise linear) or a callable λ(t) >= 0 (called at every rate
+        evaluation; checked at 1001 points of [0, t_end]).
     size: the truncation N >= 2.  truncation: "drop" or "cutoff".
     initial: None (unit monodisperse start) or an array n_1.. of densities (padded with zeros to N).
     kernel_parameters: the kernel's parameters by name (a=0.95, mu=0.5, A=1, B=0).
@@ -52,8 +53,6 @@ class Model:
     def __init__(self, kernel, lam=0.0, size=None, truncation="drop", initial=None, **kernel_parameters):
         if size is None:
             raise ValueError("size = None: the truncation N, an integer >= 2, is required")
-        if callable(lam):
-            raise ValueError("lam = <callable>: a number, {'initial': .., 'slope': ..} or {'times': [..], 'values': [..]}")
         self.kernel = kernel
         self.lam = lam
         self.size = size
@@ -65,7 +64,8 @@ class Model:
 
     def _section(self):
         name = "constant" if callable(self.kernel) else self.kernel  # a callable replaces it in the core
-        return {"kernel": {"name": name, **self.kernel_parameters}, "lambda": self.lam, "size": self.size,
+        lam = 0.0 if callable(self.lam) else self.lam  # a callable replaces it in the core
+        return {"kernel": {"name": name, **self.kernel_parameters}, "lambda": lam, "size": self.size,
                 "truncation": self.truncation}
 
     def _run(self, times, engine, series, distributions, progress):
@@ -73,7 +73,8 @@ class Model:
         if distributions:
             observe["distributions"] = [float(t) for t in np.asarray(times, dtype=float).ravel()]
         text = _scene.scene("python", model=self._section(), times=times, engine=engine, observe=observe)
-        return _aggkit.run_engine(text, 0, self.kernel if callable(self.kernel) else None, self.initial, progress)
+        return _aggkit.run_engine(text, 0, self.kernel if callable(self.kernel) else None, self.initial,
+                                  self.lam if callable(self.lam) else None, progress)
 
     def _text(self):
         return _scene.scene("python", model=self._section(), times=[1.0], engine={"name": "cvode"},
@@ -198,7 +199,7 @@ def _particle_engine(name, times, particles, series, final, progress, keywords):
     if final:
         observe["final"] = list(final)
     text = _scene.scene("python", particles=section, times=times, engine=engine, observe=observe)
-    return ParticleRun(_aggkit.run_engine(text, 0, None, None, progress))
+    return ParticleRun(_aggkit.run_engine(text, 0, None, None, None, progress))
 
 
 def ed(times, particles=None, series=("clusters", "kinetic_energy", "M2"), final=("clusters",), progress=None, **keywords):

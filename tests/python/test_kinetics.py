@@ -42,6 +42,17 @@ def test_a_python_kernel_equal_to_a_built_in_one_gives_the_same_solution():
     assert np.allclose(user.moment(2), built_in.moment(2), rtol=1e-6)
 
 
+def test_a_python_shattering_rate_equal_to_a_built_in_law_gives_the_same_solution():
+    # λ(t) = 0.01 (1 - t/400) [Kalinov2022, Sec. 5.2]: the built-in linear law against a callable.
+    t = [50.0, 200.0]
+    built_in = aggkit.integrate(aggkit.Model("brownian", a=0.9, lam={"initial": 0.01, "slope": -0.01 / 400}, size=512),
+                                t, rtol=1e-9)
+    user = aggkit.integrate(aggkit.Model("brownian", a=0.9, lam=lambda s: 0.01 * (1 - s / 400), size=512), t, rtol=1e-9)
+    assert np.allclose(user.moment(0), built_in.moment(0), rtol=1e-8)
+    with pytest.raises(ValueError, match="constant shattering rate"):
+        aggkit.steady_state(aggkit.Model("brownian", a=0.9, lam=lambda s: 0.01, size=64, truncation="cutoff"))
+
+
 def test_dsmc_means_and_standard_errors_bracket_the_exact_solution():
     # Constant kernel: every trial is accepted and advances the clock by a fixed step, so M0 is the same in
     # every run (its standard error is 0); M2 = 1 + t fluctuates.

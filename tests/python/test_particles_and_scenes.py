@@ -62,7 +62,7 @@ def test_run_a_scene_file_and_a_dict():
     (lambda: aggkit.integrate(aggkit.Model("gravity", size=64), [1.0]), "model.kernel.name = \"gravity\""),
     (lambda: aggkit.integrate(aggkit.Model("constant", lam=-0.5, size=64), [1.0]), "model.lambda = -0.5"),
     (lambda: aggkit.Model("constant"), "size = None"),
-    (lambda: aggkit.Model("constant", lam=lambda t: t, size=64), "lam"),
+    (lambda: aggkit.integrate(aggkit.Model("constant", lam=lambda t: 0.1 - t, size=64), [1.0]), "lam = callable"),
     (lambda: aggkit.integrate(aggkit.Model("constant", size=64), []), "times = []"),
     (lambda: aggkit.ed([1.0], dict(PARTICLES, radius=-1.0)), "particles.radius = -1"),
     (lambda: aggkit.ed([1.0], PARTICLES, stop="never"), "engine[0].stop"),
