@@ -748,6 +748,7 @@ def main():
             "scene_text": data[:20000].decode("utf-8", "replace") + ("" if len(data) <= 20000 else
                                                                     f"\n... ({len(data)} bytes in all)"),
             "hits": 1, "also": [],
+            "execution": executions,  # its place in the seed's sequence: how far a shorter budget must get
         }
     elapsed = time.monotonic() - start
     shutil.rmtree(work, ignore_errors=True)
