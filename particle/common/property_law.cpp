@@ -131,6 +131,12 @@ PropertyLaw PropertyLaw::fixed(double value) {
 }
 
 void PropertyLaw::validate(const std::string& name) const {
+  // Sizes and masses enter as powers (R³, m R²): parameters beyond 1e100 overflow them and defeat the
+  // quadratures of the law's moments.
+  if (distribution != Distribution::fixed)
+    for (const auto& [field, x] : {std::pair<const char*, double>{"mean", mean}, {"sd", sd}, {"min", min}, {"max", max}})
+      if (std::isfinite(x) && std::abs(x) > 1e100)
+        fail(name + "." + field, x, "a value of magnitude at most 1e100 (powers of it must stay finite)");
   switch (distribution) {
     case Distribution::fixed:
       if (!(value > 0) || !std::isfinite(value))
@@ -141,6 +147,9 @@ void PropertyLaw::validate(const std::string& name) const {
       require_positive(name + ".mean", mean, "mean");
       if (!(sd > 0) || !std::isfinite(sd))
         fail(name + ".sd", sd, "a finite standard deviation > 0 (for equal values give one number instead of a table)");
+      if (distribution == Distribution::lognormal && !(sd <= 100 * mean))
+        fail(name + ".sd", sd, "at most 100 times the mean for a lognormal law (a wider one spans tens of decades of sizes, "
+                               "beyond what its moments can be integrated to)");
       if (distribution == Distribution::normal)
         require_positive(name + ".min", min, "lower bound (a normal law is truncated to [min, max], and values must be positive)");
       else if (!(min >= 0) || !std::isfinite(min))

@@ -83,7 +83,11 @@ std::vector<std::pair<double, double>> read_check_points(const SceneTable& check
     const std::string key = check.key("points") + "[" + std::to_string(i) + "]";
     if (!pair || pair->size() != 2 || !(*pair)[0].is_number() || !(*pair)[1].is_number())
       throw InputError(key, scene_text((*list)[i]), expected);
-    points.emplace_back((*pair)[0].value<double>().value(), (*pair)[1].value<double>().value());
+    // value<double>() is empty for an integer a double cannot hold exactly (> 2^53): convert it ourselves.
+    const auto number = [](const toml::node& n) {
+      return n.is_integer() ? double(n.as_integer()->get()) : n.as_floating_point()->get();
+    };
+    points.emplace_back(number((*pair)[0]), number((*pair)[1]));
   }
   return points;
 }

@@ -29,6 +29,9 @@ std::vector<double> listed_grid(const SceneTable& time, double end) {
     const std::string key = time.key("outputs") + "[" + std::to_string(i) + "]";
     if (!(outputs[i] > 0 && outputs[i] <= end))
       throw InputError(key, shortest_text(outputs[i]), "output times lie in (0, time.end = " + shortest_text(end) + "]");
+    if (!(outputs[i] > time_resolution(end)))  // a subnormal first output once stalled CVODE
+      throw InputError(key, shortest_text(outputs[i]),
+                       "an output time distinguishable from the start: > 1e-9 time.end = " + shortest_text(time_resolution(end)));
     if (i > 0 && !(outputs[i] > outputs[i - 1]))
       throw InputError(key, shortest_text(outputs[i]),
                        "output times must increase; the previous one is " + shortest_text(outputs[i - 1]));
@@ -42,6 +45,8 @@ TimeGrid read_time(const SceneTable& time) {
   time.allow_only({"end", "outputs", "every"});
   TimeGrid grid;
   grid.end = time.number("end", Bound::positive);
+  // The integrators take steps of order end·1e-16 and below: a subnormal end (5e-324) stalled CVODE.
+  if (!(grid.end >= 1e-200)) time.fail("end", "an end time >= 1e-200 (steps below it underflow)");
   if (time.contains("outputs") && time.contains("every"))
     time.fail("every", "give either time.outputs or time.every, not both");
   if (time.contains("every"))

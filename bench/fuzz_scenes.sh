@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# A longer run of the scene fuzzer (tests/fuzz/fuzz_scenes.py; the test suite runs it for 45 s as
+# fuzz_scenes_quick): mutates the shipped scenes for BUDGET seconds, one aggkit run at a time, and prints
+# the statistics and the findings. Results and the command that produced them: bench/RESULTS.md,
+# "Scene fuzzing".
+#   bench/fuzz_scenes.sh [BUDGET_S [SEED]]     defaults 600 s, seed 7 (the quick test uses seed 1)
+#   BUILD_DIR=dir OUT=dir bench/fuzz_scenes.sh  binary BUILD_DIR/aggkit (default build), output folder
+#                                               OUT (default results/fuzz-scenes)
+# Exit status: the fuzzer's, 0 without findings, 1 with (details in OUT/findings.json and OUT/finding-NN.toml).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+budget=${1:-600}
+seed=${2:-7}
+build=${BUILD_DIR:-build}
+out=${OUT:-results/fuzz-scenes}
+test -x "$build/aggkit" || { echo "fuzz_scenes.sh: no $build/aggkit; build first (scripts/setup)" >&2; exit 2; }
+echo "fuzz_scenes.sh: load $(cut -d' ' -f1-3 /proc/loadavg), budget ${budget} s, seed ${seed}, output ${out}"
+/usr/bin/python3 tests/fuzz/fuzz_scenes.py "$build/aggkit" --seed "$seed" --budget "$budget" --timeout 10 --out "$out"
+status=$?
+/usr/bin/python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); print(json.dumps({k: s[k] for k in ("executions", "executions_per_s", "elapsed_s", "exit_codes", "findings", "finding_kinds", "mean_run_s_by_scene")}, indent=1))' "$out/stats.json"
+exit $status
