@@ -123,3 +123,107 @@ TEST_CASE("dem: the contact lasts t_c", "[dem]") {
   CHECK(clipped_collision(0).force_time / std::sqrt(elastic.stiffness_per_mass) == Approx(tc).epsilon(1e-14));
   CHECK(head_on(elastic, 1.0).overlap_time == Approx(tc).margin(1.01 * elastic.dt));
 }
+
+TEST_CASE("dem: two bodies under direct gravity follow a Kepler orbit", "[dem]") {
+  // m1 = 1, m2 = 0.5, G = 1, a = 1, eccentricity 0.5, starting at periapsis; radii 0.01 (no contact).
+  // Period T = 2π √(a³/(G M)). Velocity Verlet's error scale is (ω_p dt)² with ω_p = v_p/r_p the fastest
+  // angular rate (periapsis): with dt = T/2000, (ω_p dt)² = 1.2e-4, the tolerance of the period and of the
+  // energy's largest relative deviation. The momentum (zero in the centre-of-mass frame) stays at round-off.
+  const double G = 1, m1 = 1, m2 = 0.5, M = m1 + m2, a = 1, ecc = 0.5;
+  const double rp = a * (1 - ecc), vp = std::sqrt(G * M * (1 + ecc) / (a * (1 - ecc)));
+  const double period = 2 * M_PI * std::sqrt(a * a * a / (G * M));
+  DemSettings s;
+  s.stiffness = 1;
+  s.gravity = true;
+  s.G = G;
+  s.dt = period / 2000;
+  ParticleStart start;
+  start.positions = {{-rp * m2 / M, 0, 0}, {rp * m1 / M, 0, 0}};
+  start.velocities = {{0, -vp * m2 / M, 0}, {0, vp * m1 / M, 0}};
+  start.radii = {0.01, 0.01};
+  start.masses = {m1, m2};
+  Dem dem(open_box(), start, s);
+  const double energy0 = dem.total_energy();
+  CHECK(energy0 == Approx(-G * m1 * m2 / (2 * a)).epsilon(1e-9));  // softening 1e-5: negligible
+  const double tolerance = std::pow(vp / rp * s.dt, 2);
+  double angle = 0, previous_angle = 0, crossing = 0, worst_energy = 0, worst_momentum = 0;
+  while (dem.time() < 1.5 * period) {
+    dem.step();
+    const Vector3 d = dem.positions()[1] - dem.positions()[0];
+    double step_angle = std::atan2(d[1], d[0]) - std::fmod(previous_angle, 2 * M_PI);
+    while (step_angle < -M_PI) step_angle += 2 * M_PI;
+    while (step_angle > M_PI) step_angle -= 2 * M_PI;
+    angle = previous_angle + step_angle;
+    if (crossing == 0 && angle >= 2 * M_PI)  // linear interpolation of the time the angle reaches 2π
+      crossing = dem.time() - s.dt * (angle - 2 * M_PI) / (angle - previous_angle);
+    previous_angle = angle;
+    worst_energy = std::max(worst_energy, std::abs(dem.total_energy() / energy0 - 1));
+    worst_momentum = std::max(worst_momentum, norm(dem.momentum()));
+  }
+  INFO("period error " << crossing / period - 1 << ", energy deviation " << worst_energy << ", tolerance " << tolerance);
+  CHECK(std::abs(crossing / period - 1) < tolerance);
+  CHECK(worst_energy < tolerance);
+  CHECK(worst_momentum < 1e-14 * m1 * vp);
+}
+
+namespace {
+
+// A cold cloud of 120 spheres (R = 1, m = 1) in a cube of side 16, with gravity and damped contacts.
+ParticleStart cloud(std::uint64_t seed) {
+  ParticleStart start;
+  std::uint64_t state = seed;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) / 9007199254740992.0;
+  };
+  while (start.size() < 120) {
+    const Vector3 p{16 * uniform(), 16 * uniform(), 16 * uniform()};
+    bool free = true;
+    for (const Vector3& q : start.positions) free = free && norm(p - q) > 2.05;
+    if (!free) continue;
+    start.positions.push_back(p);
+    start.velocities.push_back({0, 0, 0});
+    start.radii.push_back(1);
+    start.masses.push_back(1);
+  }
+  return start;
+}
+
+DemSettings collapse_settings(std::size_t threads) {
+  DemSettings s = calibrated(0.3, 0.05, false);
+  s.gravity = true;
+  s.G = 1;
+  s.force_threads = threads;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("dem: results do not depend on the gravity thread count; momentum kept to round-off", "[dem]") {
+  Dem one(open_box(), cloud(3), collapse_settings(1));
+  Dem three(open_box(), cloud(3), collapse_settings(3));
+  for (int k = 0; k < 3000; ++k) one.step(), three.step();
+  CHECK(one.counters().collisions > 0);  // contacts took part
+  CHECK(one.positions() == three.positions());
+  CHECK(one.velocities() == three.velocities());
+  CHECK(one.counters().collisions == three.counters().collisions);
+  // Σ m |v| sets the momentum scale; pair forces cancel exactly, so only the sums' round-off remains.
+  double scale = 0;
+  for (std::size_t i = 0; i < one.size(); ++i) scale += one.masses()[i] * norm(one.velocities()[i]);
+  CHECK(norm(one.momentum()) < 1e-13 * scale);
+}
+
+TEST_CASE("dem: an elastic self-gravitating cloud keeps its energy", "[dem]") {
+  DemSettings s = calibrated(1.0, 0.05, false);
+  s.gravity = true;
+  Dem dem(open_box(), cloud(7), s);
+  const double energy0 = dem.total_energy(), scale = std::abs(dem.gravitational_energy());
+  double worst = 0;
+  for (int k = 0; k < 3000; ++k) {
+    dem.step();
+    worst = std::max(worst, std::abs(dem.total_energy() - energy0) / scale);
+  }
+  INFO("collisions " << dem.counters().collisions << ", worst relative energy error " << worst);
+  CHECK(dem.counters().collisions > 0);
+  CHECK(worst < 1e-3);
+}
