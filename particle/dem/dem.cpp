@@ -35,6 +35,7 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   if (n < 1 || start.velocities.size() != n || start.radii.size() != n || start.masses.size() != n)
     throw std::invalid_argument("dem: positions, velocities, radii and masses must have one entry per particle");
   if (!(settings.dt > 0) || !std::isfinite(settings.dt)) throw std::invalid_argument("dem: dt must be finite and > 0");
+  if (settings.gravity && box.boundary == Boundary::periodic) throw std::invalid_argument("dem: no gravity in a periodic box");
   for (std::size_t i = 0; i < n; ++i)
     if (!(start.radii[i] > 0) || !(start.masses[i] > 0)) throw std::invalid_argument("dem: radii and masses must be > 0");
   x_ = std::move(start.positions);
@@ -55,7 +56,9 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   counters_.collisions = overlapping_.size();  // pairs overlapping at the start count as collisions
 }
 
-Vector3 Dem::separation(std::size_t i, std::size_t j) const { return box_.minimum_image(x_[j] - x_[i]); }
+Vector3 Dem::separation(std::size_t i, std::size_t j) const {
+  return box_.boundary == Boundary::periodic ? box_.minimum_image(x_[j] - x_[i]) : x_[j] - x_[i];
+}
 
 template <class Visit>
 void Dem::for_each_near_pair(double range, Visit&& visit) const {
@@ -213,7 +216,8 @@ void Dem::gravity_forces() {
   // Fixed tiling of the pairs into K chunks (K independent of the thread count); each tile writes its own
   // partial forces, reduced per particle in tile order, so the sums do not depend on force_threads.
   const std::size_t n = x_.size();
-  const std::size_t k_chunks = std::min<std::size_t>(16, n);
+  // K depends on N only: chunks of at least 64 particles, at most 16 of them.
+  const std::size_t k_chunks = std::clamp<std::size_t>(n / 64, 1, 16);
   auto chunk_begin = [&](std::size_t c) { return c * n / k_chunks; };
   struct Tile {
     std::size_t a, b, offset_a, offset_b;
@@ -239,7 +243,7 @@ void Dem::gravity_forces() {
       double fx = 0, fy = 0, fz = 0;
       const double gi = G * mass_[i];
       for (std::size_t j = (t.a == t.b ? i + 1 : b0); j < b1; ++j) {
-        const Vector3 d = separation(i, j);
+        const double d[3] = {x_[j][0] - x_[i][0], x_[j][1] - x_[i][1], x_[j][2] - x_[i][2]};  // open or walls: no images
         const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         const double r = std::sqrt(r2);
         // |F| = G m_i m_j / (r² + ε²) along the pair [Trivino2025, eq. 1]
@@ -296,8 +300,8 @@ void Dem::step() {
   }
   counters_.collisions += overlapping_next_.size() - common;
   overlapping_.swap(overlapping_next_);
-  time_ += dt;
   ++counters_.steps;
+  time_ = double(counters_.steps) * dt;  // no accumulated round-off
 }
 
 Vector3 Dem::momentum() const {

@@ -43,7 +43,8 @@ struct DemCounters {
 
 class Dem {
  public:
-  // Throws std::invalid_argument for a 2-D box, non-positive radii or masses, dt <= 0, or sizes that differ.
+  // Throws std::invalid_argument for a 2-D box, non-positive radii or masses, dt <= 0, sizes that differ,
+  // or gravity in a periodic box (which would need Ewald sums).
   Dem(const Box& box, ParticleStart start, const DemSettings& settings);
 
   void step();                        // one velocity-Verlet step of dt

@@ -194,6 +194,8 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
         throw InputError(given.key("gravity") + "." + it.key(), option_text(it.value()), "a key of " + forms);
     if (!g.contains("G") || !g["G"].is_number() || !(g["G"].get<double>() > 0))
       throw InputError(given.key("gravity") + ".G", g.contains("G") ? option_text(g["G"]) : "(missing)", "a number > 0");
+    if (system.box.boundary == Boundary::periodic)
+      throw InputError("particles.boundary", "\"periodic\"", "\"open\" or \"reflecting\" with gravity (a periodic box would need Ewald sums)");
     dem.gravity = true;
     dem.G = g["G"].get<double>();
     if (g.contains("softening")) {

@@ -1,0 +1,135 @@
+// The dem engine through the harness: the output contract (series.csv, final.json with the engine's own
+// entries), a cold self-gravitating cloud collapsing to one aggregate with stop = "aggregated", the same
+// results whatever the thread counts, and bad input refused naming the key.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/input_error.hpp"
+#include "particle/dem/contact_law.hpp"
+#include "tests/validation/scene_fixture.hpp"
+#include "validation/harness/harness.hpp"
+
+using namespace aggkit;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// 100 cold spheres (R = 1, m = 1) in an open cube at volume fraction 0.05, G = 1.
+std::string dem_scene(const std::string& engine = "restitution = 0.1\ncontact_time = 0.05\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n",
+                      const std::string& particles_extra = "", const std::string& end = "40.0", const std::string& mass = "1.0") {
+  return "name = \"dem-test\"\n[particles]\ndimension = 3\ncount = 100\nradius = 1.0\nmass = " + mass + "\nboundary = \"open\"\n"
+         "initial = { cloud = \"cube\", volume_fraction = 0.05, speed = 0.0 }\n" +
+         particles_extra + "\n[time]\nend = " + end + "\noutputs = [2.0, " + end + "]\n\n[[engine]]\nname = \"dem\"\n" + engine +
+         "\n[observe]\nseries = [\"clusters\", \"kinetic_energy\"]\nfinal = [\"clusters\"]\n";
+}
+
+void check_bad(const std::string& text, const std::string& key, const std::string& value) {
+  INFO(text);
+  try {
+    const Scene scene = aggkit::testing::parse_checked(text);
+    run_scene(scene, aggkit::testing::quiet_run(aggkit::testing::scratch_folder("dem-bad")));
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    CHECK(e.key() == key);
+    CHECK_THAT(std::string(e.what()), Contains(value));
+  }
+}
+
+nlohmann::json final_json(const std::filesystem::path& out) {
+  std::ifstream in(out / "dem" / "final.json");
+  return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+TEST_CASE("dem: a cold cloud collapses to one aggregate; final.json follows the contract", "[dem][harness]") {
+  const auto out = aggkit::testing::scratch_folder("dem-collapse");
+  const RunResult result = run_scene(aggkit::testing::parse_checked(dem_scene(
+                                         "restitution = 0.1\ncontact_time = 0.05\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n"
+                                         "threads = 2\nforce_threads = 2\n",
+                                         "realizations = 2\nseed = 4\n")),
+                                     aggkit::testing::quiet_run(out));
+  REQUIRE(result.records[0].completed());
+  CHECK(aggkit::testing::first_line(out / "dem" / "series.csv") == "t,clusters,kinetic_energy,clusters_stderr,kinetic_energy_stderr");
+  const auto final = final_json(out);
+  for (const char* key : {"steps", "collisions", "clamped_contacts", "max_overlap", "realised_restitution", "free_fall_time",
+                          "aggregation_time", "aggregation_time_ff", "wall_seconds", "momentum_drift", "stop_time"})
+    CHECK(final.contains(key));
+  CHECK_FALSE(final.contains("energy_drift"));  // damped: no energy to keep
+  // Stopped at T_agg, well before time.end, within a couple of free-fall times [Trivino2025, eq. 9].
+  const double t_agg = final["aggregation_time"].get<double>();
+  CHECK(final["stop_time"].get<double>() == t_agg);
+  CHECK(t_agg < 40.0);
+  CHECK(final["aggregation_time_ff"].get<double>() == Approx(t_agg / final["free_fall_time"].get<double>()).epsilon(0.05));
+  CHECK(final["aggregation_time_ff"].get<double>() > 0.3);
+  CHECK(final["aggregation_time_ff"].get<double>() < 3.0);
+  CHECK(final["steps"].get<double>() == Approx(t_agg / (0.05 / 50)).epsilon(1e-9));  // dt = t_c/50
+  // The largest cluster holds at least 90 of the 100 spheres: at most 11 clusters remain.
+  CHECK(final["clusters"].get<double>() <= 11.0);
+  CHECK(final["collisions"].get<double>() > 100.0);
+  CHECK(final["max_overlap"].get<double>() < 0.05);  // δ/R_min
+  CHECK(final["realised_restitution"].get<double>() == Approx(clipped_collision(formula_damping_ratio(0.1)).restitution));
+  CHECK(final["momentum_drift"].get<double>() < 1e-12);
+}
+
+TEST_CASE("dem: the same seed gives the same results for any thread counts", "[dem][harness]") {
+  auto run = [](const std::string& threads) {
+    const auto out = aggkit::testing::scratch_folder("dem-threads-" + threads);
+    run_scene(aggkit::testing::parse_checked(
+                  dem_scene("restitution = 0.3\ncontact_time = 0.05\ngravity = { G = 1.0, softening = 0.01 }\n" + threads,
+                            "realizations = 3\nseed = 9\n", "6.0")),
+              aggkit::testing::quiet_run(out));
+    nlohmann::json final = final_json(out);
+    final.erase("wall_seconds");
+    final.erase("wall_seconds_stderr");
+    return final;
+  };
+  const nlohmann::json serial = run("");
+  CHECK(serial == run("threads = 3\nforce_threads = 4\n"));
+}
+
+TEST_CASE("dem: an elastic run reports a small energy drift", "[dem][harness]") {
+  const auto out = aggkit::testing::scratch_folder("dem-elastic");
+  run_scene(aggkit::testing::parse_checked(dem_scene("restitution = 1.0\ncontact_time = 0.05\ngravity = { G = 1.0 }\n", "", "8.0")),
+            aggkit::testing::quiet_run(out));
+  const auto final = final_json(out);
+  CHECK(final["realised_restitution"].get<double>() == 1.0);
+  CHECK(final["collisions"].get<double>() > 100.0);
+  CHECK(final["energy_drift"].get<double>() < 1e-3);
+}
+
+TEST_CASE("dem: bad input is refused naming the key", "[dem][harness]") {
+  const std::string g = "gravity = { G = 1.0 }\n";
+  check_bad(dem_scene("restitution = 0.0\ncontact_time = 0.05\n"), "engine[0].restitution", "0");
+  check_bad(dem_scene("restitution = 1.5\ncontact_time = 0.05\n"), "engine[0].restitution", "1.5");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.0\n"), "engine[0].contact_time", "0");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = -1.0\n"), "engine[0].contact_time", "-1");
+  check_bad(dem_scene("restitution = 0.5\n"), "engine[0].contact_time", "missing");
+  check_bad(dem_scene("contact_time = 0.05\n"), "engine[0].restitution", "missing");
+  check_bad(dem_scene(g), "engine[0].restitution", "exactly one of");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nstiffness = 10.0\ndamping = 1.0\n"), "engine[0].stiffness", "exactly one of");
+  check_bad(dem_scene("stiffness = 10.0\n"), "engine[0].damping", "missing");
+  check_bad(dem_scene("stiffness_normalized = 1e6\ndamping = 500.0\n"), "engine[0].stiffness_normalized", "gravity");
+  check_bad(dem_scene("stiffness = 1e4\ndamping = 5.0\ncalibration = \"exact\"\n"), "engine[0].calibration", "restitution");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nfriction = 0.5\n"), "engine[0].friction", "not implemented yet");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nfriction = -0.1\n"), "engine[0].friction", "-0.1");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ndt = 0.03\n"), "engine[0].dt", "t_c/2");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, method = \"tree\" }\n"), "engine[0].gravity.method",
+            "not implemented yet");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, opening_angle = 1.5 }\n"),
+            "engine[0].gravity.opening_angle", "(0, 1]");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = -1.0 }\n"), "engine[0].gravity.G", "-1");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, softening = -0.1 }\n"), "engine[0].gravity.softening",
+            "-0.1");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, theta = 0.5 }\n"), "engine[0].gravity.theta", "0.5");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nstop = \"one_cluster\"\n"), "engine[0].stop", "aggregated");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\n", "", "40.0", "-1.0"), "particles.mass", "-1");
+  check_bad("name = \"d\"\n[particles]\ndimension = 2\ncount = 10\nradius = 0.5\nvolume_fraction = 0.1\nboundary = \"periodic\"\n"
+            "initial = { lattice = \"square\", speed = 1.0 }\n[time]\nend = 1.0\noutputs = [1.0]\n[[engine]]\nname = \"dem\"\n"
+            "restitution = 0.5\ncontact_time = 0.05\n[observe]\nseries = [\"clusters\"]\n",
+            "particles.dimension", "3");
+}
