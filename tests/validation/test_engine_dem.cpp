@@ -24,7 +24,7 @@ std::string dem_scene(const std::string& engine = "restitution = 0.1\ncontact_ti
   return "name = \"dem-test\"\n[particles]\ndimension = 3\ncount = 100\nradius = 1.0\nmass = " + mass + "\nboundary = \"open\"\n"
          "initial = { cloud = \"cube\", volume_fraction = 0.05, speed = 0.0 }\n" +
          particles_extra + "\n[time]\nend = " + end + "\noutputs = [2.0, " + end + "]\n\n[[engine]]\nname = \"dem\"\n" + engine +
-         "\n[observe]\nseries = [\"clusters\", \"kinetic_energy\"]\nfinal = [\"clusters\"]\n";
+         "\n[observe]\nseries = [\"clusters\", \"kinetic_energy\"]\nfinal = [\"clusters\", \"components_fraction\", \"fractal_dimension_com\"]\n";
 }
 
 void check_bad(const std::string& text, const std::string& key, const std::string& value) {
@@ -57,7 +57,8 @@ TEST_CASE("dem: a cold cloud collapses to one aggregate; final.json follows the 
   CHECK(aggkit::testing::first_line(out / "dem" / "series.csv") == "t,clusters,kinetic_energy,clusters_stderr,kinetic_energy_stderr");
   const auto final = final_json(out);
   for (const char* key : {"steps", "collisions", "clamped_contacts", "max_overlap", "realised_restitution", "free_fall_time",
-                          "aggregation_time", "aggregation_time_ff", "wall_seconds", "momentum_drift", "stop_time"})
+                          "aggregation_time", "aggregation_time_ff", "wall_seconds", "momentum_drift", "stop_time", "potential_energy",
+                          "virial_ratio", "components_fraction", "fractal_dimension_com", "fractal_dimension_com_error"})
     CHECK(final.contains(key));
   CHECK_FALSE(final.contains("energy_drift"));  // damped: no energy to keep
   // Stopped at T_agg, well before time.end, within a couple of free-fall times [Trivino2025, eq. 9].
@@ -74,6 +75,12 @@ TEST_CASE("dem: a cold cloud collapses to one aggregate; final.json follows the 
   CHECK(final["max_overlap"].get<double>() < 0.05);  // δ/R_min
   CHECK(final["realised_restitution"].get<double>() == Approx(clipped_collision(formula_damping_ratio(0.1)).restitution));
   CHECK(final["momentum_drift"].get<double>() < 1e-12);
+  CHECK(final["components_fraction"].get<double>() == Approx(final["clusters"].get<double>() / 100));
+  // A compact aggregate: F near 3 (fit within the aggregate), K/|P| far below virial 1/2 after dissipation.
+  CHECK(final["fractal_dimension_com"].get<double>() > 2.3);
+  CHECK(final["fractal_dimension_com"].get<double>() < 3.3);
+  CHECK(final["potential_energy"].get<double>() < 0);
+  CHECK(final["virial_ratio"].get<double>() >= 0);
 }
 
 TEST_CASE("dem: the same seed gives the same results for any thread counts", "[dem][harness]") {

@@ -7,8 +7,8 @@
 // (stiffness_normalized, damping) [Trivino2025, eqs. 2, 6, 15], with the corrected calibration
 // k_n = m*(π² + ln² e)/t_c², γ_n = −2 m* ln(e)/t_c, or `calibration = "exact"`: γ_n solved so that the
 // clipped binary collision returns e (particle/dem/contact_law.hpp).
-// final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution,
-// free_fall_time, aggregation_time and aggregation_time_ff (NaN when the largest cluster never held the
+// final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution, and
+// with gravity potential_energy (−Σ G m_i m_j / r_ij, unsoftened), virial_ratio (K/|P|), free_fall_time, aggregation_time and aggregation_time_ff (NaN when the largest cluster never held the
 // threshold), and energy_drift for an elastic run (no damping).
 #include <algorithm>
 #include <cmath>
@@ -136,6 +136,14 @@ class DemSimulation final : public ParticleSimulation {
                                                        {"max_overlap", c.max_overlap},
                                                        {"realised_restitution", settings_.realised_restitution}};
     if (settings_.dem.gravity) {
+      // P = −Σ_{i<j} G m_i m_j / r_ij and K/|P| [Trivino2025, Sec. on energies]: the unsoftened potential.
+      const auto& x = dem_.positions();
+      const auto& m = dem_.masses();
+      double potential = 0;
+      for (std::size_t i = 0; i < x.size(); ++i)
+        for (std::size_t j = i + 1; j < x.size(); ++j) potential -= settings_.dem.G * m[i] * m[j] / norm(x[j] - x[i]);
+      values.emplace_back("potential_energy", potential);
+      values.emplace_back("virial_ratio", dem_.kinetic_energy() / std::abs(potential));
       values.emplace_back("free_fall_time", free_fall_);
       values.emplace_back("aggregation_time", aggregation_time_);
       values.emplace_back("aggregation_time_ff", aggregation_time_ / free_fall_);
