@@ -140,3 +140,22 @@ TEST_CASE("dem: bad input is refused naming the key", "[dem][harness]") {
             "restitution = 0.5\ncontact_time = 0.05\n[observe]\nseries = [\"clusters\"]\n",
             "particles.dimension", "3");
 }
+
+TEST_CASE("dem: elastic gases in periodic and reflecting boxes keep energy and momentum", "[dem][harness]") {
+  // 200 spheres at volume fraction 0.2, speed 1, e = 1, no gravity: the energy drift (springs included) is
+  // set by the step (t_c/50); the momentum with the walls' impulse is kept to round-off.
+  for (const std::string boundary : {"periodic", "reflecting"}) {
+    INFO(boundary);
+    const auto out = aggkit::testing::scratch_folder("dem-gas-" + boundary);
+    const std::string text =
+        "name = \"dem-gas\"\n[particles]\ndimension = 3\ncount = 200\nradius = 0.5\nmass = 1.0\nvolume_fraction = 0.2\n"
+        "boundary = \"" + boundary + "\"\ninitial = { cloud = \"cube\", speed = 1.0 }\n[time]\nend = 3.0\noutputs = [3.0]\n"
+        "[[engine]]\nname = \"dem\"\nrestitution = 1.0\ncontact_time = 0.02\n[observe]\nseries = [\"kinetic_energy\"]\n";
+    run_scene(aggkit::testing::parse_checked(text), aggkit::testing::quiet_run(out));
+    const auto final = final_json(out);
+    CHECK(final["collisions"].get<double>() > 200.0);
+    CHECK(final["energy_drift"].get<double>() < 1e-3);
+    CHECK(final["momentum_drift"].get<double>() < 1e-12);
+    CHECK(final["clamped_contacts"].get<double>() == 0.0);
+  }
+}
