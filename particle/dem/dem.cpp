@@ -1,5 +1,7 @@
 #include "particle/dem/dem.hpp"
 
+#include "particle/dem/gravity_tree.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -213,6 +215,10 @@ void Dem::contact_forces() {
 }
 
 void Dem::gravity_forces() {
+  if (settings_.tree) {
+    tree_gravity(x_, mass_, settings_.G, softening_, settings_.opening_angle, settings_.force_threads, f_);
+    return;
+  }
   // Fixed tiling of the pairs into K chunks (K independent of the thread count); each tile writes its own
   // partial forces, reduced per particle in tile order, so the sums do not depend on force_threads.
   const std::size_t n = x_.size();

@@ -8,8 +8,9 @@
 // velocity alone lags by dt/2. The dashpot's jump at the onset of a contact is integrated to second order
 // (dem.cpp: the first sample's weight); at walls it is not (first order in dt).
 // Frictionless: no tangential force, so rotation is not integrated.
-// Gravity runs on `force_threads` over a fixed tiling of the pairs, reduced in a fixed order: the result
-// does not depend on the thread count. Contacts are evaluated on one thread.
+// Direct gravity runs on `force_threads` over a fixed tiling of the pairs, reduced in a fixed order; the
+// Barnes–Hut tree (gravity_tree.hpp) walks per particle: either way the result does not depend on the thread
+// count. Contacts are evaluated on one thread.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -31,6 +32,8 @@ struct DemSettings {
   bool gravity = false;
   double G = 1;
   double softening = -1;              // ε; < 0: 1e-3 R_min
+  bool tree = false;                  // Barnes–Hut (gravity_tree.hpp) instead of the direct sum
+  double opening_angle = 0.5;         // θ of the tree
   std::size_t force_threads = 1;
 };
 

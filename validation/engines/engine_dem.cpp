@@ -46,7 +46,8 @@ const OptionTable& dem_options() {
       number_option("dt", "t_c/50", "time step (refused above t_c/2, warned above t_c/20 [Trivino2025, eq. 8])", 0.0,
                     std::numeric_limits<double>::infinity(), true),
       custom_option("gravity", "off", "self-gravity G m_i m_j/(r² + ε²) along each pair [Trivino2025, eq. 1]",
-                    "{ G = number > 0, softening = number >= 0 (default 1e-3 R_min), method = \"direct\" }"),
+                    "{ G = number > 0, softening = number >= 0 (default 1e-3 R_min), method = \"direct\" | \"tree\", "
+                    "opening_angle = θ in (0, 1] (tree; default 0.5) }"),
       custom_option("stop", "at time.end", "\"aggregated\": stop once the largest cluster holds aggregation_threshold of the mass",
                     "\"aggregated\""),
       number_option("aggregation_threshold", "0.9", "mass fraction of the largest cluster that defines T_agg", 0.0, 1.0, true),
@@ -195,7 +196,7 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
 
   if (given.has("gravity")) {
     const nlohmann::json& g = given.value("gravity");
-    const std::string forms = "{ G = number > 0, softening = number >= 0, method = \"direct\" }";
+    const std::string forms = "{ G = number > 0, softening = number >= 0, method = \"direct\" | \"tree\", opening_angle = θ }";
     if (!g.is_object()) given.fail("gravity", forms);
     for (auto it = g.begin(); it != g.end(); ++it)
       if (it.key() != "G" && it.key() != "softening" && it.key() != "method" && it.key() != "opening_angle")
@@ -211,20 +212,20 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
         throw InputError(given.key("gravity") + ".softening", option_text(g["softening"]), "a finite number >= 0");
       dem.softening = g["softening"].get<double>();
     }
+    if (g.contains("method")) {
+      const nlohmann::json& m = g["method"];
+      if (!m.is_string() || (m.get<std::string>() != "direct" && m.get<std::string>() != "tree"))
+        throw InputError(given.key("gravity") + ".method", option_text(m), "\"direct\" or \"tree\"");
+      dem.tree = m.get<std::string>() == "tree";
+    }
     if (g.contains("opening_angle")) {
       const nlohmann::json& a = g["opening_angle"];
       if (!a.is_number() || !(a.get<double>() > 0 && a.get<double>() <= 1))
         throw InputError(given.key("gravity") + ".opening_angle", option_text(a), "a number in (0, 1]");
+      if (!dem.tree)
+        throw InputError(given.key("gravity") + ".opening_angle", option_text(a), "an opening angle only with method = \"tree\"");
+      dem.opening_angle = a.get<double>();
     }
-    if (g.contains("method")) {
-      const nlohmann::json& m = g["method"];
-      if (!m.is_string() || m.get<std::string>() != "direct")
-        throw InputError(given.key("gravity") + ".method", option_text(m),
-                         "\"direct\" (the Barnes–Hut tree is not implemented yet in engine dem)");
-    }
-    if (g.contains("opening_angle"))
-      throw InputError(given.key("gravity") + ".opening_angle", option_text(g["opening_angle"]),
-                       "no opening angle: only method = \"direct\" is implemented");
   }
 
   // Realization 0's start gives the masses the default time step is measured on.
@@ -298,7 +299,8 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   const Box box = system.box;
   std::string description = "soft-sphere DEM, k_n/m* " + format_value(dem.stiffness_per_mass) + ", γ_n/m* " + format_value(dem.damping_per_mass) +
                             ", k_n " + format_value(dem.stiffness) + ", γ_n " + format_value(dem.damping) + ", dt " + format_value(dem.dt) +
-                            (dem.gravity ? ", direct gravity G " + format_value(dem.G) : ", no gravity") +
+                            (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G)
+                                         : ", no gravity") +
                             (settings.stop_aggregated ? ", stop when aggregated" : ", stop at time.end") + warning;
   return {[system, settings, box](std::size_t r) { return std::make_unique<DemSimulation>(box, system.initial_state(r), settings); },
           description};
