@@ -51,10 +51,16 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   f_.assign(n, {0, 0, 0});
   u_ = v_;
   parent_.resize(n);
+  if (settings_.friction < 0) throw std::invalid_argument("dem: friction must be >= 0");
+  w_.assign(n, {0, 0, 0});
+  w_pred_.assign(n, {0, 0, 0});
+  torque_.assign(n, {0, 0, 0});
+  q_.assign(n, {1, 0, 0, 0});
   first_evaluation_ = true;  // overlaps present at the start have no onset within a step
   compute_forces();
   first_evaluation_ = false;
   overlapping_.swap(overlapping_next_);
+  history_.swap(history_next_);
   counters_.collisions = overlapping_.size();  // pairs overlapping at the start count as collisions
 }
 
@@ -142,6 +148,8 @@ void Dem::contact_forces() {
   const double limit = settings_.overlap_limit * min_radius_;
   const double tolerance = settings_.contact_tolerance * min_radius_;
   overlapping_next_.clear();
+  history_next_.clear();
+  std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
   std::iota(parent_.begin(), parent_.end(), 0u);
   for_each_near_pair(2 * max_radius_ + tolerance, [&](std::uint32_t i, std::uint32_t j) {
     const Vector3 d = separation(i, j);
@@ -178,8 +186,21 @@ void Dem::contact_forces() {
       f_[i][k] -= force * normal[k];
       f_[j][k] += force * normal[k];
     }
+    if (settings_.friction > 0) tangential_force(i, j, key, normal, overlap, force, pair_stiffness(reduced));
   });
-  std::sort(overlapping_next_.begin(), overlapping_next_.end());
+  if (settings_.friction > 0) {
+    // Keys and histories sorted together by key.
+    std::vector<std::size_t> by_key(overlapping_next_.size());
+    std::iota(by_key.begin(), by_key.end(), std::size_t(0));
+    std::sort(by_key.begin(), by_key.end(), [&](std::size_t a, std::size_t b) { return overlapping_next_[a] < overlapping_next_[b]; });
+    std::vector<std::uint64_t> keys(by_key.size());
+    std::vector<Vector3> histories(by_key.size());
+    for (std::size_t k = 0; k < by_key.size(); ++k) keys[k] = overlapping_next_[by_key[k]], histories[k] = history_next_[by_key[k]];
+    overlapping_next_.swap(keys);
+    history_next_.swap(histories);
+  } else {
+    std::sort(overlapping_next_.begin(), overlapping_next_.end());
+  }
   // Walls: the same law with the wall as an infinite mass (m* = m_i).
   wall_force_ = {0, 0, 0};
   if (box_.boundary == Boundary::reflecting) {
@@ -212,6 +233,45 @@ void Dem::contact_forces() {
     largest = std::max(largest, component[root]);
   }
   largest_fraction_ = largest / total;
+}
+
+namespace {
+Vector3 cross(const Vector3& a, const Vector3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+}  // namespace
+
+void Dem::tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
+                           double normal_stiffness) {
+  // Lever arms R − δ/2 that add up to the centre distance: the torques then balance the tangential forces'
+  // moment exactly and the angular momentum about any point is kept.
+  const double arm_i = radius_[i] - 0.5 * overlap, arm_j = radius_[j] - 0.5 * overlap;
+  // Sliding velocity of j's surface relative to i's at the contact point (predicted velocities, as the dashpot).
+  const Vector3 relative = (u_[j] - u_[i]) - cross(arm_i * w_pred_[i] + arm_j * w_pred_[j], normal);
+  const Vector3 sliding = relative - dot(relative, normal) * normal;
+  // The stored displacement, created with the contact, rotated into the current tangent plane (length kept).
+  Vector3 xi{0, 0, 0};
+  const auto found = std::lower_bound(overlapping_.begin(), overlapping_.end(), key);
+  if (found != overlapping_.end() && *found == key) xi = history_[std::size_t(found - overlapping_.begin())];
+  const double length = norm(xi);
+  xi = xi - dot(xi, normal) * normal;
+  const double projected = norm(xi);
+  xi = projected > 0 ? (length / projected) * xi : Vector3{0, 0, 0};
+  if (!first_evaluation_) xi = xi + settings_.dt * sliding;
+  // Tangential spring k_t = ratio · k_n, truncated at the Coulomb limit μ F_n (the history with it).
+  const double kt = settings_.tangential_stiffness_ratio * normal_stiffness;
+  Vector3 force = kt * xi;  // on i (dragged along j's sliding), −force on j
+  const double limit = settings_.friction * normal_force, size = norm(force);
+  if (size > limit) {
+    force = size > 0 ? (limit / size) * force : Vector3{0, 0, 0};
+    xi = (1 / kt) * force;
+  }
+  if (limit > 0) counters_.max_friction_ratio = std::max(counters_.max_friction_ratio, norm(force) / limit);
+  history_next_.push_back(xi);
+  f_[i] = f_[i] + force;
+  f_[j] = f_[j] - force;
+  torque_[i] = torque_[i] + cross(arm_i * normal, force);
+  torque_[j] = torque_[j] + cross(arm_j * normal, force);  // (−a_j n) × (−F)
 }
 
 void Dem::gravity_forces() {
@@ -293,9 +353,30 @@ void Dem::step() {
     x_[i] = box_.wrap(x_[i] + dt * v_[i]);
     u_[i] = v_[i] + (half / mass_[i]) * f_[i];  // the dashpot's estimate of v(t + dt): second order
   }
+  if (settings_.friction > 0) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double inertia = 0.4 * mass_[i] * radius_[i] * radius_[i];  // 2/5 m R²
+      w_[i] = w_[i] + (half / inertia) * torque_[i];
+      w_pred_[i] = w_[i] + (half / inertia) * torque_[i];
+      // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised.
+      const double angle = norm(w_[i]) * dt;
+      if (angle > 0) {
+        const Vector3 axis = (1 / norm(w_[i])) * w_[i];
+        const double c = std::cos(0.5 * angle), sn = std::sin(0.5 * angle);
+        const std::array<double, 4> r{c, sn * axis[0], sn * axis[1], sn * axis[2]}, q = q_[i];
+        std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
+                                r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
+        const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
+        for (double& c4 : p) c4 /= len;
+        q_[i] = p;
+      }
+    }
+  }
   wall_impulse_ = wall_impulse_ - half * wall_force_;
   compute_forces();
   for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (half / mass_[i]) * f_[i];
+  if (settings_.friction > 0)
+    for (std::size_t i = 0; i < n; ++i) w_[i] = w_[i] + (half / (0.4 * mass_[i] * radius_[i] * radius_[i])) * torque_[i];
   wall_impulse_ = wall_impulse_ - half * wall_force_;
   // Collisions: overlapping pairs that did not overlap the step before.
   std::size_t common = 0;
@@ -306,6 +387,7 @@ void Dem::step() {
   }
   counters_.collisions += overlapping_next_.size() - common;
   overlapping_.swap(overlapping_next_);
+  history_.swap(history_next_);
   ++counters_.steps;
   time_ = double(counters_.steps) * dt;  // no accumulated round-off
 }
@@ -318,8 +400,16 @@ Vector3 Dem::momentum() const {
 
 double Dem::kinetic_energy() const {
   double k = 0;
-  for (std::size_t i = 0; i < x_.size(); ++i) k += 0.5 * mass_[i] * dot(v_[i], v_[i]);
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    k += 0.5 * mass_[i] * dot(v_[i], v_[i]) + 0.2 * mass_[i] * radius_[i] * radius_[i] * dot(w_[i], w_[i]);
   return k;
+}
+
+Vector3 Dem::angular_momentum() const {
+  Vector3 l{0, 0, 0};
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    l = l + mass_[i] * cross(x_[i], v_[i]) + (0.4 * mass_[i] * radius_[i] * radius_[i]) * w_[i];
+  return l;
 }
 
 double Dem::gravitational_energy() const {
@@ -345,6 +435,11 @@ double Dem::elastic_energy() const {
     const double overlap = radius_[i] + radius_[j] - norm(separation(i, j));
     if (overlap > 0) e += spring_energy(pair_stiffness(mass_[i] * mass_[j] / (mass_[i] + mass_[j])), overlap);
   });
+  for (std::size_t k = 0; k < history_.size(); ++k) {  // tangential springs
+    const std::size_t i = overlapping_[k] / x_.size(), j = overlapping_[k] % x_.size();
+    const double kt = settings_.tangential_stiffness_ratio * pair_stiffness(mass_[i] * mass_[j] / (mass_[i] + mass_[j]));
+    e += 0.5 * kt * dot(history_[k], history_[k]);
+  }
   if (box_.boundary == Boundary::reflecting)
     for (std::size_t i = 0; i < x_.size(); ++i)
       for (int d = 0; d < 3; ++d) {

@@ -7,11 +7,16 @@
 // The dashpot of step n+1 sees the predicted velocity v(n+½) + (dt/2) F(n)/m (second order): the half-step
 // velocity alone lags by dt/2. The dashpot's jump at the onset of a contact is integrated to second order
 // (dem.cpp: the first sample's weight); at walls it is not (first order in dt).
-// Frictionless: no tangential force, so rotation is not integrated.
+// Friction (μ > 0): Coulomb with a tangential spring k_t = 2/7 k_n (default) and a history per contact,
+// created and dropped with the contact, rotated into the current tangent plane (length kept) and truncated
+// at μ F_n; torques about lever arms R − δ/2 (they add up to the centre distance, so the angular momentum is
+// kept), rotation by velocity Verlet half-kicks of ω (I = 2/5 m R²) and unit quaternions. Without friction
+// rotation is not integrated. Walls are frictionless (the spring–dashpot normal force only).
 // Direct gravity runs on `force_threads` over a fixed tiling of the pairs, reduced in a fixed order; the
 // Barnes–Hut tree (gravity_tree.hpp) walks per particle: either way the result does not depend on the thread
 // count. Contacts are evaluated on one thread.
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +37,8 @@ struct DemSettings {
   bool gravity = false;
   double G = 1;
   double softening = -1;              // ε; < 0: 1e-3 R_min
+  double friction = 0;                // Coulomb μ; > 0: tangential springs with history, rotation
+  double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
   bool tree = false;                  // Barnes–Hut (gravity_tree.hpp) instead of the direct sum
   double opening_angle = 0.5;         // θ of the tree
   std::size_t force_threads = 1;
@@ -42,6 +49,7 @@ struct DemCounters {
   std::uint64_t collisions = 0;       // pairs that start to overlap (δ > 0) having not overlapped the step before
   std::uint64_t clamped_contacts = 0; // contact-steps with δ > δ_max
   double max_overlap = 0;             // largest δ seen, / R_min
+  double max_friction_ratio = 0;      // largest |F_t| / (μ F_n) over contact-steps with F_n > 0 (≤ 1)
 };
 
 class Dem {
@@ -64,11 +72,15 @@ class Dem {
   double min_radius() const { return min_radius_; }
 
   Vector3 momentum() const;
+  Vector3 angular_momentum() const;   // Σ m x × v + I ω about the origin
+  const std::vector<Vector3>& angular_velocities() const { return w_; }
+  const std::vector<std::array<double, 4>>& orientations() const { return q_; }  // unit quaternions (w, x, y, z)
   Vector3 wall_impulse() const { return wall_impulse_; }
-  double kinetic_energy() const;
+  double kinetic_energy() const;      // translational and rotational
   // Gravitational energy of the force law: U(r) = −(G m_i m_j / ε)(π/2 − atan(r/ε)) per pair (0 without gravity).
   double gravitational_energy() const;
-  // Elastic energy of the springs (clamped spring: linear beyond δ_max), pairs and walls.
+  // Elastic energy of the springs (clamped spring: linear beyond δ_max), pairs and walls, and the
+  // tangential springs ½ k_t |ξ|².
   double elastic_energy() const;
   double total_energy() const { return kinetic_energy() + gravitational_energy() + elastic_energy(); }
 
@@ -86,6 +98,8 @@ class Dem {
   void compute_forces();
   void contact_forces();
   void gravity_forces();
+  void tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
+                        double normal_stiffness);
   template <class Visit> void for_each_near_pair(double range, Visit&& visit) const;
   Vector3 separation(std::size_t i, std::size_t j) const;  // x_j − x_i (minimum image)
 
@@ -99,6 +113,9 @@ class Dem {
   Vector3 wall_force_{0, 0, 0};
   DemCounters counters_;
   std::vector<std::uint64_t> overlapping_, overlapping_next_;  // sorted pair keys i·N + j of δ > 0
+  std::vector<Vector3> history_, history_next_;                // tangential displacement per key (friction)
+  std::vector<Vector3> w_, w_pred_, torque_;                   // angular velocity, its prediction, torque
+  std::vector<std::array<double, 4>> q_;                       // orientations
   std::vector<std::uint32_t> parent_;                          // union–find of the contact graph
   double largest_fraction_ = 0;
   bool first_evaluation_ = false;

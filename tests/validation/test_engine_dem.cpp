@@ -122,7 +122,10 @@ TEST_CASE("dem: bad input is refused naming the key", "[dem][harness]") {
   check_bad(dem_scene("stiffness = 10.0\n"), "engine[0].damping", "missing");
   check_bad(dem_scene("stiffness_normalized = 1e6\ndamping = 500.0\n"), "engine[0].stiffness_normalized", "gravity");
   check_bad(dem_scene("stiffness = 1e4\ndamping = 5.0\ncalibration = \"exact\"\n"), "engine[0].calibration", "restitution");
-  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nfriction = 0.5\n"), "engine[0].friction", "not implemented yet");
+  check_bad("name = \"d\"\n[particles]\ndimension = 3\ncount = 10\nradius = 0.5\nvolume_fraction = 0.1\nboundary = \"reflecting\"\n"
+            "initial = { cloud = \"cube\", speed = 1.0 }\n[time]\nend = 1.0\noutputs = [1.0]\n[[engine]]\nname = \"dem\"\n"
+            "restitution = 0.5\ncontact_time = 0.05\nfriction = 0.5\n[observe]\nseries = [\"clusters\"]\n",
+            "engine[0].friction", "not implemented yet");
   check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nfriction = -0.1\n"), "engine[0].friction", "-0.1");
   check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ndt = 0.03\n"), "engine[0].dt", "t_c/2");
   check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, method = \"fmm\" }\n"), "engine[0].gravity.method",
@@ -162,6 +165,18 @@ TEST_CASE("dem: elastic gases in periodic and reflecting boxes keep energy and m
     CHECK(final["momentum_drift"].get<double>() < 1e-12);
     CHECK(final["clamped_contacts"].get<double>() == 0.0);
   }
+}
+
+TEST_CASE("dem: a cloud with friction collapses; the Coulomb limit holds", "[dem][harness][friction]") {
+  const auto out = aggkit::testing::scratch_folder("dem-friction");
+  run_scene(aggkit::testing::parse_checked(
+                dem_scene("restitution = 0.3\ncontact_time = 0.05\nfriction = 0.5\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n")),
+            aggkit::testing::quiet_run(out));
+  const auto final = final_json(out);
+  CHECK(final["aggregation_time"].get<double>() < 40.0);
+  CHECK(final["max_friction_ratio"].get<double>() <= 1 + 1e-12);
+  CHECK(final["max_friction_ratio"].get<double>() > 0.99);  // some contacts slid
+  CHECK(final["momentum_drift"].get<double>() < 1e-12);
 }
 
 TEST_CASE("dem: tree gravity collapses the cloud as the direct sum does", "[dem][harness][tree]") {

@@ -7,7 +7,10 @@
 // (stiffness_normalized, damping) [Trivino2025, eqs. 2, 6, 15], with the corrected calibration
 // k_n = m*(π² + ln² e)/t_c², γ_n = −2 m* ln(e)/t_c, or `calibration = "exact"`: γ_n solved so that the
 // clipped binary collision returns e (particle/dem/contact_law.hpp).
-// final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution, and
+// Friction (μ > 0): tangential springs with history and rotation (particle/dem/dem.hpp); the walls are
+// frictionless, so friction is refused with reflecting walls.
+// final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution,
+// max_friction_ratio (with friction), and
 // with gravity potential_energy (−Σ G m_i m_j / r_ij, unsoftened), virial_ratio (K/|P|), free_fall_time, aggregation_time and aggregation_time_ff (NaN when the largest cluster never held the
 // threshold), and energy_drift for an elastic run (no damping).
 #include <algorithm>
@@ -41,8 +44,11 @@ const OptionTable& dem_options() {
       word_option("calibration", "formula",
                   "formula: γ_n = −2 m* ln(e)/t_c; exact: γ_n such that the clipped binary collision returns e (k_n of the formula)",
                   {"formula", "exact"}),
-      number_option("friction", "0", "Coulomb coefficient μ (μ > 0 is not implemented yet and refused)", 0.0,
-                    std::numeric_limits<double>::infinity()),
+      number_option("friction", "0",
+                    "Coulomb coefficient μ: tangential spring with history per contact, rotation (not at walls: refused with "
+                    "reflecting walls)",
+                    0.0, std::numeric_limits<double>::infinity()),
+      number_option("tangential_stiffness_ratio", "2/7", "k_t / k_n of the tangential spring (with friction)", 0.0, 1e3, true),
       number_option("dt", "t_c/50", "time step (refused above t_c/2, warned above t_c/20 [Trivino2025, eq. 8])", 0.0,
                     std::numeric_limits<double>::infinity(), true),
       custom_option("gravity", "off", "self-gravity G m_i m_j/(r² + ε²) along each pair [Trivino2025, eq. 1]",
@@ -136,6 +142,7 @@ class DemSimulation final : public ParticleSimulation {
                                                        {"clamped_contacts", double(c.clamped_contacts)},
                                                        {"max_overlap", c.max_overlap},
                                                        {"realised_restitution", settings_.realised_restitution}};
+    if (settings_.dem.friction > 0) values.emplace_back("max_friction_ratio", c.max_friction_ratio);  // max |F_t|/(μ F_n) ≤ 1
     if (settings_.dem.gravity) {
       // P = −Σ_{i<j} G m_i m_j / r_ij and K/|P| [Trivino2025, Sec. on energies]: the unsoftened potential.
       const auto& x = dem_.positions();
@@ -191,8 +198,10 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   Settings settings;
   DemSettings& dem = settings.dem;
 
-  if (given.number("friction", 0.0) > 0)
-    given.fail("friction", "0 (tangential friction is not implemented yet in engine dem; it is refused rather than ignored)");
+  dem.friction = given.number("friction", 0.0);
+  dem.tangential_stiffness_ratio = given.number("tangential_stiffness_ratio", dem.tangential_stiffness_ratio);
+  if (dem.friction > 0 && system.box.boundary == Boundary::reflecting)
+    given.fail("friction", "0 with boundary = \"reflecting\" (the walls are frictionless: wall friction is not implemented yet)");
 
   if (given.has("gravity")) {
     const nlohmann::json& g = given.value("gravity");
@@ -299,7 +308,7 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   const Box box = system.box;
   std::string description = "soft-sphere DEM, k_n/m* " + format_value(dem.stiffness_per_mass) + ", γ_n/m* " + format_value(dem.damping_per_mass) +
                             ", k_n " + format_value(dem.stiffness) + ", γ_n " + format_value(dem.damping) + ", dt " + format_value(dem.dt) +
-                            (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G)
+                            (dem.friction > 0 ? ", friction μ " + format_value(dem.friction) : "") + (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G)
                                          : ", no gravity") +
                             (settings.stop_aggregated ? ", stop when aggregated" : ", stop at time.end") + warning;
   return {[system, settings, box](std::size_t r) { return std::make_unique<DemSimulation>(box, system.initial_state(r), settings); },
