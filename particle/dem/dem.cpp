@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <thread>
@@ -62,6 +63,7 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   overlapping_.swap(overlapping_next_);
   history_.swap(history_next_);
   counters_.collisions = overlapping_.size();  // pairs overlapping at the start count as collisions
+  update_episodes();
 }
 
 Vector3 Dem::separation(std::size_t i, std::size_t j) const {
@@ -149,6 +151,7 @@ void Dem::contact_forces() {
   const double tolerance = settings_.contact_tolerance * min_radius_;
   overlapping_next_.clear();
   history_next_.clear();
+  graph_next_.clear();
   std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
   std::iota(parent_.begin(), parent_.end(), 0u);
   for_each_near_pair(2 * max_radius_ + tolerance, [&](std::uint32_t i, std::uint32_t j) {
@@ -159,6 +162,7 @@ void Dem::contact_forces() {
     unite(parent_, i, j);
     const double r = std::sqrt(r2);
     const double overlap = reach - r;
+    graph_next_.push_back({std::uint64_t(i) * n + j, overlap > 0});
     if (overlap <= 0 || r == 0) return;
     overlapping_next_.push_back(std::uint64_t(i) * n + j);
     counters_.max_overlap = std::max(counters_.max_overlap, overlap / min_radius_);
@@ -386,10 +390,37 @@ void Dem::step() {
     else ++common, ++p, ++q;
   }
   counters_.collisions += overlapping_next_.size() - common;
+  update_episodes();
   overlapping_.swap(overlapping_next_);
   history_.swap(history_next_);
   ++counters_.steps;
   time_ = double(counters_.steps) * dt;  // no accumulated round-off
+}
+
+void Dem::update_episodes() {
+  // Contact episodes: a pair within the contact graph's distance from one step to the next; an episode that
+  // ends (the pair separates beyond R_i + R_j + tolerance) after its spheres overlapped was a rebound.
+  std::sort(graph_next_.begin(), graph_next_.end(), [](const GraphPair& a, const GraphPair& b) { return a.key < b.key; });
+  std::size_t q = 0;
+  for (GraphPair& now : graph_next_) {
+    while (q < graph_.size() && graph_[q].key < now.key) {
+      if (graph_[q].overlapped) ++counters_.rebounds;
+      ++q;
+    }
+    if (q < graph_.size() && graph_[q].key == now.key) {
+      now.overlapped = now.overlapped || graph_[q].overlapped;
+      ++q;
+    }
+  }
+  for (; q < graph_.size(); ++q)
+    if (graph_[q].overlapped) ++counters_.rebounds;
+  graph_.swap(graph_next_);
+}
+
+double Dem::adhesive_fraction() const {
+  std::uint64_t open = 0;
+  for (const GraphPair& p : graph_) open += p.overlapped ? 1 : 0;
+  return open + counters_.rebounds > 0 ? double(open) / double(open + counters_.rebounds) : std::numeric_limits<double>::quiet_NaN();
 }
 
 Vector3 Dem::momentum() const {

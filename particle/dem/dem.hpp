@@ -49,6 +49,7 @@ struct DemCounters {
   std::uint64_t collisions = 0;       // pairs that start to overlap (δ > 0) having not overlapped the step before
   std::uint64_t clamped_contacts = 0; // contact-steps with δ > δ_max
   double max_overlap = 0;             // largest δ seen, / R_min
+  std::uint64_t rebounds = 0;         // contact episodes (below) that ended after an overlap
   double max_friction_ratio = 0;      // largest |F_t| / (μ F_n) over contact-steps with F_n > 0 (≤ 1)
 };
 
@@ -91,6 +92,12 @@ class Dem {
   // Connected components of the contact graph (r < R_i + R_j + tolerance, minimum image when periodic),
   // labels 0..C−1 in order of first particle; from the last force evaluation.
   std::vector<std::uint32_t> cluster_labels() const;
+  // Adhesive fraction: a contact episode is a pair staying within the contact graph's distance
+  // (r < R_i + R_j + tolerance) from step to step; an episode with an overlap (δ > 0) is a collision; it is
+  // adhesive when the pair has not separated again (left that distance) by now, a rebound when it has.
+  // Fraction = open episodes with an overlap / (those + rebounds); NaN before any collision. Pairs that
+  // bounce within the tolerance without leaving it count once.
+  double adhesive_fraction() const;
   // Mass of the largest component / total mass, from the last force evaluation.
   double largest_cluster_mass_fraction() const { return largest_fraction_; }
 
@@ -98,6 +105,7 @@ class Dem {
   void compute_forces();
   void contact_forces();
   void gravity_forces();
+  void update_episodes();
   void tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
                         double normal_stiffness);
   template <class Visit> void for_each_near_pair(double range, Visit&& visit) const;
@@ -116,6 +124,11 @@ class Dem {
   std::vector<Vector3> history_, history_next_;                // tangential displacement per key (friction)
   std::vector<Vector3> w_, w_pred_, torque_;                   // angular velocity, its prediction, torque
   std::vector<std::array<double, 4>> q_;                       // orientations
+  struct GraphPair {
+    std::uint64_t key;
+    bool overlapped;  // the pair overlapped at some step of this episode
+  };
+  std::vector<GraphPair> graph_, graph_next_;  // contact-graph pairs, sorted by key
   std::vector<std::uint32_t> parent_;                          // union–find of the contact graph
   double largest_fraction_ = 0;
   bool first_evaluation_ = false;

@@ -57,7 +57,7 @@ TEST_CASE("dem: a cold cloud collapses to one aggregate; final.json follows the 
   CHECK(aggkit::testing::first_line(out / "dem" / "series.csv") == "t,clusters,kinetic_energy,clusters_stderr,kinetic_energy_stderr");
   const auto final = final_json(out);
   for (const char* key : {"steps", "collisions", "clamped_contacts", "max_overlap", "realised_restitution", "free_fall_time",
-                          "aggregation_time", "aggregation_time_ff", "wall_seconds", "momentum_drift", "stop_time", "potential_energy",
+                          "aggregation_time", "aggregation_time_ff", "adhesive_fraction", "wall_seconds", "momentum_drift", "stop_time", "potential_energy",
                           "virial_ratio", "components_fraction", "fractal_dimension_com", "fractal_dimension_com_error"})
     CHECK(final.contains(key));
   CHECK_FALSE(final.contains("energy_drift"));  // damped: no energy to keep
@@ -80,6 +80,8 @@ TEST_CASE("dem: a cold cloud collapses to one aggregate; final.json follows the 
   CHECK(final["fractal_dimension_com"].get<double>() > 2.3);
   CHECK(final["fractal_dimension_com"].get<double>() < 3.3);
   CHECK(final["potential_energy"].get<double>() < 0);
+  CHECK(final["adhesive_fraction"].get<double>() > 0);
+  CHECK(final["adhesive_fraction"].get<double>() < 1);
   CHECK(final["virial_ratio"].get<double>() >= 0);
 }
 
@@ -189,4 +191,19 @@ TEST_CASE("dem: tree gravity collapses the cloud as the direct sum does", "[dem]
   // The collapse is set by the free-fall time; the tree's force error (≈ 1e-3 at θ = 0.5) moves T_agg little.
   CHECK(t_agg("gravity = { G = 1.0, method = \"tree\", opening_angle = 0.5 }\n") ==
         Approx(t_agg("gravity = { G = 1.0 }\n")).epsilon(0.05));
+}
+
+TEST_CASE("dem: a step above t_c/20 runs with a warning; the aggregation threshold is an option", "[dem][harness]") {
+  auto run = [](const std::string& extra) {
+    const auto out = aggkit::testing::scratch_folder("dem-options");
+    run_scene(aggkit::testing::parse_checked(
+                  dem_scene("restitution = 0.1\ncontact_time = 0.05\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n" + extra)),
+              aggkit::testing::quiet_run(out));
+    return final_json(out);
+  };
+  const auto coarse = run("dt = 0.005\n");  // t_c/10: warned (Trivino's criterion), not refused
+  CHECK(coarse["steps"].get<double>() == Approx(coarse["stop_time"].get<double>() / 0.005).epsilon(1e-9));
+  const double t90 = run("")["aggregation_time"].get<double>();
+  const double t50 = run("aggregation_threshold = 0.5\n")["aggregation_time"].get<double>();
+  CHECK(t50 < t90);
 }

@@ -10,6 +10,7 @@
 // Friction (μ > 0): tangential springs with history and rotation (particle/dem/dem.hpp); the walls are
 // frictionless, so friction is refused with reflecting walls.
 // final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution,
+// adhesive_fraction (particle/dem/dem.hpp: contact episodes still open at the end over all with an overlap),
 // max_friction_ratio (with friction), and
 // with gravity potential_energy (−Σ G m_i m_j / r_ij, unsoftened), virial_ratio (K/|P|), free_fall_time, aggregation_time and aggregation_time_ff (NaN when the largest cluster never held the
 // threshold), and energy_drift for an elastic run (no damping).
@@ -139,6 +140,7 @@ class DemSimulation final : public ParticleSimulation {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     std::vector<std::pair<std::string, double>> values{{"steps", double(c.steps)},
                                                        {"collisions", double(c.collisions)},
+                                                       {"adhesive_fraction", dem_.adhesive_fraction()},
                                                        {"clamped_contacts", double(c.clamped_contacts)},
                                                        {"max_overlap", c.max_overlap},
                                                        {"realised_restitution", settings_.realised_restitution}};

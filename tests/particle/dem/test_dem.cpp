@@ -285,3 +285,39 @@ TEST_CASE("dem: without friction nothing rotates and oblique collisions keep the
   CHECK(norm(dem.angular_velocities()[0]) == 0);
   CHECK(norm(dem.angular_velocities()[1]) == 0);
 }
+
+TEST_CASE("dem: adhesive fraction counts the contacts that never separate again", "[dem]") {
+  // A free head-on collision rebounds: one episode, ended, fraction 0.
+  {
+    const DemSettings s = calibrated(0.5, 1e-3, false);
+    ParticleStart start;
+    start.positions = {{-1.01, 0, 0}, {1.0, 0, 0}};
+    start.velocities = {{0.5, 0, 0}, {-0.5, 0, 0}};
+    start.radii = {1, 1};
+    start.masses = {1, 1};
+    Dem dem(open_box(), start, s);
+    for (int k = 0; k < 3000; ++k) dem.step();
+    CHECK(dem.counters().collisions == 1);
+    CHECK(dem.counters().rebounds == 1);
+    CHECK(dem.adhesive_fraction() == 0.0);
+  }
+  // Two spheres falling together under gravity bounce out beyond the tolerance a few times, then stay in
+  // contact: the last episode is adhesive, the earlier ones rebounds.
+  {
+    DemSettings s = calibrated(0.5, 1e-2, false);
+    s.gravity = true;
+    ParticleStart start;
+    start.positions = {{-1.5, 0, 0}, {1.5, 0, 0}};
+    start.velocities = {{0, 0, 0}, {0, 0, 0}};
+    start.radii = {1, 1};
+    start.masses = {1, 1};
+    Dem dem(open_box(), start, s);
+    for (int k = 0; k < 200000; ++k) dem.step();
+    const double gap = dem.positions()[1][0] - dem.positions()[0][0] - 2;
+    INFO("rebounds " << dem.counters().rebounds << ", collisions " << dem.counters().collisions << ", gap " << gap);
+    CHECK(gap < 0);  // resting in contact, the spring holding gravity
+    CHECK(dem.counters().rebounds >= 1);
+    CHECK(dem.adhesive_fraction() == Approx(1.0 / double(1 + dem.counters().rebounds)));
+    CHECK(dem.counters().collisions >= 1 + dem.counters().rebounds);
+  }
+}
