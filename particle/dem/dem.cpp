@@ -154,16 +154,35 @@ void Dem::contact_forces() {
   graph_next_.clear();
   std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
   std::iota(parent_.begin(), parent_.end(), 0u);
-  for_each_near_pair(2 * max_radius_ + tolerance, [&](std::uint32_t i, std::uint32_t j) {
+  // Verlet list: the pairs within 2 R_max + tolerance + skin, rebuilt from the cell grid once some particle
+  // has moved more than skin/2 since the last build (two such particles close a gap of at most skin).
+  const double skin = 0.2 * max_radius_;
+  bool rebuild = pairs_built_at_.size() != n;
+  for (std::size_t i = 0; i < n && !rebuild; ++i) {
+    const Vector3 moved = box_.minimum_image(x_[i] - pairs_built_at_[i]);
+    rebuild = dot(moved, moved) > 0.25 * skin * skin;
+  }
+  if (rebuild) {
+    pairs_.clear();
+    const double range = 2 * max_radius_ + tolerance + skin;
+    for_each_near_pair(range, [&](std::uint32_t i, std::uint32_t j) {
+      const Vector3 d = separation(i, j);
+      const double reach = radius_[i] + radius_[j] + tolerance + skin;
+      if (dot(d, d) < reach * reach) pairs_.push_back({i, j});
+    });
+    pairs_built_at_ = x_;
+    ++counters_.list_builds;
+  }
+  for (const auto& [i, j] : pairs_) {
     const Vector3 d = separation(i, j);
     const double r2 = dot(d, d);
     const double reach = radius_[i] + radius_[j];
-    if (r2 >= (reach + tolerance) * (reach + tolerance)) return;
+    if (r2 >= (reach + tolerance) * (reach + tolerance)) continue;
     unite(parent_, i, j);
     const double r = std::sqrt(r2);
     const double overlap = reach - r;
     graph_next_.push_back({std::uint64_t(i) * n + j, overlap > 0});
-    if (overlap <= 0 || r == 0) return;
+    if (overlap <= 0 || r == 0) continue;
     overlapping_next_.push_back(std::uint64_t(i) * n + j);
     counters_.max_overlap = std::max(counters_.max_overlap, overlap / min_radius_);
     double spring = overlap;
@@ -191,7 +210,7 @@ void Dem::contact_forces() {
       f_[j][k] += force * normal[k];
     }
     if (settings_.friction > 0) tangential_force(i, j, key, normal, overlap, force, pair_stiffness(reduced));
-  });
+  }
   if (settings_.friction > 0) {
     // Keys and histories sorted together by key.
     std::vector<std::size_t> by_key(overlapping_next_.size());

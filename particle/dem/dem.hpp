@@ -2,8 +2,9 @@
 // A 3-D soft-sphere DEM with optional self-gravity [Trivino2025]: spheres of independent radius R_i and
 // mass m_i, linear spring–dashpot normal contacts clipped at zero (contact_law.hpp) with the overlap in the
 // spring clamped at δ_max = 0.05 R_min (each clamped contact-step counted), direct pairwise gravity
-// G m_i m_j / (r² + ε²) along the pair [Trivino2025, eq. 1], velocity Verlet, contact search on a cell grid rebuilt every step (no skin), and periodic,
-// reflecting (spring–dashpot walls, the wall as an infinite mass) or open boundaries.
+// G m_i m_j / (r² + ε²) along the pair [Trivino2025, eq. 1] or a Barnes–Hut tree, velocity Verlet, contact
+// search by a Verlet list (skin 0.2 R_max) built on a cell grid, and periodic, reflecting (spring–dashpot
+// walls, the wall as an infinite mass) or open boundaries.
 // The dashpot of step n+1 sees the predicted velocity v(n+½) + (dt/2) F(n)/m (second order): the half-step
 // velocity alone lags by dt/2. The dashpot's jump at the onset of a contact is integrated to second order
 // (dem.cpp: the first sample's weight); at walls it is not (first order in dt).
@@ -18,6 +19,7 @@
 #include <cstddef>
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "particle/common/box.hpp"
@@ -49,6 +51,7 @@ struct DemCounters {
   std::uint64_t collisions = 0;       // pairs that start to overlap (δ > 0) having not overlapped the step before
   std::uint64_t clamped_contacts = 0; // contact-steps with δ > δ_max
   double max_overlap = 0;             // largest δ seen, / R_min
+  std::uint64_t list_builds = 0;      // Verlet-list rebuilds
   std::uint64_t rebounds = 0;         // contact episodes (below) that ended after an overlap
   double max_friction_ratio = 0;      // largest |F_t| / (μ F_n) over contact-steps with F_n > 0 (≤ 1)
 };
@@ -129,6 +132,8 @@ class Dem {
     bool overlapped;  // the pair overlapped at some step of this episode
   };
   std::vector<GraphPair> graph_, graph_next_;  // contact-graph pairs, sorted by key
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs_;  // Verlet list
+  std::vector<Vector3> pairs_built_at_;                          // positions at its build
   std::vector<std::uint32_t> parent_;                          // union–find of the contact graph
   double largest_fraction_ = 0;
   bool first_evaluation_ = false;
