@@ -57,6 +57,11 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   w_pred_.assign(n, {0, 0, 0});
   torque_.assign(n, {0, 0, 0});
   q_.assign(n, {1, 0, 0, 0});
+  if (settings_.gravity_substeps < 1) settings_.gravity_substeps = 1;
+  if (settings_.gravity && settings_.gravity_substeps > 1) {
+    gravity_.assign(n, {0, 0, 0});
+    gravity_forces(gravity_);
+  }
   first_evaluation_ = true;  // overlaps present at the start have no onset within a step
   compute_forces();
   first_evaluation_ = false;
@@ -142,7 +147,7 @@ void Dem::for_each_near_pair(double range, Visit&& visit) const {
 void Dem::compute_forces() {
   std::fill(f_.begin(), f_.end(), Vector3{0, 0, 0});
   contact_forces();
-  if (settings_.gravity) gravity_forces();
+  if (settings_.gravity && settings_.gravity_substeps == 1) gravity_forces(f_);
 }
 
 void Dem::contact_forces() {
@@ -297,9 +302,9 @@ void Dem::tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, 
   torque_[j] = torque_[j] + cross(arm_j * normal, force);  // (−a_j n) × (−F)
 }
 
-void Dem::gravity_forces() {
+void Dem::gravity_forces(std::vector<Vector3>& out) {
   if (settings_.tree) {
-    tree_gravity(x_, mass_, settings_.G, softening_, settings_.opening_angle, settings_.force_threads, f_);
+    tree_gravity(x_, mass_, settings_.G, softening_, settings_.opening_angle, settings_.force_threads, out);
     return;
   }
   // Fixed tiling of the pairs into K chunks (K independent of the thread count); each tile writes its own
@@ -360,10 +365,10 @@ void Dem::gravity_forces() {
   // Reduction in tile order (a, b ascending), one particle at a time.
   for (const Tile& t : tiles) {
     const std::size_t a0 = chunk_begin(t.a), a1 = chunk_begin(t.a + 1);
-    for (std::size_t i = a0; i < a1; ++i) f_[i] = f_[i] + tile_forces_[t.offset_a + (i - a0)];
+    for (std::size_t i = a0; i < a1; ++i) out[i] = out[i] + tile_forces_[t.offset_a + (i - a0)];
     if (t.b != t.a) {
       const std::size_t b0 = chunk_begin(t.b), b1 = chunk_begin(t.b + 1);
-      for (std::size_t j = b0; j < b1; ++j) f_[j] = f_[j] + tile_forces_[t.offset_b + (j - b0)];
+      for (std::size_t j = b0; j < b1; ++j) out[j] = out[j] + tile_forces_[t.offset_b + (j - b0)];
     }
   }
 }
@@ -371,6 +376,10 @@ void Dem::gravity_forces() {
 void Dem::step() {
   const double dt = settings_.dt, half = 0.5 * dt;
   const std::size_t n = x_.size();
+  const std::size_t substeps = settings_.gravity ? settings_.gravity_substeps : 1;
+  // Impulse splitting (r-RESPA): gravity kicks by K dt/2 at both ends of every K contact steps.
+  if (substeps > 1 && counters_.steps % substeps == 0)
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
   for (std::size_t i = 0; i < n; ++i) {
     v_[i] = v_[i] + (half / mass_[i]) * f_[i];
     x_[i] = box_.wrap(x_[i] + dt * v_[i]);
@@ -413,6 +422,11 @@ void Dem::step() {
   overlapping_.swap(overlapping_next_);
   history_.swap(history_next_);
   ++counters_.steps;
+  if (substeps > 1 && counters_.steps % substeps == 0) {
+    std::fill(gravity_.begin(), gravity_.end(), Vector3{0, 0, 0});
+    gravity_forces(gravity_);
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
+  }
   time_ = double(counters_.steps) * dt;  // no accumulated round-off
 }
 

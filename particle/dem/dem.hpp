@@ -43,6 +43,9 @@ struct DemSettings {
   double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
   bool tree = false;                  // Barnes–Hut (gravity_tree.hpp) instead of the direct sum
   double opening_angle = 0.5;         // θ of the tree
+  // Impulse splitting (r-RESPA): gravity evaluated every K steps and applied as kicks of K dt/2 at both
+  // ends of each K contact steps; between those ends the velocities lack the second gravity half-kick.
+  std::size_t gravity_substeps = 1;
   std::size_t force_threads = 1;
 };
 
@@ -107,7 +110,7 @@ class Dem {
  private:
   void compute_forces();
   void contact_forces();
-  void gravity_forces();
+  void gravity_forces(std::vector<Vector3>& out);  // adds the gravity forces to `out`
   void update_episodes();
   void tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
                         double normal_stiffness);
@@ -117,6 +120,7 @@ class Dem {
   Box box_;
   DemSettings settings_;
   std::vector<Vector3> x_, v_, f_;
+  std::vector<Vector3> gravity_;  // gravity forces at the last outer step (impulse splitting)
   std::vector<Vector3> u_;  // velocities the dashpot sees: v(t) at the start, then v(t+dt/2) + dt/2 · F(t)/m
   std::vector<double> radius_, mass_;
   double min_radius_ = 0, max_radius_ = 0, softening_ = 0, time_ = 0;

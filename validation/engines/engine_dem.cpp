@@ -59,6 +59,8 @@ const OptionTable& dem_options() {
                     "\"aggregated\""),
       number_option("aggregation_threshold", "0.9", "mass fraction of the largest cluster that defines T_agg", 0.0, 1.0, true),
       number_option("contact_tolerance", "0.01", "contact graph: centre distance < R_i + R_j + contact_tolerance · R_min", 0.0, 1.0),
+      integer_option("gravity_substeps", "1",
+                     "impulse splitting: gravity evaluated every K contact steps, kicks of K dt/2 (r-RESPA)", 1, 100000),
       integer_option("force_threads", "1", "threads for the gravity of one realization (results do not depend on it)", 1, 4096),
   };
   return table;
@@ -301,6 +303,8 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   }
   dem.contact_tolerance = given.number("contact_tolerance", dem.contact_tolerance);
   dem.force_threads = std::size_t(given.integer("force_threads", 1));
+  dem.gravity_substeps = std::size_t(given.integer("gravity_substeps", 1));
+  if (dem.gravity_substeps > 1 && !dem.gravity) given.fail("gravity_substeps", "1 without gravity");
   settings.threshold = given.number("aggregation_threshold", 0.9);
   if (given.has("stop")) {
     const nlohmann::json& stop = given.value("stop");
@@ -310,7 +314,8 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   const Box box = system.box;
   std::string description = "soft-sphere DEM, k_n/m* " + format_value(dem.stiffness_per_mass) + ", γ_n/m* " + format_value(dem.damping_per_mass) +
                             ", k_n " + format_value(dem.stiffness) + ", γ_n " + format_value(dem.damping) + ", dt " + format_value(dem.dt) +
-                            (dem.friction > 0 ? ", friction μ " + format_value(dem.friction) : "") + (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G)
+                            (dem.friction > 0 ? ", friction μ " + format_value(dem.friction) : "") + (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G) +
+                                               (dem.gravity_substeps > 1 ? " every " + std::to_string(dem.gravity_substeps) + " steps" : "")
                                          : ", no gravity") +
                             (settings.stop_aggregated ? ", stop when aggregated" : ", stop at time.end") + warning;
   return {[system, settings, box](std::size_t r) { return std::make_unique<DemSimulation>(box, system.initial_state(r), settings); },

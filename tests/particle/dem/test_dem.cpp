@@ -321,3 +321,25 @@ TEST_CASE("dem: adhesive fraction counts the contacts that never separate again"
     CHECK(dem.counters().collisions >= 1 + dem.counters().rebounds);
   }
 }
+
+TEST_CASE("dem: impulse-split gravity costs little energy", "[dem]") {
+  // The elastic cloud with gravity every K = 10 contact steps (K dt = t_c/5): the energy, read at the ends of
+  // the K-step cycles, stays as close to its start as with gravity every step (measured 5.8e-5 at K = 1,
+  // 8.8e-5 at K = 10 and 8.9e-5 at K = 25 over 6000 steps of 300 spheres; 1e-3 allowed here).
+  for (std::size_t substeps : {std::size_t(1), std::size_t(10)}) {
+    INFO("K = " << substeps);
+    DemSettings s = calibrated(1.0, 0.05, false);
+    s.gravity = true;
+    s.gravity_substeps = substeps;
+    Dem dem(open_box(), cloud(7), s);
+    const double energy0 = dem.total_energy(), scale = std::abs(dem.gravitational_energy());
+    double worst = 0;
+    for (int k = 0; k < 3000; ++k) {
+      dem.step();
+      if (dem.counters().steps % substeps == 0) worst = std::max(worst, std::abs(dem.total_energy() - energy0) / scale);
+    }
+    CHECK(dem.counters().collisions > 0);
+    CHECK(worst < 1e-3);
+    CHECK(norm(dem.momentum()) < 1e-12);
+  }
+}
