@@ -11,9 +11,10 @@
 // frictionless, so friction is refused with reflecting walls.
 // final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution,
 // adhesive_fraction (particle/dem/dem.hpp: contact episodes still open at the end over all with an overlap),
-// max_friction_ratio (with friction), and
-// with gravity potential_energy (−Σ G m_i m_j / r_ij, unsoftened), virial_ratio (K/|P|), free_fall_time, aggregation_time and aggregation_time_ff (NaN when the largest cluster never held the
-// threshold), and energy_drift for an elastic run (no damping).
+// aggregation_time (NaN when the largest cluster never held the threshold), max_friction_ratio (with
+// friction), energy_drift (elastic runs: no damping), and with gravity potential_energy (−Σ G m_i m_j / r_ij,
+// unsoftened), virial_ratio (K/|P|), free_fall_time and aggregation_time_ff. `gravity_substeps` K > 1
+// evaluates gravity every K contact steps (impulse splitting, particle/dem/dem.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
