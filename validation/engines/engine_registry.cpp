@@ -12,6 +12,7 @@
   X(dsmc)                 \
   X(ed)                   \
   X(ts)                   \
+  X(dem)                  \
   X(snes)
 
 namespace aggkit {

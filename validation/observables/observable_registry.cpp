@@ -60,6 +60,59 @@ const Gyration gyration_of_largest(const ParticleView& v) {
   return gyration(v.largest_cluster(), v.configuration().dimension);
 }
 
+// N(r) about the centre of mass of all particles at r_k = R·2^(k/2), k = 2, 3, ... (R the configuration's
+// radius, the mean for unequal radii): fitted by least squares in log-log from 2R up to r_90, the distance
+// holding 90 % of the particles (particles that escaped the aggregate stay out of the fit), at least 3
+// scales (else NaN). Rule "centre_of_mass".
+FractalFit centre_of_mass_dimension(const ParticleConfiguration& c, std::span<const double> masses) {
+  FractalFit fit;
+  fit.rule = "centre_of_mass";
+  fit.dimension = fit.standard_error = fit.fit_min = fit.fit_max = nan;
+  const std::size_t n = c.positions.size();
+  if (n < 2 || masses.size() != n) return fit;
+  std::array<double, 3> centre{0, 0, 0};
+  double total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) centre[d] += masses[i] * c.positions[i][d];
+    total += masses[i];
+  }
+  for (int d = 0; d < 3; ++d) centre[d] /= total;
+  std::vector<double> distance(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double r2 = 0;
+    for (int d = 0; d < 3; ++d) r2 += (c.positions[i][d] - centre[d]) * (c.positions[i][d] - centre[d]);
+    distance[i] = std::sqrt(r2);
+  }
+  std::sort(distance.begin(), distance.end());
+  const double r90 = distance[std::min(n - 1, std::size_t(std::ceil(0.9 * double(n))) - 1)];
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (int k = 2;; ++k) {
+    const double r = c.radius * std::pow(2.0, 0.5 * k);
+    if (r > r90) break;
+    const double count = double(std::upper_bound(distance.begin(), distance.end(), r) - distance.begin());
+    fit.scale.push_back(r);
+    fit.count.push_back(count);
+    if (count < 1) continue;
+    const double x = std::log(r), y = std::log(count);
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+    if (fit.fit_points++ == 0) fit.fit_min = r;
+    fit.fit_max = r;
+  }
+  const double m = fit.fit_points;
+  if (fit.fit_points < 3) return fit;
+  const double sxx_c = sxx - sx * sx / m;
+  fit.dimension = (sxy - sx * sy / m) / sxx_c;
+  const double intercept = (sy - fit.dimension * sx) / m;
+  double residual = 0;
+  for (std::size_t k = 0; k < fit.scale.size(); ++k) {
+    if (fit.count[k] < 1) continue;
+    const double e = std::log(fit.count[k]) - intercept - fit.dimension * std::log(fit.scale[k]);
+    residual += e * e;
+  }
+  fit.standard_error = fit.fit_points > 2 ? std::sqrt(residual / (m - 2) / sxx_c) : nan;
+  return fit;
+}
+
 }  // namespace
 
 const std::vector<ObservableType>& observable_types() {
@@ -78,6 +131,9 @@ const std::vector<ObservableType>& observable_types() {
          if (const ParticleView* v = s.particles()) return double(v->count()) / double(v->clusters());
          return s.moment(1) / s.moment(0);
        }, {}, {}},
+      {"components_fraction", "C/N_tot: clusters (components of the engine's contact graph) per particle [Trivino2025]",
+       need::clusters, named("components_fraction"), false,
+       of_particles([](const ParticleView& v) { return double(v.clusters()) / double(v.count()); }), {}, {}},
       {"largest_cluster", "particle count of the largest cluster", need::clusters, named("largest_cluster"), false,
        of_particles([](const ParticleView& v) {
          const auto sizes = v.cluster_sizes();
@@ -119,6 +175,11 @@ const std::vector<ObservableType>& observable_types() {
          return mass_radius_dimension(v.largest_cluster(), c.dimension, c.radius);
        },
        {}},
+      {"fractal_dimension_com",
+       "slope F of log N(r) against log r, N(r) the particles within r of the centre of mass of all particles, with "
+       "_error, _fit_min, _fit_max [Trivino2025]",
+       positions | masses, named("fractal_dimension_com"), false, {},
+       [](const ParticleView& v) { return centre_of_mass_dimension(v.configuration(), v.masses()); }, {}},
       {"pair_distribution",
        "profile r, P: P(r) = (1/N) Σ_{i≠j} 1{|X_i − X_j| <= r} at 90 radii on (2R, 20R] [Degond2024] (final only)",
        positions, named("pair_distribution"), false, {}, {},

@@ -1,0 +1,529 @@
+#include "particle/dem/dem.hpp"
+
+#include "particle/dem/gravity_tree.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <thread>
+
+namespace aggkit {
+
+namespace {
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+  a = find_root(parent, a);
+  b = find_root(parent, b);
+  if (a == b) return;
+  if (a < b) std::swap(a, b);
+  parent[a] = b;  // the smaller index is the root: deterministic
+}
+
+}  // namespace
+
+Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box_(box), settings_(settings) {
+  if (box.dimension != 3) throw std::invalid_argument("dem: 3-D only");
+  const std::size_t n = start.size();
+  if (n < 1 || start.velocities.size() != n || start.radii.size() != n || start.masses.size() != n)
+    throw std::invalid_argument("dem: positions, velocities, radii and masses must have one entry per particle");
+  if (!(settings.dt > 0) || !std::isfinite(settings.dt)) throw std::invalid_argument("dem: dt must be finite and > 0");
+  if (settings.gravity && box.boundary == Boundary::periodic) throw std::invalid_argument("dem: no gravity in a periodic box");
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(start.radii[i] > 0) || !(start.masses[i] > 0)) throw std::invalid_argument("dem: radii and masses must be > 0");
+  x_ = std::move(start.positions);
+  v_ = std::move(start.velocities);
+  radius_ = std::move(start.radii);
+  mass_ = std::move(start.masses);
+  min_radius_ = *std::min_element(radius_.begin(), radius_.end());
+  max_radius_ = *std::max_element(radius_.begin(), radius_.end());
+  softening_ = settings.softening >= 0 ? settings.softening : 1e-3 * min_radius_;
+  if (settings_.force_threads < 1) settings_.force_threads = 1;
+  f_.assign(n, {0, 0, 0});
+  u_ = v_;
+  parent_.resize(n);
+  if (settings_.friction < 0) throw std::invalid_argument("dem: friction must be >= 0");
+  w_.assign(n, {0, 0, 0});
+  w_pred_.assign(n, {0, 0, 0});
+  torque_.assign(n, {0, 0, 0});
+  q_.assign(n, {1, 0, 0, 0});
+  if (settings_.gravity_substeps < 1) settings_.gravity_substeps = 1;
+  if (settings_.gravity && settings_.gravity_substeps > 1) {
+    gravity_.assign(n, {0, 0, 0});
+    gravity_forces(gravity_);
+  }
+  first_evaluation_ = true;  // overlaps present at the start have no onset within a step
+  compute_forces();
+  first_evaluation_ = false;
+  overlapping_.swap(overlapping_next_);
+  history_.swap(history_next_);
+  counters_.collisions = overlapping_.size();  // pairs overlapping at the start count as collisions
+  update_episodes();
+}
+
+Vector3 Dem::separation(std::size_t i, std::size_t j) const {
+  return box_.boundary == Boundary::periodic ? box_.minimum_image(x_[j] - x_[i]) : x_[j] - x_[i];
+}
+
+template <class Visit>
+void Dem::for_each_near_pair(double range, Visit&& visit) const {
+  const std::size_t n = x_.size();
+  // Grid region per axis: the box for periodic/reflecting, the particles' bounding box when open.
+  Vector3 lo{0, 0, 0}, extent{0, 0, 0};
+  const bool periodic = box_.boundary == Boundary::periodic;
+  if (box_.boundary == Boundary::open) {
+    Vector3 hi = x_[0];
+    lo = x_[0];
+    for (const Vector3& p : x_)
+      for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], p[d]), hi[d] = std::max(hi[d], p[d]);
+    extent = hi - lo;
+  } else {
+    extent = box_.side;
+  }
+  double h = range;
+  std::array<std::int64_t, 3> cells{1, 1, 1};
+  for (int attempt = 0; attempt < 64; ++attempt) {
+    double total = 1;
+    for (int d = 0; d < 3; ++d) {
+      cells[d] = std::max<std::int64_t>(1, std::int64_t(std::floor(extent[d] / h)));
+      if (periodic && cells[d] < 3) cells[d] = 1;  // fewer than 3 cells: one cell, so no neighbour is met twice
+      total *= double(cells[d]);
+    }
+    if (total <= std::max(27.0, 4.0 * double(n))) break;
+    h *= std::cbrt(total / std::max(27.0, 4.0 * double(n))) * 1.01;  // sparse cloud: coarser cells
+  }
+  std::array<double, 3> inverse{};
+  for (int d = 0; d < 3; ++d) inverse[d] = extent[d] > 0 ? double(cells[d]) / extent[d] : 0.0;
+  const std::size_t total = std::size_t(cells[0] * cells[1] * cells[2]);
+  std::vector<std::uint32_t> cell_of(n), start(total + 1, 0), order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::int64_t c[3];
+    for (int d = 0; d < 3; ++d) c[d] = std::clamp<std::int64_t>(std::int64_t(std::floor((x_[i][d] - lo[d]) * inverse[d])), 0, cells[d] - 1);
+    cell_of[i] = std::uint32_t((c[2] * cells[1] + c[1]) * cells[0] + c[0]);
+    ++start[cell_of[i] + 1];
+  }
+  for (std::size_t c = 0; c < total; ++c) start[c + 1] += start[c];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) order[fill[cell_of[i]]++] = std::uint32_t(i);
+  }
+  for (std::int64_t cz = 0; cz < cells[2]; ++cz)
+    for (std::int64_t cy = 0; cy < cells[1]; ++cy)
+      for (std::int64_t cx = 0; cx < cells[0]; ++cx) {
+        const std::size_t c = std::size_t((cz * cells[1] + cy) * cells[0] + cx);
+        if (start[c] == start[c + 1]) continue;
+        const std::int64_t own[3] = {cx, cy, cz};
+        for (int oz = -1; oz <= 1; ++oz)
+          for (int oy = -1; oy <= 1; ++oy)
+            for (int ox = -1; ox <= 1; ++ox) {
+              const int off[3] = {ox, oy, oz};
+              std::int64_t other[3];
+              bool skip = false;
+              for (int d = 0; d < 3 && !skip; ++d) {
+                if (cells[d] == 1 && off[d] != 0) skip = true;
+                other[d] = own[d] + off[d];
+                if (periodic) other[d] = (other[d] + cells[d]) % cells[d];
+                else if (other[d] < 0 || other[d] >= cells[d]) skip = true;
+              }
+              if (skip) continue;
+              const std::size_t c2 = std::size_t((other[2] * cells[1] + other[1]) * cells[0] + other[0]);
+              for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
+                for (std::uint32_t b = start[c2]; b < start[c2 + 1]; ++b)
+                  if (order[a] < order[b]) visit(order[a], order[b]);
+            }
+      }
+}
+
+void Dem::compute_forces() {
+  std::fill(f_.begin(), f_.end(), Vector3{0, 0, 0});
+  contact_forces();
+  if (settings_.gravity && settings_.gravity_substeps == 1) gravity_forces(f_);
+}
+
+void Dem::contact_forces() {
+  const std::size_t n = x_.size();
+  const double limit = settings_.overlap_limit * min_radius_;
+  const double tolerance = settings_.contact_tolerance * min_radius_;
+  overlapping_next_.clear();
+  history_next_.clear();
+  graph_next_.clear();
+  std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
+  std::iota(parent_.begin(), parent_.end(), 0u);
+  // Verlet list: the pairs within 2 R_max + tolerance + skin, rebuilt from the cell grid once some particle
+  // has moved more than skin/2 since the last build (two such particles close a gap of at most skin).
+  const double skin = 0.2 * max_radius_;
+  bool rebuild = pairs_built_at_.size() != n;
+  for (std::size_t i = 0; i < n && !rebuild; ++i) {
+    const Vector3 moved = box_.minimum_image(x_[i] - pairs_built_at_[i]);
+    rebuild = dot(moved, moved) > 0.25 * skin * skin;
+  }
+  if (rebuild) {
+    pairs_.clear();
+    const double range = 2 * max_radius_ + tolerance + skin;
+    for_each_near_pair(range, [&](std::uint32_t i, std::uint32_t j) {
+      const Vector3 d = separation(i, j);
+      const double reach = radius_[i] + radius_[j] + tolerance + skin;
+      if (dot(d, d) < reach * reach) pairs_.push_back({i, j});
+    });
+    pairs_built_at_ = x_;
+    ++counters_.list_builds;
+  }
+  for (const auto& [i, j] : pairs_) {
+    const Vector3 d = separation(i, j);
+    const double r2 = dot(d, d);
+    const double reach = radius_[i] + radius_[j];
+    if (r2 >= (reach + tolerance) * (reach + tolerance)) continue;
+    unite(parent_, i, j);
+    const double r = std::sqrt(r2);
+    const double overlap = reach - r;
+    graph_next_.push_back({std::uint64_t(i) * n + j, overlap > 0});
+    if (overlap <= 0 || r == 0) continue;
+    overlapping_next_.push_back(std::uint64_t(i) * n + j);
+    counters_.max_overlap = std::max(counters_.max_overlap, overlap / min_radius_);
+    double spring = overlap;
+    if (overlap > limit) {
+      spring = limit;
+      ++counters_.clamped_contacts;
+    }
+    const Vector3 normal = (1.0 / r) * d;  // from i to j [Trivino2025, eq. 5]
+    const double separating = dot(u_[j] - u_[i], normal);
+    const double reduced = mass_[i] * mass_[j] / (mass_[i] + mass_[j]);  // [Trivino2025, eq. 2]
+    // The dashpot switches on with a jump at the onset of a contact. Verlet weighs each force sample by dt
+    // (the cell t ± dt/2), so a contact that began s·dt before its first sample would get a dashpot impulse
+    // off by (s − ½) dt γ v: a first-order error in the restitution that depends on the onset phase. The
+    // first sample's dashpot is weighted by s + ½ instead (s from the overlap over the approach speed).
+    double weight = 1;
+    const std::uint64_t key = std::uint64_t(i) * n + j;
+    if (!first_evaluation_ && !std::binary_search(overlapping_.begin(), overlapping_.end(), key)) {
+      const double approach = -separating;
+      weight = 0.5 + (approach > 0 ? std::min(1.0, overlap / (approach * settings_.dt)) : 1.0);
+    }
+    // [Trivino2025, eq. 6], set to zero where it would attract.
+    const double force = std::max(0.0, pair_stiffness(reduced) * spring - weight * pair_damping(reduced) * separating);
+    for (int k = 0; k < 3; ++k) {  // [Trivino2025, eq. 7]
+      f_[i][k] -= force * normal[k];
+      f_[j][k] += force * normal[k];
+    }
+    if (settings_.friction > 0) tangential_force(i, j, key, normal, overlap, force, pair_stiffness(reduced));
+  }
+  if (settings_.friction > 0) {
+    // Keys and histories sorted together by key.
+    std::vector<std::size_t> by_key(overlapping_next_.size());
+    std::iota(by_key.begin(), by_key.end(), std::size_t(0));
+    std::sort(by_key.begin(), by_key.end(), [&](std::size_t a, std::size_t b) { return overlapping_next_[a] < overlapping_next_[b]; });
+    std::vector<std::uint64_t> keys(by_key.size());
+    std::vector<Vector3> histories(by_key.size());
+    for (std::size_t k = 0; k < by_key.size(); ++k) keys[k] = overlapping_next_[by_key[k]], histories[k] = history_next_[by_key[k]];
+    overlapping_next_.swap(keys);
+    history_next_.swap(histories);
+  } else {
+    std::sort(overlapping_next_.begin(), overlapping_next_.end());
+  }
+  // Walls: the same law with the wall as an infinite mass (m* = m_i).
+  wall_force_ = {0, 0, 0};
+  if (box_.boundary == Boundary::reflecting) {
+    for (std::size_t i = 0; i < n; ++i)
+      for (int d = 0; d < 3; ++d) {
+        for (int side = 0; side < 2; ++side) {
+          const double overlap = side == 0 ? radius_[i] - x_[i][d] : x_[i][d] + radius_[i] - box_.side[d];
+          if (overlap <= 0) continue;
+          counters_.max_overlap = std::max(counters_.max_overlap, overlap / min_radius_);
+          double spring = overlap;
+          if (overlap > limit) {
+            spring = limit;
+            ++counters_.clamped_contacts;
+          }
+          const double separating = side == 0 ? u_[i][d] : -u_[i][d];
+          const double force = std::max(0.0, pair_stiffness(mass_[i]) * spring - pair_damping(mass_[i]) * separating);
+          const double signed_force = side == 0 ? force : -force;
+          f_[i][d] += signed_force;
+          wall_force_[d] += signed_force;
+        }
+      }
+  }
+  // The contact graph's largest component.
+  std::vector<double> component(n, 0.0);
+  double total = 0, largest = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t root = find_root(parent_, i);
+    component[root] += mass_[i];
+    total += mass_[i];
+    largest = std::max(largest, component[root]);
+  }
+  largest_fraction_ = largest / total;
+}
+
+namespace {
+Vector3 cross(const Vector3& a, const Vector3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+}  // namespace
+
+void Dem::tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
+                           double normal_stiffness) {
+  // Lever arms R − δ/2 that add up to the centre distance: the torques then balance the tangential forces'
+  // moment exactly and the angular momentum about any point is kept.
+  const double arm_i = radius_[i] - 0.5 * overlap, arm_j = radius_[j] - 0.5 * overlap;
+  // Sliding velocity of j's surface relative to i's at the contact point (predicted velocities, as the dashpot).
+  const Vector3 relative = (u_[j] - u_[i]) - cross(arm_i * w_pred_[i] + arm_j * w_pred_[j], normal);
+  const Vector3 sliding = relative - dot(relative, normal) * normal;
+  // The stored displacement, created with the contact, rotated into the current tangent plane (length kept).
+  Vector3 xi{0, 0, 0};
+  const auto found = std::lower_bound(overlapping_.begin(), overlapping_.end(), key);
+  if (found != overlapping_.end() && *found == key) xi = history_[std::size_t(found - overlapping_.begin())];
+  const double length = norm(xi);
+  xi = xi - dot(xi, normal) * normal;
+  const double projected = norm(xi);
+  xi = projected > 0 ? (length / projected) * xi : Vector3{0, 0, 0};
+  if (!first_evaluation_) xi = xi + settings_.dt * sliding;
+  // Tangential spring k_t = ratio · k_n, truncated at the Coulomb limit μ F_n (the history with it).
+  const double kt = settings_.tangential_stiffness_ratio * normal_stiffness;
+  Vector3 force = kt * xi;  // on i (dragged along j's sliding), −force on j
+  const double limit = settings_.friction * normal_force, size = norm(force);
+  if (size > limit) {
+    force = size > 0 ? (limit / size) * force : Vector3{0, 0, 0};
+    xi = (1 / kt) * force;
+  }
+  if (limit > 0) counters_.max_friction_ratio = std::max(counters_.max_friction_ratio, norm(force) / limit);
+  history_next_.push_back(xi);
+  f_[i] = f_[i] + force;
+  f_[j] = f_[j] - force;
+  torque_[i] = torque_[i] + cross(arm_i * normal, force);
+  torque_[j] = torque_[j] + cross(arm_j * normal, force);  // (−a_j n) × (−F)
+}
+
+void Dem::gravity_forces(std::vector<Vector3>& out) {
+  if (settings_.tree) {
+    tree_gravity(x_, mass_, settings_.G, softening_, settings_.opening_angle, settings_.force_threads, out);
+    return;
+  }
+  // Fixed tiling of the pairs into K chunks (K independent of the thread count); each tile writes its own
+  // partial forces, reduced per particle in tile order, so the sums do not depend on force_threads.
+  const std::size_t n = x_.size();
+  // K depends on N only: chunks of at least 64 particles, at most 16 of them.
+  const std::size_t k_chunks = std::clamp<std::size_t>(n / 64, 1, 16);
+  auto chunk_begin = [&](std::size_t c) { return c * n / k_chunks; };
+  struct Tile {
+    std::size_t a, b, offset_a, offset_b;
+  };
+  std::vector<Tile> tiles;
+  std::size_t storage = 0;
+  for (std::size_t a = 0; a < k_chunks; ++a)
+    for (std::size_t b = a; b < k_chunks; ++b) {
+      Tile t{a, b, storage, 0};
+      storage += chunk_begin(a + 1) - chunk_begin(a);
+      t.offset_b = storage;
+      if (b != a) storage += chunk_begin(b + 1) - chunk_begin(b);
+      tiles.push_back(t);
+    }
+  tile_forces_.assign(storage, {0, 0, 0});
+  const double eps2 = softening_ * softening_;
+  const double G = settings_.G;
+  auto run_tile = [&](const Tile& t) {
+    const std::size_t a0 = chunk_begin(t.a), a1 = chunk_begin(t.a + 1), b0 = chunk_begin(t.b), b1 = chunk_begin(t.b + 1);
+    Vector3* fa = tile_forces_.data() + t.offset_a;
+    Vector3* fb = t.a == t.b ? fa : tile_forces_.data() + t.offset_b;
+    for (std::size_t i = a0; i < a1; ++i) {
+      double fx = 0, fy = 0, fz = 0;
+      const double gi = G * mass_[i];
+      for (std::size_t j = (t.a == t.b ? i + 1 : b0); j < b1; ++j) {
+        const double d[3] = {x_[j][0] - x_[i][0], x_[j][1] - x_[i][1], x_[j][2] - x_[i][2]};  // open or walls: no images
+        const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        const double r = std::sqrt(r2);
+        // |F| = G m_i m_j / (r² + ε²) along the pair [Trivino2025, eq. 1]
+        const double s = r > 0 ? gi * mass_[j] / (r * (r2 + eps2)) : 0.0;
+        fx += s * d[0], fy += s * d[1], fz += s * d[2];
+        Vector3& fj = fb[j - b0];
+        fj[0] -= s * d[0], fj[1] -= s * d[1], fj[2] -= s * d[2];
+      }
+      Vector3& own = fa[i - a0];
+      own[0] += fx, own[1] += fy, own[2] += fz;
+    }
+  };
+  const std::size_t threads = std::min(settings_.force_threads, tiles.size());
+  if (threads <= 1) {
+    for (const Tile& t : tiles) run_tile(t);
+  } else {
+    std::atomic<std::size_t> next{0};
+    std::vector<std::thread> pool;
+    for (std::size_t w = 0; w < threads; ++w)
+      pool.emplace_back([&] {
+        for (std::size_t t = next++; t < tiles.size(); t = next++) run_tile(tiles[t]);
+      });
+    for (std::thread& th : pool) th.join();
+  }
+  // Reduction in tile order (a, b ascending), one particle at a time.
+  for (const Tile& t : tiles) {
+    const std::size_t a0 = chunk_begin(t.a), a1 = chunk_begin(t.a + 1);
+    for (std::size_t i = a0; i < a1; ++i) out[i] = out[i] + tile_forces_[t.offset_a + (i - a0)];
+    if (t.b != t.a) {
+      const std::size_t b0 = chunk_begin(t.b), b1 = chunk_begin(t.b + 1);
+      for (std::size_t j = b0; j < b1; ++j) out[j] = out[j] + tile_forces_[t.offset_b + (j - b0)];
+    }
+  }
+}
+
+void Dem::step() {
+  const double dt = settings_.dt, half = 0.5 * dt;
+  const std::size_t n = x_.size();
+  const std::size_t substeps = settings_.gravity ? settings_.gravity_substeps : 1;
+  // Impulse splitting (r-RESPA): gravity kicks by K dt/2 at both ends of every K contact steps.
+  if (substeps > 1 && counters_.steps % substeps == 0)
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    v_[i] = v_[i] + (half / mass_[i]) * f_[i];
+    x_[i] = box_.wrap(x_[i] + dt * v_[i]);
+    u_[i] = v_[i] + (half / mass_[i]) * f_[i];  // the dashpot's estimate of v(t + dt): second order
+  }
+  if (settings_.friction > 0) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double inertia = 0.4 * mass_[i] * radius_[i] * radius_[i];  // 2/5 m R²
+      w_[i] = w_[i] + (half / inertia) * torque_[i];
+      w_pred_[i] = w_[i] + (half / inertia) * torque_[i];
+      // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised.
+      const double angle = norm(w_[i]) * dt;
+      if (angle > 0) {
+        const Vector3 axis = (1 / norm(w_[i])) * w_[i];
+        const double c = std::cos(0.5 * angle), sn = std::sin(0.5 * angle);
+        const std::array<double, 4> r{c, sn * axis[0], sn * axis[1], sn * axis[2]}, q = q_[i];
+        std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
+                                r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
+        const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
+        for (double& c4 : p) c4 /= len;
+        q_[i] = p;
+      }
+    }
+  }
+  wall_impulse_ = wall_impulse_ - half * wall_force_;
+  compute_forces();
+  for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (half / mass_[i]) * f_[i];
+  if (settings_.friction > 0)
+    for (std::size_t i = 0; i < n; ++i) w_[i] = w_[i] + (half / (0.4 * mass_[i] * radius_[i] * radius_[i])) * torque_[i];
+  wall_impulse_ = wall_impulse_ - half * wall_force_;
+  // Collisions: overlapping pairs that did not overlap the step before.
+  std::size_t common = 0;
+  for (std::size_t p = 0, q = 0; p < overlapping_next_.size() && q < overlapping_.size();) {
+    if (overlapping_next_[p] < overlapping_[q]) ++p;
+    else if (overlapping_[q] < overlapping_next_[p]) ++q;
+    else ++common, ++p, ++q;
+  }
+  counters_.collisions += overlapping_next_.size() - common;
+  update_episodes();
+  overlapping_.swap(overlapping_next_);
+  history_.swap(history_next_);
+  ++counters_.steps;
+  if (substeps > 1 && counters_.steps % substeps == 0) {
+    std::fill(gravity_.begin(), gravity_.end(), Vector3{0, 0, 0});
+    gravity_forces(gravity_);
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
+  }
+  time_ = double(counters_.steps) * dt;  // no accumulated round-off
+}
+
+void Dem::update_episodes() {
+  // Contact episodes: a pair within the contact graph's distance from one step to the next; an episode that
+  // ends (the pair separates beyond R_i + R_j + tolerance) after its spheres overlapped was a rebound.
+  std::sort(graph_next_.begin(), graph_next_.end(), [](const GraphPair& a, const GraphPair& b) { return a.key < b.key; });
+  std::size_t q = 0;
+  for (GraphPair& now : graph_next_) {
+    while (q < graph_.size() && graph_[q].key < now.key) {
+      if (graph_[q].overlapped) ++counters_.rebounds;
+      ++q;
+    }
+    if (q < graph_.size() && graph_[q].key == now.key) {
+      now.overlapped = now.overlapped || graph_[q].overlapped;
+      ++q;
+    }
+  }
+  for (; q < graph_.size(); ++q)
+    if (graph_[q].overlapped) ++counters_.rebounds;
+  graph_.swap(graph_next_);
+}
+
+double Dem::adhesive_fraction() const {
+  std::uint64_t open = 0;
+  for (const GraphPair& p : graph_) open += p.overlapped ? 1 : 0;
+  return open + counters_.rebounds > 0 ? double(open) / double(open + counters_.rebounds) : std::numeric_limits<double>::quiet_NaN();
+}
+
+Vector3 Dem::momentum() const {
+  Vector3 p{0, 0, 0};
+  for (std::size_t i = 0; i < x_.size(); ++i) p = p + mass_[i] * v_[i];
+  return p;
+}
+
+double Dem::kinetic_energy() const {
+  double k = 0;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    k += 0.5 * mass_[i] * dot(v_[i], v_[i]) + 0.2 * mass_[i] * radius_[i] * radius_[i] * dot(w_[i], w_[i]);
+  return k;
+}
+
+Vector3 Dem::angular_momentum() const {
+  Vector3 l{0, 0, 0};
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    l = l + mass_[i] * cross(x_[i], v_[i]) + (0.4 * mass_[i] * radius_[i] * radius_[i]) * w_[i];
+  return l;
+}
+
+double Dem::gravitational_energy() const {
+  if (!settings_.gravity) return 0;
+  const double eps = softening_;
+  double u = 0;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    for (std::size_t j = i + 1; j < x_.size(); ++j) {
+      const double r = norm(separation(i, j));
+      // ∫_r^∞ G m m / (s² + ε²) ds = (G m m / ε)(π/2 − atan(r/ε))
+      u -= settings_.G * mass_[i] * mass_[j] * (eps > 0 ? (M_PI / 2 - std::atan(r / eps)) / eps : 1 / r);
+    }
+  return u;
+}
+
+double Dem::elastic_energy() const {
+  const double limit = settings_.overlap_limit * min_radius_;
+  auto spring_energy = [&](double k, double overlap) {
+    return overlap <= limit ? 0.5 * k * overlap * overlap : 0.5 * k * limit * limit + k * limit * (overlap - limit);
+  };
+  double e = 0;
+  for_each_near_pair(2 * max_radius_, [&](std::uint32_t i, std::uint32_t j) {
+    const double overlap = radius_[i] + radius_[j] - norm(separation(i, j));
+    if (overlap > 0) e += spring_energy(pair_stiffness(mass_[i] * mass_[j] / (mass_[i] + mass_[j])), overlap);
+  });
+  for (std::size_t k = 0; k < history_.size(); ++k) {  // tangential springs
+    const std::size_t i = overlapping_[k] / x_.size(), j = overlapping_[k] % x_.size();
+    const double kt = settings_.tangential_stiffness_ratio * pair_stiffness(mass_[i] * mass_[j] / (mass_[i] + mass_[j]));
+    e += 0.5 * kt * dot(history_[k], history_[k]);
+  }
+  if (box_.boundary == Boundary::reflecting)
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      for (int d = 0; d < 3; ++d) {
+        const double low = radius_[i] - x_[i][d], high = x_[i][d] + radius_[i] - box_.side[d];
+        if (low > 0) e += spring_energy(pair_stiffness(mass_[i]), low);
+        if (high > 0) e += spring_energy(pair_stiffness(mass_[i]), high);
+      }
+  return e;
+}
+
+std::vector<std::uint32_t> Dem::cluster_labels() const {
+  std::vector<std::uint32_t> parent = parent_, labels(x_.size());
+  std::vector<std::uint32_t> label_of_root(x_.size(), UINT32_MAX);
+  std::uint32_t next = 0;
+  for (std::uint32_t i = 0; i < x_.size(); ++i) {
+    const std::uint32_t root = find_root(parent, i);
+    if (label_of_root[root] == UINT32_MAX) label_of_root[root] = next++;
+    labels[i] = label_of_root[root];
+  }
+  return labels;
+}
+
+}  // namespace aggkit

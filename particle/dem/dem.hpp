@@ -1,0 +1,148 @@
+#pragma once
+// A 3-D soft-sphere DEM with optional self-gravity [Trivino2025]: spheres of independent radius R_i and
+// mass m_i, linear spring–dashpot normal contacts clipped at zero (contact_law.hpp) with the overlap in the
+// spring clamped at δ_max = 0.05 R_min (each clamped contact-step counted), direct pairwise gravity
+// G m_i m_j / (r² + ε²) along the pair [Trivino2025, eq. 1] or a Barnes–Hut tree, velocity Verlet, contact
+// search by a Verlet list (skin 0.2 R_max) built on a cell grid, and periodic, reflecting (spring–dashpot
+// walls, the wall as an infinite mass) or open boundaries.
+// The dashpot of step n+1 sees the predicted velocity v(n+½) + (dt/2) F(n)/m (second order): the half-step
+// velocity alone lags by dt/2. The dashpot's jump at the onset of a contact is integrated to second order
+// (dem.cpp: the first sample's weight); at walls it is not (first order in dt).
+// Friction (μ > 0): Coulomb with a tangential spring k_t = 2/7 k_n (default) and a history per contact,
+// created and dropped with the contact, rotated into the current tangent plane (length kept) and truncated
+// at μ F_n; torques about lever arms R − δ/2 (they add up to the centre distance, so the angular momentum is
+// kept), rotation by velocity Verlet half-kicks of ω (I = 2/5 m R²) and unit quaternions. Without friction
+// rotation is not integrated. Walls are frictionless (the spring–dashpot normal force only).
+// Direct gravity runs on `force_threads` over a fixed tiling of the pairs, reduced in a fixed order; the
+// Barnes–Hut tree (gravity_tree.hpp) walks per particle: either way the result does not depend on the thread
+// count. Contacts are evaluated on one thread.
+#include <cstddef>
+#include <array>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "particle/common/box.hpp"
+#include "particle/common/particle_start.hpp"
+#include "particle/common/vector3.hpp"
+
+namespace aggkit {
+
+struct DemSettings {
+  // Pair law: k_n = stiffness_per_mass · m* + stiffness, γ_n = damping_per_mass · m* + damping (one of the
+  // two forms used; the (e, t_c) calibration gives the per-mass rates, (stiffness, damping) the absolute).
+  double stiffness_per_mass = 0, damping_per_mass = 0;
+  double stiffness = 0, damping = 0;
+  double dt = 0;                      // > 0
+  double overlap_limit = 0.05;        // δ_max / R_min
+  double contact_tolerance = 0.01;    // contact graph: r < R_i + R_j + contact_tolerance · R_min
+  bool gravity = false;
+  double G = 1;
+  double softening = -1;              // ε; < 0: 1e-3 R_min
+  double friction = 0;                // Coulomb μ; > 0: tangential springs with history, rotation
+  double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
+  bool tree = false;                  // Barnes–Hut (gravity_tree.hpp) instead of the direct sum
+  double opening_angle = 0.5;         // θ of the tree
+  // Impulse splitting (r-RESPA): gravity evaluated every K steps and applied as kicks of K dt/2 at both
+  // ends of each K contact steps; between those ends the velocities lack the second gravity half-kick.
+  std::size_t gravity_substeps = 1;
+  std::size_t force_threads = 1;
+};
+
+struct DemCounters {
+  std::uint64_t steps = 0;
+  std::uint64_t collisions = 0;       // pairs that start to overlap (δ > 0) having not overlapped the step before
+  std::uint64_t clamped_contacts = 0; // contact-steps with δ > δ_max
+  double max_overlap = 0;             // largest δ seen, / R_min
+  std::uint64_t list_builds = 0;      // Verlet-list rebuilds
+  std::uint64_t rebounds = 0;         // contact episodes (below) that ended after an overlap
+  double max_friction_ratio = 0;      // largest |F_t| / (μ F_n) over contact-steps with F_n > 0 (≤ 1)
+};
+
+class Dem {
+ public:
+  // Throws std::invalid_argument for a 2-D box, non-positive radii or masses, dt <= 0, sizes that differ,
+  // or gravity in a periodic box (which would need Ewald sums).
+  Dem(const Box& box, ParticleStart start, const DemSettings& settings);
+
+  void step();                        // one velocity-Verlet step of dt
+  double time() const { return time_; }
+  std::size_t size() const { return x_.size(); }
+
+  const std::vector<Vector3>& positions() const { return x_; }
+  const std::vector<Vector3>& velocities() const { return v_; }
+  const std::vector<double>& radii() const { return radius_; }
+  const std::vector<double>& masses() const { return mass_; }
+  const Box& box() const { return box_; }
+  const DemSettings& settings() const { return settings_; }
+  const DemCounters& counters() const { return counters_; }
+  double min_radius() const { return min_radius_; }
+
+  Vector3 momentum() const;
+  Vector3 angular_momentum() const;   // Σ m x × v + I ω about the origin
+  const std::vector<Vector3>& angular_velocities() const { return w_; }
+  const std::vector<std::array<double, 4>>& orientations() const { return q_; }  // unit quaternions (w, x, y, z)
+  Vector3 wall_impulse() const { return wall_impulse_; }
+  double kinetic_energy() const;      // translational and rotational
+  // Gravitational energy of the force law: U(r) = −(G m_i m_j / ε)(π/2 − atan(r/ε)) per pair (0 without gravity).
+  double gravitational_energy() const;
+  // Elastic energy of the springs (clamped spring: linear beyond δ_max), pairs and walls, and the
+  // tangential springs ½ k_t |ξ|².
+  double elastic_energy() const;
+  double total_energy() const { return kinetic_energy() + gravitational_energy() + elastic_energy(); }
+
+  // Pair parameters for reduced mass m*.
+  double pair_stiffness(double reduced_mass) const { return settings_.stiffness_per_mass * reduced_mass + settings_.stiffness; }
+  double pair_damping(double reduced_mass) const { return settings_.damping_per_mass * reduced_mass + settings_.damping; }
+
+  // Connected components of the contact graph (r < R_i + R_j + tolerance, minimum image when periodic),
+  // labels 0..C−1 in order of first particle; from the last force evaluation.
+  std::vector<std::uint32_t> cluster_labels() const;
+  // Adhesive fraction: a contact episode is a pair staying within the contact graph's distance
+  // (r < R_i + R_j + tolerance) from step to step; an episode with an overlap (δ > 0) is a collision; it is
+  // adhesive when the pair has not separated again (left that distance) by now, a rebound when it has.
+  // Fraction = open episodes with an overlap / (those + rebounds); NaN before any collision. Pairs that
+  // bounce within the tolerance without leaving it count once.
+  double adhesive_fraction() const;
+  // Mass of the largest component / total mass, from the last force evaluation.
+  double largest_cluster_mass_fraction() const { return largest_fraction_; }
+
+ private:
+  void compute_forces();
+  void contact_forces();
+  void gravity_forces(std::vector<Vector3>& out);  // adds the gravity forces to `out`
+  void update_episodes();
+  void tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
+                        double normal_stiffness);
+  template <class Visit> void for_each_near_pair(double range, Visit&& visit) const;
+  Vector3 separation(std::size_t i, std::size_t j) const;  // x_j − x_i (minimum image)
+
+  Box box_;
+  DemSettings settings_;
+  std::vector<Vector3> x_, v_, f_;
+  std::vector<Vector3> gravity_;  // gravity forces at the last outer step (impulse splitting)
+  std::vector<Vector3> u_;  // velocities the dashpot sees: v(t) at the start, then v(t+dt/2) + dt/2 · F(t)/m
+  std::vector<double> radius_, mass_;
+  double min_radius_ = 0, max_radius_ = 0, softening_ = 0, time_ = 0;
+  Vector3 wall_impulse_{0, 0, 0};
+  Vector3 wall_force_{0, 0, 0};
+  DemCounters counters_;
+  std::vector<std::uint64_t> overlapping_, overlapping_next_;  // sorted pair keys i·N + j of δ > 0
+  std::vector<Vector3> history_, history_next_;                // tangential displacement per key (friction)
+  std::vector<Vector3> w_, w_pred_, torque_;                   // angular velocity, its prediction, torque
+  std::vector<std::array<double, 4>> q_;                       // orientations
+  struct GraphPair {
+    std::uint64_t key;
+    bool overlapped;  // the pair overlapped at some step of this episode
+  };
+  std::vector<GraphPair> graph_, graph_next_;  // contact-graph pairs, sorted by key
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs_;  // Verlet list
+  std::vector<Vector3> pairs_built_at_;                          // positions at its build
+  std::vector<std::uint32_t> parent_;                          // union–find of the contact graph
+  double largest_fraction_ = 0;
+  bool first_evaluation_ = false;
+  // gravity tiling scratch
+  std::vector<Vector3> tile_forces_;
+};
+
+}  // namespace aggkit

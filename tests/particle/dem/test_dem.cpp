@@ -1,0 +1,345 @@
+// The DEM core (particle/dem/): the clipped binary collision in closed form against the integrator, the
+// (e, t_c) calibration with and without `exact`, the contact duration, a two-body Kepler orbit under direct
+// gravity, and results independent of the gravity thread count.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "particle/dem/contact_law.hpp"
+#include "particle/dem/dem.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+Box open_box() {
+  Box box;
+  box.dimension = 3;
+  box.boundary = Boundary::open;
+  return box;
+}
+
+// (e, t_c) calibration as the engine does it: k/m* = (π² + ln² e)/t_c², γ/m* = 2ζ√(k/m*).
+DemSettings calibrated(double e, double contact_time, bool exact) {
+  DemSettings s;
+  const double rate = (M_PI * M_PI + std::log(e) * std::log(e)) / (contact_time * contact_time);
+  s.stiffness_per_mass = rate;
+  s.damping_per_mass = 2 * (exact ? exact_damping_ratio(e) : formula_damping_ratio(e)) * std::sqrt(rate);
+  s.dt = contact_time / 50;
+  return s;
+}
+
+struct Collision {
+  double restitution, overlap_time;
+};
+
+// Head-on collision of spheres (R = 1, masses m1, m2) approaching at relative speed `speed`; runs until they
+// separate. The initial gap puts the onset of the contact at `phase` of a step. overlap_time: steps with
+// δ > 0, times dt.
+Collision head_on(const DemSettings& settings, double speed, double m1 = 1, double m2 = 1, double phase = 0.37) {
+  ParticleStart start;
+  start.positions = {{-1.0 - (20 + phase) * speed * settings.dt, 0, 0}, {1.0, 0, 0}};
+  start.velocities = {{speed * m2 / (m1 + m2), 0, 0}, {-speed * m1 / (m1 + m2), 0, 0}};
+  start.radii = {1, 1};
+  start.masses = {m1, m2};
+  Dem dem(open_box(), start, settings);
+  std::size_t overlapping = 0;
+  for (int k = 0; k < 100000; ++k) {
+    dem.step();
+    const double gap = dem.positions()[1][0] - dem.positions()[0][0] - 2;
+    if (gap < 0) ++overlapping;
+    else if (overlapping > 0) break;
+  }
+  const double separating = dem.velocities()[1][0] - dem.velocities()[0][0];
+  return {separating / speed, double(overlapping) * settings.dt};
+}
+
+}  // namespace
+
+TEST_CASE("dem: the closed-form clipped collision", "[dem]") {
+  // ζ = 0: a half period of the undamped spring, e = 1.
+  CHECK(clipped_collision(0).restitution == Approx(1).margin(1e-15));
+  CHECK(clipped_collision(0).overlap_time == Approx(M_PI).epsilon(1e-14));
+  // Continuous across critical damping (ζ = 1: e = e^{−2}, force zero at ω0 t = 2).
+  CHECK(clipped_collision(1).restitution == Approx(std::exp(-2.0)).epsilon(1e-14));
+  CHECK(clipped_collision(1 - 1e-7).restitution == Approx(std::exp(-2.0)).epsilon(1e-6));
+  CHECK(clipped_collision(1 + 1e-7).restitution == Approx(std::exp(-2.0)).epsilon(1e-6));
+  // Monotone fall of the realised restitution with ζ.
+  double previous = 1.0;
+  for (double zeta = 0.05; zeta < 20; zeta *= 1.3) {
+    const double e = clipped_collision(zeta).restitution;
+    CHECK(e < previous);
+    previous = e;
+  }
+  // Clipping raises the restitution above the formula's e (known effect of the clipped dashpot).
+  for (double e : {0.1, 0.28, 0.5, 0.9}) {
+    CHECK(clipped_collision(formula_damping_ratio(e)).restitution > e);
+    CHECK(clipped_collision(exact_damping_ratio(e)).restitution == Approx(e).epsilon(1e-10));
+  }
+  CHECK_THROWS(exact_damping_ratio(0));
+  CHECK_THROWS(exact_damping_ratio(1.5));
+}
+
+TEST_CASE("dem: a binary head-on collision returns the calibrated restitution", "[dem]") {
+  // The measured error of the exact calibration at dt = t_c/50 is at most 9.1e-4 (e = 0.1) over onset phases,
+  // speeds and mass ratios: second order in dt (the onset of the dashpot is integrated to second order).
+  const double tc = 1e-3;
+  for (double e : {0.1, 0.28, 0.5, 0.9}) {
+    INFO("e = " << e);
+    for (double phase : {0.0, 0.25, 0.5, 0.75}) {
+      INFO("onset phase " << phase);
+      CHECK(head_on(calibrated(e, tc, true), 0.01, 1, 1, phase).restitution == Approx(e).margin(1e-3));
+      CHECK(head_on(calibrated(e, tc, true), 1.0, 1.0, 3.7, phase).restitution == Approx(e).margin(1e-3));
+    }
+    // formula: the clipped closed form's value at the formula's ζ (above e; measured within 1.3e-3 at
+    // dt = t_c/50, the stiffer ω0 of small e making its step error the larger).
+    const double expected = clipped_collision(formula_damping_ratio(e)).restitution;
+    CHECK(head_on(calibrated(e, tc, false), 1.0).restitution == Approx(expected).margin(1.5e-3));
+    CHECK(head_on(calibrated(e, tc, false), 1.0).restitution > e + 1e-3);
+  }
+  // Second order: four times smaller steps, at least eight times smaller error.
+  DemSettings fine = calibrated(0.1, tc, true);
+  const double coarse_error = std::abs(head_on(fine, 1.0).restitution - 0.1);
+  fine.dt /= 4;
+  CHECK(std::abs(head_on(fine, 1.0).restitution - 0.1) < coarse_error / 8);
+}
+
+TEST_CASE("dem: the contact lasts t_c", "[dem]") {
+  // Without clipping the formula's stiffness gives a damped half period ω_d = π/t_c: the contact lasts t_c.
+  // With clipping the spheres part when the force reaches zero and fly apart over the remaining overlap: the
+  // geometric duration is the closed form's overlap_time, which tends to t_c as e → 1.
+  const double tc = 2e-3;
+  for (double e : {0.28, 0.5, 0.9, 0.999}) {
+    INFO("e = " << e);
+    const DemSettings s = calibrated(e, tc, false);
+    const double omega0 = std::sqrt(s.stiffness_per_mass);
+    const double expected = clipped_collision(formula_damping_ratio(e)).overlap_time / omega0;
+    const Collision c = head_on(s, 1.0);
+    CHECK(c.overlap_time == Approx(expected).margin(1.01 * s.dt));
+    if (e >= 0.9) CHECK(c.overlap_time == Approx(tc).epsilon(0.04));
+  }
+  // The force-carrying part of an undamped collision is exactly t_c.
+  const DemSettings elastic = calibrated(1.0, tc, false);
+  CHECK(clipped_collision(0).force_time / std::sqrt(elastic.stiffness_per_mass) == Approx(tc).epsilon(1e-14));
+  CHECK(head_on(elastic, 1.0).overlap_time == Approx(tc).margin(1.01 * elastic.dt));
+}
+
+TEST_CASE("dem: two bodies under direct gravity follow a Kepler orbit", "[dem]") {
+  // m1 = 1, m2 = 0.5, G = 1, a = 1, eccentricity 0.5, starting at periapsis; radii 0.01 (no contact).
+  // Period T = 2π √(a³/(G M)). Velocity Verlet's error scale is (ω_p dt)² with ω_p = v_p/r_p the fastest
+  // angular rate (periapsis): with dt = T/2000, (ω_p dt)² = 1.2e-4, the tolerance of the period and of the
+  // energy's largest relative deviation. The momentum (zero in the centre-of-mass frame) stays at round-off.
+  const double G = 1, m1 = 1, m2 = 0.5, M = m1 + m2, a = 1, ecc = 0.5;
+  const double rp = a * (1 - ecc), vp = std::sqrt(G * M * (1 + ecc) / (a * (1 - ecc)));
+  const double period = 2 * M_PI * std::sqrt(a * a * a / (G * M));
+  DemSettings s;
+  s.stiffness = 1;
+  s.gravity = true;
+  s.G = G;
+  s.dt = period / 2000;
+  ParticleStart start;
+  start.positions = {{-rp * m2 / M, 0, 0}, {rp * m1 / M, 0, 0}};
+  start.velocities = {{0, -vp * m2 / M, 0}, {0, vp * m1 / M, 0}};
+  start.radii = {0.01, 0.01};
+  start.masses = {m1, m2};
+  Dem dem(open_box(), start, s);
+  const double energy0 = dem.total_energy();
+  CHECK(energy0 == Approx(-G * m1 * m2 / (2 * a)).epsilon(1e-9));  // softening 1e-5: negligible
+  const double tolerance = std::pow(vp / rp * s.dt, 2);
+  double angle = 0, previous_angle = 0, crossing = 0, worst_energy = 0, worst_momentum = 0;
+  while (dem.time() < 1.5 * period) {
+    dem.step();
+    const Vector3 d = dem.positions()[1] - dem.positions()[0];
+    double step_angle = std::atan2(d[1], d[0]) - std::fmod(previous_angle, 2 * M_PI);
+    while (step_angle < -M_PI) step_angle += 2 * M_PI;
+    while (step_angle > M_PI) step_angle -= 2 * M_PI;
+    angle = previous_angle + step_angle;
+    if (crossing == 0 && angle >= 2 * M_PI)  // linear interpolation of the time the angle reaches 2π
+      crossing = dem.time() - s.dt * (angle - 2 * M_PI) / (angle - previous_angle);
+    previous_angle = angle;
+    worst_energy = std::max(worst_energy, std::abs(dem.total_energy() / energy0 - 1));
+    worst_momentum = std::max(worst_momentum, norm(dem.momentum()));
+  }
+  INFO("period error " << crossing / period - 1 << ", energy deviation " << worst_energy << ", tolerance " << tolerance);
+  CHECK(std::abs(crossing / period - 1) < tolerance);
+  CHECK(worst_energy < tolerance);
+  CHECK(worst_momentum < 1e-14 * m1 * vp);
+}
+
+namespace {
+
+// A cold cloud of `count` spheres (R = 1, m = 1) in a cube of side `side`.
+ParticleStart cloud(std::uint64_t seed, std::size_t count = 120, double side = 16) {
+  ParticleStart start;
+  std::uint64_t state = seed;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) / 9007199254740992.0;
+  };
+  while (start.size() < count) {
+    const Vector3 p{side * uniform(), side * uniform(), side * uniform()};
+    bool free = true;
+    for (const Vector3& q : start.positions) free = free && norm(p - q) > 2.05;
+    if (!free) continue;
+    start.positions.push_back(p);
+    start.velocities.push_back({0, 0, 0});
+    start.radii.push_back(1);
+    start.masses.push_back(1);
+  }
+  return start;
+}
+
+DemSettings collapse_settings(std::size_t threads) {
+  DemSettings s = calibrated(0.3, 0.05, false);
+  s.gravity = true;
+  s.G = 1;
+  s.force_threads = threads;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("dem: results do not depend on the gravity thread count; momentum kept to round-off", "[dem]") {
+  // 300 particles: 4 chunks of the gravity tiling, 10 tiles shared out among the threads.
+  Dem one(open_box(), cloud(3, 300, 24), collapse_settings(1));
+  Dem three(open_box(), cloud(3, 300, 24), collapse_settings(3));
+  for (int k = 0; k < 2000; ++k) one.step(), three.step();
+  CHECK(one.counters().collisions > 0);  // contacts took part
+  CHECK(one.positions() == three.positions());
+  CHECK(one.velocities() == three.velocities());
+  CHECK(one.counters().collisions == three.counters().collisions);
+  // Σ m |v| sets the momentum scale; pair forces cancel exactly, so only the sums' round-off remains.
+  double scale = 0;
+  for (std::size_t i = 0; i < one.size(); ++i) scale += one.masses()[i] * norm(one.velocities()[i]);
+  CHECK(norm(one.momentum()) < 1e-13 * scale);
+}
+
+TEST_CASE("dem: an elastic self-gravitating cloud keeps its energy", "[dem]") {
+  DemSettings s = calibrated(1.0, 0.05, false);
+  s.gravity = true;
+  Dem dem(open_box(), cloud(7), s);
+  const double energy0 = dem.total_energy(), scale = std::abs(dem.gravitational_energy());
+  double worst = 0;
+  for (int k = 0; k < 3000; ++k) {
+    dem.step();
+    worst = std::max(worst, std::abs(dem.total_energy() - energy0) / scale);
+  }
+  INFO("collisions " << dem.counters().collisions << ", worst relative energy error " << worst);
+  CHECK(dem.counters().collisions > 0);
+  CHECK(worst < 1e-3);
+}
+
+TEST_CASE("dem: oblique collisions with friction never gain energy; |F_t| <= μ F_n; angular momentum kept", "[dem][friction]") {
+  // Spheres R = 1 and R = 0.7 (masses 1 and 0.4) meeting at impact angle α between the relative velocity and
+  // the line of centres (impact parameter (R_1 + R_2) sin α), including the grazing α = 76° with μ = 0.5.
+  // Energy: K (translation + rotation) + the normal and tangential springs, at every step, never above its
+  // start by more than the integrator's O(dt²) fluctuation (measured below 2e-5 at dt = t_c/50; 1e-4
+  // allowed) and the final K never above the start.
+  for (double e : {1.0, 0.5}) {
+    for (double mu : {0.1, 0.5, 2.0}) {
+      for (double angle_deg : {10.0, 45.0, 76.0, 85.0}) {
+        INFO("e = " << e << ", μ = " << mu << ", α = " << angle_deg);
+        DemSettings s = calibrated(e, 1e-3, false);
+        s.friction = mu;
+        const double angle = angle_deg * M_PI / 180, b = 1.7 * std::sin(angle);
+        ParticleStart start;  // 0.01 apart, lateral offset b (out of the x–y plane by 0.3 rad)
+        start.positions = {{0, 0, 0}, {std::sqrt(1.71 * 1.71 - b * b), b * std::cos(0.3), b * std::sin(0.3)}};
+        start.velocities = {{1.0, 0, 0}, {-0.5, 0, 0}};
+        start.radii = {1.0, 0.7};
+        start.masses = {1.0, 0.4};
+        Dem dem(open_box(), start, s);
+        const double energy0 = dem.total_energy();
+        const Vector3 l0 = dem.angular_momentum();
+        double worst = -1, worst_l = 0;
+        bool touched = false;
+        for (int k = 0; k < 400000; ++k) {
+          dem.step();
+          worst = std::max(worst, dem.total_energy() / energy0 - 1);
+          worst_l = std::max(worst_l, norm(dem.angular_momentum() - l0));
+          const double gap = norm(dem.positions()[1] - dem.positions()[0]) - 1.7;
+          if (gap < 0) touched = true;
+          else if (touched && gap > 0.01) break;
+        }
+        REQUIRE(touched);
+        CHECK(worst < 1e-4);
+        CHECK(dem.kinetic_energy() <= energy0 * (1 + 1e-12));
+        CHECK(dem.counters().max_friction_ratio <= 1 + 1e-12);
+        CHECK(worst_l < 1e-13 * (norm(l0) + 3.0));
+        if (angle_deg >= 45) CHECK(norm(dem.angular_velocities()[0]) > 1e-3);  // friction spun the spheres
+        for (const auto& q : dem.orientations()) CHECK(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] == Approx(1).epsilon(1e-14));
+      }
+    }
+  }
+}
+
+TEST_CASE("dem: without friction nothing rotates and oblique collisions keep the tangential velocity", "[dem][friction]") {
+  DemSettings s = calibrated(0.5, 1e-3, false);
+  ParticleStart start;
+  start.positions = {{0, 0, 0}, {std::sqrt(1.71 * 1.71 - 1.44), 1.2, 0}};
+  start.velocities = {{1.0, 0, 0}, {-0.5, 0, 0}};
+  start.radii = {1.0, 0.7};
+  start.masses = {1.0, 0.4};
+  Dem dem(open_box(), start, s);
+  for (int k = 0; k < 10000; ++k) dem.step();
+  CHECK(dem.counters().collisions == 1);
+  CHECK(norm(dem.angular_velocities()[0]) == 0);
+  CHECK(norm(dem.angular_velocities()[1]) == 0);
+}
+
+TEST_CASE("dem: adhesive fraction counts the contacts that never separate again", "[dem]") {
+  // A free head-on collision rebounds: one episode, ended, fraction 0.
+  {
+    const DemSettings s = calibrated(0.5, 1e-3, false);
+    ParticleStart start;
+    start.positions = {{-1.01, 0, 0}, {1.0, 0, 0}};
+    start.velocities = {{0.5, 0, 0}, {-0.5, 0, 0}};
+    start.radii = {1, 1};
+    start.masses = {1, 1};
+    Dem dem(open_box(), start, s);
+    for (int k = 0; k < 3000; ++k) dem.step();
+    CHECK(dem.counters().collisions == 1);
+    CHECK(dem.counters().rebounds == 1);
+    CHECK(dem.adhesive_fraction() == 0.0);
+  }
+  // Two spheres falling together under gravity bounce out beyond the tolerance a few times, then stay in
+  // contact: the last episode is adhesive, the earlier ones rebounds.
+  {
+    DemSettings s = calibrated(0.5, 1e-2, false);
+    s.gravity = true;
+    ParticleStart start;
+    start.positions = {{-1.5, 0, 0}, {1.5, 0, 0}};
+    start.velocities = {{0, 0, 0}, {0, 0, 0}};
+    start.radii = {1, 1};
+    start.masses = {1, 1};
+    Dem dem(open_box(), start, s);
+    for (int k = 0; k < 200000; ++k) dem.step();
+    const double gap = dem.positions()[1][0] - dem.positions()[0][0] - 2;
+    INFO("rebounds " << dem.counters().rebounds << ", collisions " << dem.counters().collisions << ", gap " << gap);
+    CHECK(gap < 0);  // resting in contact, the spring holding gravity
+    CHECK(dem.counters().rebounds >= 1);
+    CHECK(dem.adhesive_fraction() == Approx(1.0 / double(1 + dem.counters().rebounds)));
+    CHECK(dem.counters().collisions >= 1 + dem.counters().rebounds);
+  }
+}
+
+TEST_CASE("dem: impulse-split gravity costs little energy", "[dem]") {
+  // The elastic cloud with gravity every K = 10 contact steps (K dt = t_c/5): the energy, read at the ends of
+  // the K-step cycles, stays as close to its start as with gravity every step (measured 5.8e-5 at K = 1,
+  // 8.8e-5 at K = 10 and 8.9e-5 at K = 25 over 6000 steps of 300 spheres; 1e-3 allowed here).
+  for (std::size_t substeps : {std::size_t(1), std::size_t(10)}) {
+    INFO("K = " << substeps);
+    DemSettings s = calibrated(1.0, 0.05, false);
+    s.gravity = true;
+    s.gravity_substeps = substeps;
+    Dem dem(open_box(), cloud(7), s);
+    const double energy0 = dem.total_energy(), scale = std::abs(dem.gravitational_energy());
+    double worst = 0;
+    for (int k = 0; k < 3000; ++k) {
+      dem.step();
+      if (dem.counters().steps % substeps == 0) worst = std::max(worst, std::abs(dem.total_energy() - energy0) / scale);
+    }
+    CHECK(dem.counters().collisions > 0);
+    CHECK(worst < 1e-3);
+    CHECK(norm(dem.momentum()) < 1e-12);
+  }
+}

@@ -1,0 +1,268 @@
+// The dem engine through the harness: the output contract (series.csv, final.json with the engine's own
+// entries), a cold self-gravitating cloud collapsing to one aggregate with stop = "aggregated", the same
+// results whatever the thread counts, and bad input refused naming the key.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/input_error.hpp"
+#include "particle/dem/contact_law.hpp"
+#include "tests/validation/scene_fixture.hpp"
+#include "validation/harness/harness.hpp"
+#include "validation/observables/observable.hpp"
+
+using namespace aggkit;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// 100 cold spheres (R = 1, m = 1) in an open cube at volume fraction 0.05, G = 1.
+std::string dem_scene(const std::string& engine = "restitution = 0.1\ncontact_time = 0.05\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n",
+                      const std::string& particles_extra = "", const std::string& end = "40.0", const std::string& mass = "1.0") {
+  return "name = \"dem-test\"\n[particles]\ndimension = 3\ncount = 100\nradius = 1.0\nmass = " + mass + "\nboundary = \"open\"\n"
+         "initial = { cloud = \"cube\", volume_fraction = 0.05, speed = 0.0 }\n" +
+         particles_extra + "\n[time]\nend = " + end + "\noutputs = [2.0, " + end + "]\n\n[[engine]]\nname = \"dem\"\n" + engine +
+         "\n[observe]\nseries = [\"clusters\", \"kinetic_energy\"]\nfinal = [\"clusters\", \"components_fraction\", \"fractal_dimension_com\"]\n";
+}
+
+void check_bad(const std::string& text, const std::string& key, const std::string& value) {
+  INFO(text);
+  try {
+    const Scene scene = aggkit::testing::parse_checked(text);
+    run_scene(scene, aggkit::testing::quiet_run(aggkit::testing::scratch_folder("dem-bad")));
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    CHECK(e.key() == key);
+    CHECK_THAT(std::string(e.what()), Contains(value));
+  }
+}
+
+nlohmann::json final_json(const std::filesystem::path& out) {
+  std::ifstream in(out / "dem" / "final.json");
+  return nlohmann::json::parse(in);
+}
+
+// Points of known dimension: 20000 uniform in a ball (F = 3), a disc (F = 2) or a segment (F = 1) of
+// radius b chosen for about one point per unit length/area/volume (as touching spheres of radius 0.5),
+// unit masses, plus 1000 points far away (escaped particles, outside r_90) in mirror pairs.
+class KnownShape final : public ParticleSource {
+ public:
+  explicit KnownShape(int dimension) {
+    std::uint64_t state = 17;
+    auto uniform = [&] {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return double(state >> 11) / 9007199254740992.0;
+    };
+    const double b = dimension == 3 ? std::cbrt(20000 * 3 / (4 * M_PI)) : dimension == 2 ? std::sqrt(20000 / M_PI) : 10000.0;
+    while (points_.size() < 20000) {
+      const Vector3 p{b * (2 * uniform() - 1), dimension >= 2 ? b * (2 * uniform() - 1) : 0.0, dimension >= 3 ? b * (2 * uniform() - 1) : 0.0};
+      if (norm(p) <= b) points_.push_back(p);
+    }
+    for (int k = 0; k < 500; ++k) {
+      points_.push_back({1e6, 0.0, double(k)});
+      points_.push_back({-1e6, 0.0, -double(k)});
+    }
+    size_ = b;
+  }
+  double size() const { return size_; }
+  ParticleConfiguration configuration() const override {
+    ParticleConfiguration c;
+    c.dimension = 3, c.radius = 0.5, c.periodic = false;
+    c.positions = points_;
+    return c;
+  }
+  std::vector<Vector3> velocities() const override { return std::vector<Vector3>(points_.size(), {0, 0, 0}); }
+  std::vector<double> masses() const override { return std::vector<double>(points_.size(), 1.0); }
+  std::vector<std::uint32_t> cluster_labels() const override { return std::vector<std::uint32_t>(points_.size(), 0); }
+
+ private:
+  std::vector<Vector3> points_;
+  double size_ = 0;
+};
+
+}  // namespace
+
+TEST_CASE("dem: fractal_dimension_com recovers known dimensions", "[dem]") {
+  // A uniform body of dimension D about its centre: N(r) ∝ r^D below its size; the fit stops at r_90.
+  for (int dimension : {1, 2, 3}) {
+    INFO("D = " << dimension);
+    const KnownShape shape(dimension);
+    const ParticleView view(shape);
+    const auto fit = Observable::from_name("fractal_dimension_com")->final_values(view);
+    REQUIRE(fit.size() == 4);
+    // Measured: F = 0.975 ± 0.006, 2.119 ± 0.044, 3.050 ± 0.041; the unweighted fit from 2R carries the
+    // Poisson noise of the few points nearest the centre (a bias of up to 0.12 here).
+    CHECK(fit[0].second == Approx(double(dimension)).margin(0.15));
+    CHECK(fit[1].second < 0.05);                  // standard error
+    CHECK(fit[2].second == Approx(1.0));          // fit from 2R
+    CHECK(fit[3].second <= shape.size());         // ... to r_90, inside the body
+  }
+}
+
+TEST_CASE("dem: a cold cloud collapses to one aggregate; final.json follows the contract", "[dem][harness]") {
+  const auto out = aggkit::testing::scratch_folder("dem-collapse");
+  const RunResult result = run_scene(aggkit::testing::parse_checked(dem_scene(
+                                         "restitution = 0.1\ncontact_time = 0.05\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n"
+                                         "threads = 2\nforce_threads = 2\n",
+                                         "realizations = 2\nseed = 4\n")),
+                                     aggkit::testing::quiet_run(out));
+  REQUIRE(result.records[0].completed());
+  CHECK(aggkit::testing::first_line(out / "dem" / "series.csv") == "t,clusters,kinetic_energy,clusters_stderr,kinetic_energy_stderr");
+  const auto final = final_json(out);
+  for (const char* key : {"steps", "collisions", "clamped_contacts", "max_overlap", "realised_restitution", "free_fall_time",
+                          "aggregation_time", "aggregation_time_ff", "adhesive_fraction", "wall_seconds", "momentum_drift", "stop_time", "potential_energy",
+                          "virial_ratio", "components_fraction", "fractal_dimension_com", "fractal_dimension_com_error"})
+    CHECK(final.contains(key));
+  CHECK_FALSE(final.contains("energy_drift"));  // damped: no energy to keep
+  // Stopped at T_agg, well before time.end, within a couple of free-fall times [Trivino2025, eq. 9].
+  const double t_agg = final["aggregation_time"].get<double>();
+  CHECK(final["stop_time"].get<double>() == t_agg);
+  CHECK(t_agg < 40.0);
+  CHECK(final["aggregation_time_ff"].get<double>() == Approx(t_agg / final["free_fall_time"].get<double>()).epsilon(0.05));
+  CHECK(final["aggregation_time_ff"].get<double>() > 0.3);
+  CHECK(final["aggregation_time_ff"].get<double>() < 3.0);
+  CHECK(final["steps"].get<double>() == Approx(t_agg / (0.05 / 50)).epsilon(1e-9));  // dt = t_c/50
+  // The largest cluster holds at least 90 of the 100 spheres: at most 11 clusters remain.
+  CHECK(final["clusters"].get<double>() <= 11.0);
+  CHECK(final["collisions"].get<double>() > 100.0);
+  CHECK(final["max_overlap"].get<double>() < 0.05);  // δ/R_min
+  CHECK(final["realised_restitution"].get<double>() == Approx(clipped_collision(formula_damping_ratio(0.1)).restitution));
+  CHECK(final["momentum_drift"].get<double>() < 1e-12);
+  CHECK(final["components_fraction"].get<double>() == Approx(final["clusters"].get<double>() / 100));
+  // A compact aggregate: F near 3 (fit within the aggregate), K/|P| far below virial 1/2 after dissipation.
+  CHECK(final["fractal_dimension_com"].get<double>() > 2.3);
+  CHECK(final["fractal_dimension_com"].get<double>() < 3.3);
+  CHECK(final["potential_energy"].get<double>() < 0);
+  CHECK(final["adhesive_fraction"].get<double>() > 0);
+  CHECK(final["adhesive_fraction"].get<double>() < 1);
+  CHECK(final["virial_ratio"].get<double>() >= 0);
+}
+
+TEST_CASE("dem: the same seed gives the same results for any thread counts", "[dem][harness]") {
+  auto run = [](const std::string& threads) {
+    const auto out = aggkit::testing::scratch_folder("dem-threads-" + threads);
+    run_scene(aggkit::testing::parse_checked(
+                  dem_scene("restitution = 0.3\ncontact_time = 0.05\ngravity = { G = 1.0, softening = 0.01 }\n" + threads,
+                            "realizations = 3\nseed = 9\n", "6.0")),
+              aggkit::testing::quiet_run(out));
+    nlohmann::json final = final_json(out);
+    final.erase("wall_seconds");
+    final.erase("wall_seconds_stderr");
+    return final;
+  };
+  const nlohmann::json serial = run("");
+  CHECK(serial == run("threads = 3\nforce_threads = 4\n"));
+}
+
+TEST_CASE("dem: an elastic run reports a small energy drift", "[dem][harness]") {
+  const auto out = aggkit::testing::scratch_folder("dem-elastic");
+  run_scene(aggkit::testing::parse_checked(dem_scene("restitution = 1.0\ncontact_time = 0.05\ngravity = { G = 1.0 }\n", "", "8.0")),
+            aggkit::testing::quiet_run(out));
+  const auto final = final_json(out);
+  CHECK(final["realised_restitution"].get<double>() == 1.0);
+  CHECK(final["collisions"].get<double>() > 100.0);
+  CHECK(final["energy_drift"].get<double>() < 1e-3);
+}
+
+TEST_CASE("dem: bad input is refused naming the key", "[dem][harness]") {
+  const std::string g = "gravity = { G = 1.0 }\n";
+  check_bad(dem_scene("restitution = 0.0\ncontact_time = 0.05\n"), "engine[0].restitution", "0");
+  check_bad(dem_scene("restitution = 1.5\ncontact_time = 0.05\n"), "engine[0].restitution", "1.5");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.0\n"), "engine[0].contact_time", "0");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = -1.0\n"), "engine[0].contact_time", "-1");
+  check_bad(dem_scene("restitution = 0.5\n"), "engine[0].contact_time", "missing");
+  check_bad(dem_scene("contact_time = 0.05\n"), "engine[0].restitution", "missing");
+  check_bad(dem_scene(g), "engine[0].restitution", "exactly one of");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nstiffness = 10.0\ndamping = 1.0\n"), "engine[0].stiffness", "exactly one of");
+  check_bad(dem_scene("stiffness = 10.0\n"), "engine[0].damping", "missing");
+  check_bad(dem_scene("stiffness_normalized = 1e6\ndamping = 500.0\n"), "engine[0].stiffness_normalized", "gravity");
+  check_bad(dem_scene("stiffness = 1e4\ndamping = 5.0\ncalibration = \"exact\"\n"), "engine[0].calibration", "restitution");
+  check_bad("name = \"d\"\n[particles]\ndimension = 3\ncount = 10\nradius = 0.5\nvolume_fraction = 0.1\nboundary = \"reflecting\"\n"
+            "initial = { cloud = \"cube\", speed = 1.0 }\n[time]\nend = 1.0\noutputs = [1.0]\n[[engine]]\nname = \"dem\"\n"
+            "restitution = 0.5\ncontact_time = 0.05\nfriction = 0.5\n[observe]\nseries = [\"clusters\"]\n",
+            "engine[0].friction", "not implemented yet");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nfriction = -0.1\n"), "engine[0].friction", "-0.1");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ndt = 0.03\n"), "engine[0].dt", "t_c/2");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, method = \"fmm\" }\n"), "engine[0].gravity.method",
+            "tree");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, opening_angle = 0.5 }\n"),
+            "engine[0].gravity.opening_angle", "only with method");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, opening_angle = 1.5 }\n"),
+            "engine[0].gravity.opening_angle", "(0, 1]");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, method = \"tree\", opening_angle = 0.0 }\n"),
+            "engine[0].gravity.opening_angle", "(0, 1]");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = -1.0 }\n"), "engine[0].gravity.G", "-1");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, softening = -0.1 }\n"), "engine[0].gravity.softening",
+            "-0.1");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity = { G = 1.0, theta = 0.5 }\n"), "engine[0].gravity.theta", "0.5");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\nstop = \"one_cluster\"\n"), "engine[0].stop", "aggregated");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\ngravity_substeps = 5\n"), "engine[0].gravity_substeps", "without gravity");
+  check_bad(dem_scene("restitution = 0.5\ncontact_time = 0.05\n", "", "40.0", "-1.0"), "particles.mass", "-1");
+  check_bad("name = \"d\"\n[particles]\ndimension = 2\ncount = 10\nradius = 0.5\nvolume_fraction = 0.1\nboundary = \"periodic\"\n"
+            "initial = { lattice = \"square\", speed = 1.0 }\n[time]\nend = 1.0\noutputs = [1.0]\n[[engine]]\nname = \"dem\"\n"
+            "restitution = 0.5\ncontact_time = 0.05\n[observe]\nseries = [\"clusters\"]\n",
+            "particles.dimension", "3");
+}
+
+TEST_CASE("dem: elastic gases in periodic and reflecting boxes keep energy and momentum", "[dem][harness]") {
+  // 200 spheres at volume fraction 0.2, speed 1, e = 1, no gravity: the energy drift (springs included) is
+  // set by the step (t_c/50); the momentum with the walls' impulse is kept to round-off.
+  for (const std::string boundary : {"periodic", "reflecting"}) {
+    INFO(boundary);
+    const auto out = aggkit::testing::scratch_folder("dem-gas-" + boundary);
+    const std::string text =
+        "name = \"dem-gas\"\n[particles]\ndimension = 3\ncount = 200\nradius = 0.5\nmass = 1.0\nvolume_fraction = 0.2\n"
+        "boundary = \"" + boundary + "\"\ninitial = { cloud = \"cube\", speed = 1.0 }\n[time]\nend = 3.0\noutputs = [3.0]\n"
+        "[[engine]]\nname = \"dem\"\nrestitution = 1.0\ncontact_time = 0.02\n[observe]\nseries = [\"kinetic_energy\"]\n";
+    run_scene(aggkit::testing::parse_checked(text), aggkit::testing::quiet_run(out));
+    const auto final = final_json(out);
+    CHECK(final["collisions"].get<double>() > 200.0);
+    CHECK(final["energy_drift"].get<double>() < 1e-3);
+    CHECK(final["momentum_drift"].get<double>() < 1e-12);
+    CHECK(final["clamped_contacts"].get<double>() == 0.0);
+  }
+}
+
+TEST_CASE("dem: a cloud with friction collapses; the Coulomb limit holds", "[dem][harness][friction]") {
+  const auto out = aggkit::testing::scratch_folder("dem-friction");
+  run_scene(aggkit::testing::parse_checked(
+                dem_scene("restitution = 0.3\ncontact_time = 0.05\nfriction = 0.5\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n")),
+            aggkit::testing::quiet_run(out));
+  const auto final = final_json(out);
+  CHECK(final["aggregation_time"].get<double>() < 40.0);
+  CHECK(final["max_friction_ratio"].get<double>() <= 1 + 1e-12);
+  CHECK(final["max_friction_ratio"].get<double>() > 0.99);  // some contacts slid
+  CHECK(final["momentum_drift"].get<double>() < 1e-12);
+}
+
+TEST_CASE("dem: tree gravity collapses the cloud as the direct sum does", "[dem][harness][tree]") {
+  auto t_agg = [](const std::string& gravity) {
+    const auto out = aggkit::testing::scratch_folder("dem-tree");
+    run_scene(aggkit::testing::parse_checked(dem_scene("restitution = 0.1\ncontact_time = 0.05\nstop = \"aggregated\"\n" + gravity)),
+              aggkit::testing::quiet_run(out));
+    return final_json(out)["aggregation_time"].get<double>();
+  };
+  // The collapse is set by the free-fall time; the tree's force error (≈ 1e-3 at θ = 0.5) moves T_agg little.
+  CHECK(t_agg("gravity = { G = 1.0, method = \"tree\", opening_angle = 0.5 }\n") ==
+        Approx(t_agg("gravity = { G = 1.0 }\n")).epsilon(0.05));
+}
+
+TEST_CASE("dem: a step above t_c/20 runs with a warning; the aggregation threshold is an option", "[dem][harness]") {
+  auto run = [](const std::string& extra) {
+    const auto out = aggkit::testing::scratch_folder("dem-options");
+    run_scene(aggkit::testing::parse_checked(
+                  dem_scene("restitution = 0.1\ncontact_time = 0.05\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n" + extra)),
+              aggkit::testing::quiet_run(out));
+    return final_json(out);
+  };
+  const auto coarse = run("dt = 0.005\n");  // t_c/10: warned (Trivino's criterion), not refused
+  CHECK(coarse["steps"].get<double>() == Approx(coarse["stop_time"].get<double>() / 0.005).epsilon(1e-9));
+  const double t90 = run("")["aggregation_time"].get<double>();
+  const double t50 = run("aggregation_threshold = 0.5\n")["aggregation_time"].get<double>();
+  CHECK(t50 < t90);
+  // Gravity every 10 contact steps: the collapse is the same within a few per cent.
+  CHECK(run("gravity_substeps = 10\n")["aggregation_time"].get<double>() == Approx(t90).epsilon(0.05));
+}
