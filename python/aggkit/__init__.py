@@ -23,7 +23,7 @@ from . import _scene  # noqa: E402
 from . import analysis  # noqa: E402
 
 __all__ = ["Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
-           "ed", "ts", "run", "analysis", "engine_options", "rightmost_eigenvalues", "locate_hopf"]
+           "ed", "ts", "dem", "run", "analysis", "engine_options", "rightmost_eigenvalues", "locate_hopf"]
 
 
 def engine_options(engine):
@@ -240,6 +240,19 @@ ts.__doc__ = """ts(times, particles=None, series=("clusters", "kinetic_energy", 
 Time-stepping ballistic aggregation (damped Arrow–Hurwicz minimisation) on the same [particles] as ed;
 keywords in the engine's option table go to the engine:
 """ + _options_doc("ts")
+
+
+def dem(times, particles=None, series=("kinetic_energy", "components_fraction"), final=("components_fraction",),
+        progress=None, **keywords):
+    return _particle_engine("dem", times, particles, series, final, progress, keywords)
+
+
+dem.__doc__ = """dem(times, particles=None, series=("kinetic_energy", "components_fraction"), final=("components_fraction",),
+    progress=None, **keywords) -> ParticleRun
+
+3-D soft-sphere DEM with optional self-gravity on the [particles] keys (per-particle radii and masses, open
+clouds, cold starts); keywords in the engine's option table go to the engine:
+""" + _options_doc("dem")
 
 
 def run(scene, out=None, force=False, plot=False):

@@ -34,6 +34,20 @@ def test_ts_runs_to_one_cluster_on_the_same_particles():
     assert np.all(r.cluster == 0)
 
 
+def test_dem_binary_collision_returns_the_calibrated_restitution():
+    # Two spheres head-on in open space, calibration "exact": the relative speed after the contact is e times
+    # the speed before (the file start gives the pair).
+    import tempfile
+    with tempfile.TemporaryDirectory() as folder:
+        start = os.path.join(folder, "pair.csv")
+        with open(start, "w") as f:
+            f.write("x,y,z,vx,vy,vz,radius,mass\n-1.5,0,0,1,0,0,1,1\n1.5,0,0,-1,0,0,1,1\n")
+        r = aggkit.dem([3.0], dict(dimension=3, boundary="open", initial={"file": start}), series=["kinetic_energy"],
+                       final=[], restitution=0.5, contact_time=0.1, calibration="exact")
+    v = r.velocities
+    assert (v[1, 0] - v[0, 0]) / 2.0 == pytest.approx(0.5, abs=1e-3)
+
+
 def test_analysis_on_a_hand_made_configuration():
     # Three touching discs in a row and one apart.
     x = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [10.0, 0.0]])
@@ -89,6 +103,6 @@ def test_ctrl_c_interrupts_a_long_run_within_a_second():
 
 def test_help_lists_every_option_with_its_default():
     for name, function in [("cvode", aggkit.integrate), ("snes", aggkit.steady_state), ("dsmc", aggkit.dsmc), ("ed", aggkit.ed),
-                           ("ts", aggkit.ts)]:
+                           ("ts", aggkit.ts), ("dem", aggkit.dem)]:
         for row in aggkit.engine_options(name):
             assert f"{row['key']} (default {row['default']};" in function.__doc__
