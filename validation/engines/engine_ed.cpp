@@ -13,6 +13,7 @@
 #include "particle/ed/ed_configuration.hpp"
 #include "validation/io/machine.hpp"
 #include "validation/engines/particle_runner.hpp"
+#include "validation/engines/sticky_spheres.hpp"
 
 namespace aggkit {
 
@@ -20,10 +21,7 @@ namespace {
 
 const OptionTable& ed_options() {
   static const OptionTable table{
-      custom_option("stop", "at time.end",
-                    "run until this many clusters remain (beyond time.end if needed); a stopped realization "
-                    "holds its final state for the later output times",
-                    "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count"),
+      cluster_stop_option(),
       integer_option("cells", "0", "wanted number of broad-phase cells (0: about one per particle)", 0, 4294967295.0),
       integer_option("thermalize", "particles.thermalize or 0", "elastic collisions per particle before sticking", 0,
                      1e9),
@@ -114,16 +112,7 @@ class EdSimulation final : public ParticleSimulation {
 // hard spheres of one mass (the momentum-weighted velocity of a merge is then the mean), inside walls or a
 // periodic box, and move ballistically, so they must move at the start.
 void check_particles(const ParticleSystem& system) {
-  const std::string why = " (engine ed simulates equal hard discs/spheres of one mass)";
-  if (!system.equal_radii())
-    throw InputError("particles.radius", system.start_kind() == ParticleSystem::StartKind::file ? "(from the start file)" : "a distribution",
-                     "one radius for every particle" + why);
-  if (!system.equal_masses())
-    throw InputError("particles.mass", "unequal masses", "one mass for every particle" + why);
-  if (system.box.boundary == Boundary::open)
-    throw InputError("particles.boundary", "\"open\"", "\"periodic\" or \"reflecting\" for engine ed (it has no forces to hold an open cloud)");
-  if (system.cold())
-    throw InputError("particles.initial.speed", "0", "a speed > 0 for engine ed (without forces nothing would ever move)");
+  require_sticky_spheres(system, "ed", "it has no forces to hold an open cloud", "without forces nothing would ever move");
   // Event times are absolute doubles: contacts must be resolved against positions of the box's magnitude
   // (L ε ≪ R, ε = 2.2e-16), and the time a particle needs to cross its radius must stay a normal double far
   // from under- and overflow (a speed of 1e300 made every event time ~1e-301 and the clock stall).
@@ -150,21 +139,7 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
   const ParticleSystem& system = *scene.particles;
   check_particles(system);
   EdSettings settings;
-  if (given.has("stop")) {
-    const nlohmann::json& stop = given.value("stop");
-    const std::string forms = "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count = " +
-                              std::to_string(system.count);
-    if (stop.is_string() && stop.get<std::string>() == "one_cluster") {
-      settings.target_clusters = 1;
-    } else if (stop.is_object() && stop.size() == 1 && stop.contains("clusters") && stop["clusters"].is_number_integer() &&
-               stop["clusters"].get<std::int64_t>() >= 1 && std::uint64_t(stop["clusters"].get<std::int64_t>()) <= system.count) {
-      settings.target_clusters = std::size_t(stop["clusters"].get<std::int64_t>());
-    } else if (stop.is_object() && stop.contains("clusters") && stop.size() == 1) {
-      throw InputError(given.key("stop") + ".clusters", option_text(stop["clusters"]), forms);
-    } else {
-      given.fail("stop", forms);
-    }
-  }
+  settings.target_clusters = cluster_stop_target(given, system.count);
   settings.cells = std::size_t(given.integer("cells", 0));
   if (given.has("thermalize") && system.thermalize > 0)
     given.fail("thermalize", "thermalize given once: [particles] thermalize = " + std::to_string(system.thermalize) +

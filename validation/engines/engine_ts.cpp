@@ -12,6 +12,7 @@
 #include "analysis/input_error.hpp"
 #include "particle/ts/time_stepping_aggregation.hpp"
 #include "validation/engines/particle_runner.hpp"
+#include "validation/engines/sticky_spheres.hpp"
 #include "validation/io/machine.hpp"
 
 namespace aggkit {
@@ -22,10 +23,7 @@ const OptionTable& ts_options() {
   static const OptionTable table{
       number_option("dt_factor", "0.01", "Δt(0) = dt_factor · L / max|V(0)|, growing to 2Δt(0) at one cluster [Degond2024, Table 1]",
                     0.0, 1.0, true),
-      custom_option("stop", "at time.end",
-                    "run until this many clusters remain (beyond time.end if needed); a stopped realization "
-                    "holds its final state for the later output times",
-                    "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count"),
+      cluster_stop_option(),
       number_option("c_bar", "2", "damping c̄ of the DAHA (c = δ c̄ per iteration, at most 1/δ)", 0.0, 1e6, true),
       number_option("delta", "0.15", "DAHA step δ", 0.0, 10.0, true),
       number_option("alpha", "0.3", "DAHA force coefficient α (attraction and multipliers)", 0.0, 1e6, true),
@@ -127,15 +125,7 @@ class TsSimulation final : public ParticleSimulation {
 
 // The forms of [particles] this engine cannot use are refused, naming the key (as engine ed).
 void check_particles(const ParticleSystem& system) {
-  const std::string why = " (engine ts simulates equal hard discs/spheres of one mass)";
-  if (!system.equal_radii())
-    throw InputError("particles.radius", system.start_kind() == ParticleSystem::StartKind::file ? "(from the start file)" : "a distribution",
-                     "one radius for every particle" + why);
-  if (!system.equal_masses()) throw InputError("particles.mass", "unequal masses", "one mass for every particle" + why);
-  if (system.box.boundary == Boundary::open)
-    throw InputError("particles.boundary", "\"open\"", "\"periodic\" or \"reflecting\" for engine ts (its step law needs a box side L)");
-  if (system.cold())
-    throw InputError("particles.initial.speed", "0", "a speed > 0 for engine ts (Δt = dt_factor L / max|V|)");
+  require_sticky_spheres(system, "ts", "its step law needs a box side L", "Δt = dt_factor L / max|V|");
   // Measured peak memory well under 1 kB per particle (positions, cells, links); the estimate takes 1 kB.
   check_memory("particles.count", std::to_string(system.count), 1e3 * double(system.count), "engine ts: about 1 kB per particle");
 }
@@ -144,20 +134,7 @@ ParticleEngineKind::Setup setup_ts(const EngineOptions& given, const Scene& scen
   const ParticleSystem& system = *scene.particles;
   check_particles(system);
   Settings settings;
-  if (given.has("stop")) {
-    const nlohmann::json& stop = given.value("stop");
-    const std::string forms = "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count = " + std::to_string(system.count);
-    if (stop.is_string() && stop.get<std::string>() == "one_cluster") {
-      settings.target_clusters = 1;
-    } else if (stop.is_object() && stop.size() == 1 && stop.contains("clusters") && stop["clusters"].is_number_integer() &&
-               stop["clusters"].get<std::int64_t>() >= 1 && std::uint64_t(stop["clusters"].get<std::int64_t>()) <= system.count) {
-      settings.target_clusters = std::size_t(stop["clusters"].get<std::int64_t>());
-    } else if (stop.is_object() && stop.contains("clusters") && stop.size() == 1) {
-      throw InputError(given.key("stop") + ".clusters", option_text(stop["clusters"]), forms);
-    } else {
-      given.fail("stop", forms);
-    }
-  }
+  settings.target_clusters = cluster_stop_target(given, system.count);
   TsSettings& ts = settings.ts;
   ts.dt_factor = given.number("dt_factor", ts.dt_factor);
   ts.daha.c_bar = given.number("c_bar", ts.daha.c_bar);
