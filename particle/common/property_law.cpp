@@ -141,6 +141,9 @@ void PropertyLaw::validate(const std::string& name) const {
     case Distribution::fixed:
       if (!(value > 0) || !std::isfinite(value))
         fail(name, value, "a finite number > 0, or a table { distribution = \"normal\" | \"lognormal\" | \"uniform\", ... }");
+      // Sizes and masses enter as powers and products (R³, m*, k_n = m*(π² + ln²e)/t_c²): keep them where
+      // those stay normal doubles.
+      if (!(value >= 1e-100 && value <= 1e100)) fail(name, value, "a number in [1e-100, 1e100] (powers of it must stay finite)");
       return;
     case Distribution::normal:
     case Distribution::lognormal:
