@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "analysis/moments.hpp"
+#include "solvers/exact_solutions.hpp"
 #include "solvers/cvode_integrator.hpp"
 
 using namespace aggkit;
@@ -29,11 +30,6 @@ AggregationModel constant_two(double lambda, std::size_t N, Truncation truncatio
   model.truncation = truncation;
   model.initial = monodisperse(N);
   return model;
-}
-
-double logistic_m0(double lambda, double t) {
-  const double steady = 2.0 * lambda / (1.0 + 2.0 * lambda);
-  return steady / (1.0 + (steady - 1.0) * std::exp(-2.0 * lambda * t));
 }
 
 const std::vector<double> orders{0.0, 2.0, 3.0};
@@ -62,7 +58,7 @@ Reference exact_reference(double lambda, const std::vector<double>& times, const
     if (lambda == 0.0)
       ref.push_back({1.0 / (1.0 + t), 1.0 + 2.0 * t, 1.0 + 6.0 * t + 6.0 * t * t});
     else
-      ref.push_back({logistic_m0(lambda, t), tight ? tight->moments[i][1] : NAN, tight ? tight->moments[i][2] : NAN});
+      ref.push_back({exact_total_density_k2(lambda, t), tight ? tight->moments[i][1] : NAN, tight ? tight->moments[i][2] : NAN});
   }
   return ref;
 }
@@ -105,9 +101,9 @@ void study(double lambda, Truncation truncation, std::size_t N, const std::vecto
     have_tight = true;
     std::printf("M2, M3 reference: bdf-gmres rtol 1e-12, atol 1e-16 k^-3, no projection (%.1f s, %ld steps); its M0 is off"
                 " the closed form by %.1e, %.1e, %.1e at t = 1, 10, 100.\n\n",
-                tight.stats.wall_seconds, tight.stats.steps, relative_error(tight.moments[0][0], logistic_m0(lambda, 1.0)),
-                relative_error(tight.moments[1][0], logistic_m0(lambda, 10.0)),
-                relative_error(tight.moments[2][0], logistic_m0(lambda, 100.0)));
+                tight.stats.wall_seconds, tight.stats.steps, relative_error(tight.moments[0][0], exact_total_density_k2(lambda, 1.0)),
+                relative_error(tight.moments[1][0], exact_total_density_k2(lambda, 10.0)),
+                relative_error(tight.moments[2][0], exact_total_density_k2(lambda, 100.0)));
   }
   const Reference ref = exact_reference(lambda, times, have_tight ? &tight : nullptr);
   std::printf("| integrator | rtol | time [s] | steps | max rel. err | err/rtol | t=1 | t=10 | t=100 |\n");
@@ -157,7 +153,7 @@ int main(int argc, char** argv) {
     o.rtol = 1e-10;
     const Run r = run(constant_two(0.1, N, Truncation::cutoff), {100.0}, o);
     std::printf("| %zu | %.12e | %.12e | %.12e | %.1e |\n", N, r.moments[0][0], r.moments[0][1], r.moments[0][2],
-                relative_error(r.moments[0][0], logistic_m0(0.1, 100.0)));
+                relative_error(r.moments[0][0], exact_total_density_k2(0.1, 100.0)));
   }
   return 0;
 }

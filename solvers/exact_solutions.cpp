@@ -61,4 +61,16 @@ double exact_moment(const std::string& kernel_name, double p, double t) {
   throw std::runtime_error("exact_moment: series did not converge");
 }
 
+double exact_total_density_k2(double lambda, double t) {
+  if (lambda == 0.0) return 1.0 / (1.0 + t);
+  const double steady = 2.0 * lambda / (1.0 + 2.0 * lambda);
+  return steady / (1.0 + (steady - 1.0) * std::exp(-2.0 * lambda * t));
+}
+
+std::vector<double> exact_total_density_k2(double lambda, const std::vector<double>& times) {
+  std::vector<double> m0;
+  for (double t : times) m0.push_back(exact_total_density_k2(lambda, t));
+  return m0;
+}
+
 }  // namespace aggkit

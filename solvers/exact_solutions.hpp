@@ -19,4 +19,10 @@ double exact_density(const std::string& kernel_name, std::size_t k, double t);
 double exact_moment(const std::string& kernel_name, double p, double t);
 std::vector<double> exact_distribution(const std::string& kernel_name, std::size_t N, double t);
 
+// K_ij = 2 with shattering rate λ from a unit monodisperse start, untruncated: the monomer gain and loss
+// terms cancel in the total density, dM0/dt = 2λ M0 − (1 + 2λ) M0², a logistic towards N* = 2λ/(1+2λ):
+// M0(t) = N* / (1 + (N* − 1) e^{−2λt}). At λ = 0 it is 1/(1 + t).
+std::vector<double> exact_total_density_k2(double lambda, const std::vector<double>& times);
+double exact_total_density_k2(double lambda, double t);
+
 }  // namespace aggkit
