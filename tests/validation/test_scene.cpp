@@ -79,7 +79,7 @@ TEST_CASE("scene: every shipped scene parses") {
     if (aggkit::testing::read_text(entry.path()).find("\n[scan]") != std::string::npos)
       CHECK_NOTHROW(load_scan_plan(entry.path()));
     else
-      CHECK_NOTHROW(load_scene(entry.path()));
+      CHECK_NOTHROW(build_engines(load_scene(entry.path())));  // engine options and observables checked too
     ++scenes;
   }
   CHECK(scenes >= 5);
