@@ -25,6 +25,7 @@
 #include "particle/common/particle_system.hpp"
 #include "particle/dem/contact_law.hpp"
 #include "particle/dem/dem.hpp"
+#include "particle/common/box_configuration.hpp"
 #include "validation/engines/particle_runner.hpp"
 #include "validation/io/machine.hpp"
 
@@ -110,15 +111,10 @@ class DemSimulation final : public ParticleSimulation {
 
   double time() const override { return dem_.time(); }
   ParticleConfiguration configuration() const override {
-    ParticleConfiguration config;
-    config.dimension = 3;
     double mean = 0;
     for (double r : dem_.radii()) mean += r;
-    config.radius = mean / double(dem_.size());  // one radius: the mean (the engine's own labels use R_i + R_j)
-    config.periodic = dem_.box().boundary == Boundary::periodic;
-    if (dem_.box().boundary != Boundary::open) config.box = dem_.box().side;
-    config.positions = dem_.positions();
-    return config;
+    // One radius: the mean (the engine's own cluster labels use R_i + R_j).
+    return configuration_in(dem_.box(), mean / double(dem_.size()), dem_.positions());
   }
   std::vector<Vector3> velocities() const override { return dem_.velocities(); }
   std::vector<double> masses() const override { return dem_.masses(); }

@@ -11,6 +11,7 @@
 
 #include "analysis/input_error.hpp"
 #include "particle/ts/time_stepping_aggregation.hpp"
+#include "particle/common/box_configuration.hpp"
 #include "validation/engines/particle_runner.hpp"
 #include "validation/engines/sticky_spheres.hpp"
 #include "validation/io/machine.hpp"
@@ -73,13 +74,7 @@ class TsSimulation final : public ParticleSimulation {
 
   double time() const override { return ts_.time(); }
   ParticleConfiguration configuration() const override {
-    ParticleConfiguration config;
-    config.dimension = ts_.box().dimension;
-    config.radius = ts_.radius();
-    config.box = ts_.box().side;
-    config.periodic = ts_.box().boundary == Boundary::periodic;
-    config.positions = ts_.positions();
-    return config;
+    return configuration_in(ts_.box(), ts_.radius(), ts_.positions());
   }
   std::vector<Vector3> velocities() const override { return ts_.velocities(); }
   std::vector<double> masses() const override { return std::vector<double>(ts_.particles(), mass_); }
