@@ -68,6 +68,7 @@ inline std::vector<BadScene> bad_scenes() {
   const std::string cvode = "[[engine]]\nname = \"cvode\"\n";
   return {
       // [model]
+      bad("unknown tier", [](SceneText& s) { s.top = "name = \"fixture\"\ntier = \"slow\"\n"; }, "tier", "slow", cli),
       bad("negative lambda", [](SceneText& s) { s.model = "kernel = { name = \"constant\" }\nlambda = -0.5\nsize = 64\n"; }, "model.lambda", "-0.5", cli),
       bad("nan lambda", [](SceneText& s) { s.model = "kernel = { name = \"constant\" }\nlambda = nan\nsize = 64\n"; }, "model.lambda", "nan", cli),
       bad("lambda of the wrong type", [](SceneText& s) { s.model = "kernel = { name = \"constant\" }\nlambda = \"high\"\nsize = 64\n"; }, "model.lambda", "\"high\""),

@@ -53,6 +53,14 @@ TEST_CASE("scene: the fixture scene parses to its model, grid, engines and compa
   CHECK(scene.compare->tolerance_for("M1") == nullptr);  // reported only
 }
 
+TEST_CASE("scene: the tier is fast unless the scene says full") {
+  CHECK(aggkit::testing::parse_checked(SceneText{}.text()).tier == SceneTier::fast);
+  SceneText text;
+  text.top = "name = \"fixture\"\ntier = \"full\"\n";
+  CHECK(aggkit::testing::parse_checked(text.text()).tier == SceneTier::full);
+  CHECK(std::string(to_string(SceneTier::full)) == "full");
+}
+
 TEST_CASE("scene: the README example parses to the ballistic model with shattering") {
   const Scene scene = load_scene(aggkit::testing::shipped_scene("ballistic-shattering.toml"));
   CHECK(scene.name == "ballistic-shattering");

@@ -23,16 +23,23 @@ const Tolerance* ComparisonPlan::tolerance_for(std::string_view observable) cons
   return nullptr;
 }
 
+const char* to_string(SceneTier tier) { return tier == SceneTier::full ? "full" : "fast"; }
+
 namespace {
 
 Scene read_scene(const toml::table& document, const std::filesystem::path& folder) {
   const SceneTable root(document, "");
-  root.allow_only({"name", "model", "particles", "time", "engine", "observe", "compare"});
+  root.allow_only({"name", "tier", "model", "particles", "time", "engine", "observe", "compare"});
   Scene scene;
   scene.name = root.string("name");
   if (scene.name.empty()) root.fail("name", "a non-empty name");
   if (scene.name.size() > 200 || printable_text(scene.name) != scene.name)
     root.fail("name", "a name of at most 200 characters without control characters (it titles the report)");
+  if (const auto tier = root.optional_string("tier")) {
+    if (*tier == "fast") scene.tier = SceneTier::fast;
+    else if (*tier == "full") scene.tier = SceneTier::full;
+    else root.fail("tier", "\"fast\" or \"full\"");
+  }
   scene.time = read_time(root.table("time"));
   if (const auto model = root.optional_table("model")) {
     read_model(*model, scene);

@@ -2,6 +2,8 @@
 // A scene: one validation run described in a TOML file. The schema, every key:
 //
 //   name = "..."                                   (required)
+//   tier = "fast"                                  fast | full (default fast): `aggkit validate --tier fast`
+//                                                  runs the fast scenes, `--tier full` every scene
 //   [model]                                        required by the kinetic engines (cvode, exact, ...)
 //   kernel = { name = "ballistic" }                constant | sum | product | linear (A, B) |
 //                                                  genproduct (mu) | ballistic | brownian (a)
@@ -103,8 +105,14 @@ struct EngineSpec {
   nlohmann::json options;   // every other key of the table (an object)
 };
 
+// Which `aggkit validate` tier runs the scene: fast scenes run in every validation (and in CI), full ones
+// only under `--tier full`.
+enum class SceneTier { fast, full };
+const char* to_string(SceneTier tier);
+
 struct Scene {
   std::string name;
+  SceneTier tier = SceneTier::fast;
   std::filesystem::path path;  // the file it was read from; empty for a scene parsed from text
   AggregationModel model;     // meaningful only if has_model
   bool has_model = false;     // the scene has a [model] section
