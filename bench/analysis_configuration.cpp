@@ -16,6 +16,7 @@
 #include <fstream>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,10 +24,13 @@
 #include "analysis/clusters.hpp"
 #include "analysis/fractal_dimension.hpp"
 #include "analysis/shape.hpp"
+#include "bench/figures.hpp"
 
 using namespace aggkit;
 
 namespace {
+
+std::optional<aggkit::bench::Figures> figures;  // set in main
 
 using Points = std::vector<std::array<double, 3>>;
 
@@ -109,11 +113,17 @@ void run(const char* name, const ParticleConfiguration& c) {
               per(t_box), t_mass, per(t_mass), cluster_sizes(labels).size(), nc, p20, largest.size(), t_largest,
               box.dimension, box.standard_error, mass.dimension, mass.standard_error);
   std::fflush(stdout);
+  const std::string case_name = std::string(name) + " N=" + aggkit::bench::Figures::text(double(n));
+  figures->add(case_name, "clusters_ns_per_particle", per(t_clusters), "ns");
+  figures->add(case_name, "pair_distribution_ns_per_particle", per(t_pairs), "ns");
+  figures->add(case_name, "box_counting_ns_per_particle", per(t_box), "ns");
+  figures->add(case_name, "mass_radius_ns_per_particle", per(t_mass), "ns");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  figures.emplace("analysis_configuration", argc, argv);
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   std::printf("load average at start: %s\n\n", load_average().c_str());
   std::printf("Wall seconds (best of 3 runs) and, in brackets, nanoseconds per particle.\n\n");

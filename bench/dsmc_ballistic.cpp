@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include "analysis/moments.hpp"
+#include "bench/figures.hpp"
 #include "particle/dsmc/simulation.hpp"
 #include "solvers/cvode_integrator.hpp"
 
@@ -59,6 +60,16 @@ int main(int argc, char** argv) {
     std::printf(" %.2g, %.2g, %.2g %% |", 100 * std::sqrt(squares[i][0] / runs), 100 * std::sqrt(squares[i][1] / runs),
                 100 * std::sqrt(squares[i][2] / runs));
   std::printf(" %.2f s | %.3g |\n", wall_total / runs, events_total / wall_total);
+  const aggkit::bench::Figures figures("dsmc_ballistic", argc, argv);
+  const std::string case_name = "particles=" + std::to_string(particles) + " method=" + dsmc::to_string(options.method);
+  figures.add(case_name, "wall_seconds", wall_total / runs, "s");
+  figures.add(case_name, "events_per_second", events_total / wall_total, "1/s");
+  const char* moment_names[] = {"M0", "M2", "M3"};
+  const char* time_names[] = {"t1", "t10", "t100"};
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t p = 0; p < 3; ++p)
+      figures.add(case_name, std::string("rms_error_") + moment_names[p] + "_" + time_names[i],
+                  std::sqrt(squares[i][p] / runs), "1");
   std::printf("mean relative deviation (bias + noise/sqrt(runs)) at t = 100: %.2g, %.2g, %.2g %%\n",
               100 * sums[2][0] / runs, 100 * sums[2][1] / runs, 100 * sums[2][2] / runs);
   return 0;

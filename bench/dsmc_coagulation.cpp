@@ -12,6 +12,7 @@
 #include <string>
 
 #include "analysis/moments.hpp"
+#include "bench/figures.hpp"
 #include "particle/dsmc/simulation.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/exact_solutions.hpp"
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
   options.particles = particles;
   if (argc > 2) options.method = dsmc::method_from_name(argv[2]);
   if (argc > 3) options.bucket = std::strtoull(argv[3], nullptr, 10);
+  const aggkit::bench::Figures figures("dsmc_coagulation", argc, argv);
+  const std::string case_name = "particles=" + std::to_string(particles) + " method=" + dsmc::to_string(options.method);
   std::printf("particles %llu, method %s, bucket %llu\n", (unsigned long long)particles,
               dsmc::to_string(options.method).c_str(), (unsigned long long)options.bucket);
 
@@ -66,6 +69,9 @@ int main(int argc, char** argv) {
                 std::abs(s.moment(0) / exact_moment("constant", 0, t_end) - 1),
                 std::abs(s.moment(2) / exact_moment("constant", 2, t_end) - 1), distribution_error(s, exact),
                 simulation.mass() == simulation.initial_mass() << st.doublings ? "yes" : "NO");
+    figures.add(case_name + " lambda=0 t=50", "wall_seconds", wall, "s");
+    figures.add(case_name + " lambda=0 t=50", "events_per_second", double(st.accepted()) / wall, "1/s");
+    figures.add(case_name + " lambda=0 t=50", "distribution_error", distribution_error(s, exact), "1");
   }
   {  // (2) constant kernel with shattering, λ = 0.1
     AggregationModel model;
@@ -88,6 +94,9 @@ int main(int argc, char** argv) {
                   "M0 rel. err %.2e\n", times[i], wall, (unsigned long long)simulation.statistics().accepted(),
                   distribution_error(s, reference[i]),
                   std::abs(s.moment(0) / aggkit::moment(reference[i], 0) - 1));
+      const std::string at = case_name + " lambda=0.1 t=" + std::to_string(int(times[i]));
+      figures.add(at, "distribution_error", distribution_error(s, reference[i]), "1");
+      figures.add(at, "wall_seconds", wall, "s");
     }
   }
   return 0;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "analysis/oscillation.hpp"
+#include "bench/figures.hpp"
 
 namespace {
 
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
   const std::string dir = argv[1];
   const Series ode = read_csv(dir + "/cvode/series.csv");
   const Series dsmc = read_csv(dir + "/dsmc/series.csv");
+  const aggkit::bench::Figures figures("dsmc_oscillation", argc, argv);
   std::printf("%-4s %-6s %-10s %10s %12s %12s %7s %9s\n", "obs", "engine", "regime", "period", "amplitude",
               "mean", "cycles", "converged");
   for (const char* name : {"M0", "M2"}) {
@@ -65,6 +67,10 @@ int main(int argc, char** argv) {
     }
     std::printf("%-4s relative difference dsmc vs cvode: period %.2f %%, amplitude %.2f %%\n", name,
                 100 * std::abs(c[1].period / c[0].period - 1), 100 * std::abs(c[1].amplitude / c[0].amplitude - 1));
+    figures.add(std::string("a=0.95 lambda=0.01 ") + name, "period_relative_difference",
+                std::abs(c[1].period / c[0].period - 1), "1");
+    figures.add(std::string("a=0.95 lambda=0.01 ") + name, "amplitude_relative_difference",
+                std::abs(c[1].amplitude / c[0].amplitude - 1), "1");
   }
   return 0;
 }

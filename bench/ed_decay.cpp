@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bench/ed_common.hpp"
+#include "bench/figures.hpp"
 
 using namespace aggkit;
 
@@ -70,6 +71,11 @@ int main(int argc, char** argv) {
     const Fit e = fit_loglog(ts, es), s = fit_loglog(ts, ss);
     std::printf("# fit t in [%g, %g], %zu points: delta = %.3f +- %.3f, zeta = %.3f +- %.3f\n", ts.front(), ts.back(),
                 ts.size(), -e.slope, e.error, s.slope, s.error);
+    const bench::Figures figures("ed_decay", argc, argv);
+    const std::string case_name = "N=" + bench::Figures::text(double(n)) + " nu=" + bench::Figures::text(nu);
+    figures.add(case_name, "energy_decay_exponent", -e.slope, "1");
+    figures.add(case_name, "size_growth_exponent", s.slope, "1");
+    figures.add(case_name, "wall_seconds", seconds, "s");
   }
   std::printf("# %.1f s, %llu events\n", seconds, (unsigned long long)ed.counters().events());
   bench::print_load();

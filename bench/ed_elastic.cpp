@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bench/ed_common.hpp"
+#include "bench/figures.hpp"
 #include "particle/ed/elastic_gas.hpp"
 
 using namespace aggkit;
@@ -94,6 +95,7 @@ int main(int argc, char** argv) {
               dimension, nu, per_particle, baseline, per_cell);
   std::printf("%10s %8s %10s %12s %14s %12s %10s %10s %10s %14s %8s\n", "N", "setup_s", "run_s", "collisions",
               "collisions/s", "events/coll", "cross/coll", "stale/coll", "drift", "baseline_c/s", "ratio");
+  const bench::Figures figures("ed_elastic", argc, argv);
   for (std::size_t k = 3; k < args.size(); ++k) {
     const auto n = std::size_t(std::atof(args[k]));
     const Measured gas = run_gas(dimension, n, nu, per_particle, per_cell);
@@ -104,6 +106,10 @@ int main(int argc, char** argv) {
                 gas.stale / gas.collisions, gas.drift, baseline > 0 ? base.rate() : 0.0,
                 baseline > 0 ? gas.rate() / base.rate() : 0.0);
     std::fflush(stdout);
+    const std::string case_name =
+        "dim=" + std::to_string(dimension) + " nu=" + bench::Figures::text(nu) + " N=" + bench::Figures::text(double(n));
+    figures.add(case_name, "collisions_per_second", gas.rate(), "1/s");
+    figures.add(case_name, "energy_drift", gas.drift, "1");
   }
   bench::print_load();
 }

@@ -10,6 +10,7 @@
 #include "analysis/fractal_dimension.hpp"
 #include "analysis/shape.hpp"
 #include "bench/ed_common.hpp"
+#include "bench/figures.hpp"
 #include "particle/ed/ed_configuration.hpp"
 
 using namespace aggkit;
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   bench::print_load();
   std::printf("# N %zu, 2-D reflecting, %d realizations; means (spread = std of the realizations)\n", n, seeds);
   std::printf("%8s %10s %8s %8s %10s %8s %8s %8s\n", "nu", "D_mass", "spread", "fit_err", "D_box", "fit_err", "N_c", "run_s");
+  const bench::Figures figures("ed_fractal", argc, argv);
   for (int k = 3; k < argc; ++k) {
     const double nu = std::atof(argv[k]);
     double dm = 0, dm2 = 0, em = 0, db = 0, eb = 0, nc = 0;
@@ -48,6 +50,11 @@ int main(int argc, char** argv) {
     std::printf("%8g %10.3f %8.3f %8.3f %10.3f %8.3f %8.3f %8.1f\n", nu, dm, std::sqrt(std::max(0.0, dm2 - dm * dm)), em,
                 box_ok ? db / box_ok : NAN, box_ok ? eb / box_ok : NAN, nc, bench::seconds_since(start));
     std::fflush(stdout);
+    const std::string case_name = "dim=2 reflecting nu=" + bench::Figures::text(nu) + " N=" + bench::Figures::text(double(n)) +
+                                  " realizations=" + std::to_string(seeds);
+    figures.add(case_name, "mass_radius_dimension", dm, "1");
+    figures.add(case_name, "box_counting_dimension", box_ok ? db / box_ok : NAN, "1");
+    figures.add(case_name, "contacts", nc, "1");
   }
   bench::print_load();
 }

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "bench/ed_common.hpp"
+#include "bench/figures.hpp"
 
 using namespace aggkit;
 
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   std::printf("# dim %d %s nu %g, unit speed uniform directions, run to one cluster\n", dimension, argv[2], nu);
   std::printf("%10s %8s %10s %12s %12s %12s %12s %10s %12s %12s %8s\n", "N", "setup_s", "run_s", "events", "merges",
               "crossings", "pair_checks", "walls", "stale", "events/s", "exponent");
+  const bench::Figures figures("ed_throughput", argc, argv);
   double previous_n = 0, previous_t = 0;
   for (int k = 4; k < argc; ++k) {
     const auto n = std::size_t(std::atof(argv[k]));
@@ -41,6 +43,11 @@ int main(int argc, char** argv) {
                 (unsigned long long)c.pair_checks, (unsigned long long)c.wall_contacts,
                 (unsigned long long)c.stale_events, double(c.events()) / run, exponent);
     std::fflush(stdout);
+    const std::string case_name = "dim=" + std::to_string(dimension) + " " + argv[2] + " nu=" + bench::Figures::text(nu) +
+                                  " N=" + bench::Figures::text(double(n));
+    figures.add(case_name, "seconds_to_one_cluster", run, "s");
+    figures.add(case_name, "events_per_second", double(c.events()) / run, "1/s");
+    if (previous_n > 0) figures.add(case_name, "cost_exponent", exponent, "1");
     previous_n = double(n);
     previous_t = run;
   }

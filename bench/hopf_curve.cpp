@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/figures.hpp"
 #include "solvers/stability.hpp"
 
 using namespace aggkit;
@@ -60,11 +61,17 @@ int main(int argc, char** argv) {
   }
   std::printf("N = %zu, cutoff, tolerance %g\n| a | lambda_crit | bracket | omega | period 2pi/omega | evaluations | seconds | note |\n|---|---|---|---|---|---|---|---|\n", N, tolerance);
   const auto started = std::chrono::steady_clock::now();
+  const aggkit::bench::Figures figures("hopf_curve", argc, argv);
   for (double a : as) {
     const HopfPoint p = locate_hopf(base, a, lo, hi, tolerance, options);
     std::printf("| %.2f | %.6g | %.1e | %.6g | %.5g | %d | %.1f | %s |\n", a, p.lambda_crit, p.lambda_tolerance, p.omega,
                 p.omega > 0 ? 2 * M_PI / p.omega : 0.0, p.evaluations, p.seconds, p.note.c_str());
+    const std::string case_name = "a=" + aggkit::bench::Figures::text(a) + " N=" + std::to_string(N);
+    figures.add(case_name, "lambda_crit", p.lambda_crit, "1");
+    figures.add(case_name, "seconds", p.seconds, "s");
     std::fflush(stdout);
   }
-  std::printf("total %.1f s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::printf("total %.1f s\n", total);
+  figures.add("N=" + std::to_string(N) + " curve of " + std::to_string(as.size()) + " a", "wall_seconds", total, "s");
 }

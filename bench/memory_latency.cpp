@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "bench/figures.hpp"
 #include "particle/common/huge_page_allocator.hpp"
 
 namespace {
@@ -44,6 +45,7 @@ void measure(Lines& lines, std::size_t loads, double& dependent_ns, double& inte
 
 int main(int argc, char** argv) {
   const std::size_t loads = argc > 1 ? std::size_t(std::atof(argv[1])) : std::size_t(20'000'000);
+  const aggkit::bench::Figures figures("memory_latency", argc, argv);
   std::printf("# ns per random 64-byte load: one dependent chain / 8 interleaved chains\n");
   std::printf("%8s %14s %14s %14s %14s\n", "MiB", "dep_4k", "inter_4k", "dep_huge", "inter_huge");
   for (std::size_t mib : {1, 4, 16, 64, 256}) {
@@ -58,5 +60,7 @@ int main(int argc, char** argv) {
       measure(lines, loads, dh, ih);
     }
     std::printf("%8zu %14.1f %14.1f %14.1f %14.1f\n", mib, d4, i4, dh, ih);
+    figures.add(std::to_string(mib) + " MiB", "dependent_load_ns", d4, "ns");
+    figures.add(std::to_string(mib) + " MiB", "interleaved_load_ns", i4, "ns");
   }
 }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "bench/figures.hpp"
+
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: %s AGGKIT SCENE [RANKS...] (default ranks: 1 2)\n", argv[0]);
@@ -18,6 +20,7 @@ int main(int argc, char** argv) {
   std::vector<int> ranks;
   for (int i = 3; i < argc; ++i) ranks.push_back(std::atoi(argv[i]));
   if (ranks.empty()) ranks = {1, 2};
+  const aggkit::bench::Figures figures("scan_throughput", argc, argv);
   std::printf("%-6s %8s %10s %14s\n", "ranks", "points", "wall [s]", "points/minute");
   for (int k : ranks) {
     const std::filesystem::path out = std::filesystem::temp_directory_path() / ("aggkit-scan-throughput-" + std::to_string(k));
@@ -36,6 +39,8 @@ int main(int argc, char** argv) {
     long points = -1;  // the header
     while (std::getline(csv, line)) ++points;
     std::printf("%-6d %8ld %10.1f %14.1f\n", k, points, seconds, 60.0 * double(points) / seconds);
+    figures.add(std::filesystem::path(scene).filename().string() + " ranks=" + std::to_string(k), "points_per_minute",
+                60.0 * double(points) / seconds, "1/min");
     std::filesystem::remove_all(out);
   }
   return 0;

@@ -4,6 +4,7 @@
 // relative residual ||F|| / ||F(n(0))|| and M0 of the steady state.
 //   bench_steady_state [N ...] [--kernel NAME[:a]] [--lambda L] [--noprec] [--start T]
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "analysis/moments.hpp"
+#include "bench/figures.hpp"
 #include "solvers/steady_state.hpp"
 
 using namespace aggkit;
@@ -38,6 +40,7 @@ int main(int argc, char** argv) {
   if (sizes.empty()) sizes = {1u << 14, 1u << 17};
   if (kernels.empty()) kernels = {Kernel::ballistic(), Kernel::brownian(0.5)};
   if (lambdas.empty()) lambdas = {0.01, 0.1};
+  const aggkit::bench::Figures figures("steady_state", argc, argv);
   std::printf("| kernel | λ | N | seconds | CVODE start t | Newton | GMRES | relative residual | M0 | leak | note |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (std::size_t N : sizes)
@@ -53,6 +56,10 @@ int main(int argc, char** argv) {
         std::printf("| %s | %g | %zu | %.2f | %g | %d | %ld | %.1e | %.6g | %.1e | %s |\n", kernel.describe().c_str(),
                     lambda, N, r.seconds, r.start_time, r.newton_iterations, r.krylov_iterations, r.relative_residual,
                     moment(r.n, 0.0), r.leak_rate, (r.converged ? "converged " + r.note : r.note).c_str());
+        const std::string case_name = kernel.describe() + " lambda=" + aggkit::bench::Figures::text(lambda) +
+                                      " N=" + std::to_string(N);
+        figures.add(case_name, "wall_seconds", r.converged ? r.seconds : std::nan(""), "s");
+        figures.add(case_name, "relative_residual", r.relative_residual, "1");
         if (std::getenv("VERBOSE")) {
           for (double h : r.residual_history) std::printf(" %.1e", h);
           std::printf("\n");

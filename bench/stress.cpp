@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "analysis/moments.hpp"
+#include "bench/figures.hpp"
 #include "solvers/cvode_integrator.hpp"
 
 using namespace aggkit;
@@ -24,7 +25,7 @@ struct Case {
   Truncation truncation;
 };
 
-void run_case(const Case& c, double t_end) {
+void run_case(const Case& c, double t_end, const aggkit::bench::Figures& figures) {
   AggregationModel model;
   model.kernel = c.kernel;
   model.lambda = ShatteringRate::constant(c.lambda);
@@ -57,6 +58,10 @@ void run_case(const Case& c, double t_end) {
               negatives, most_negative, m0, m2,
               failure.empty() ? "ok" : ("failed at t = " + std::to_string(reached) + ": " + failure.substr(0, 80)).c_str());
   std::fflush(stdout);
+  const std::string case_name = c.kernel.describe() + " lambda=" + aggkit::bench::Figures::text(c.lambda) +
+                                " N=" + std::to_string(c.N) + " " + to_string(c.truncation);
+  figures.add(case_name, "wall_seconds", failure.empty() ? wall : std::nan(""), "s");
+  figures.add(case_name, "mass_defect", drift, "1");
 }
 
 }  // namespace
@@ -83,6 +88,7 @@ int main(int argc, char** argv) {
     for (double lambda : {1.0, 10.0}) cases.push_back({Kernel::brownian(0.95), lambda, 131072, Truncation::cutoff});
     for (double lambda : {1.0, 10.0}) cases.push_back({Kernel::ballistic(), lambda, 32768, Truncation::drop});
   }
-  for (const auto& c : cases) run_case(c, t_end);
+  const aggkit::bench::Figures figures("stress", argc, argv);
+  for (const auto& c : cases) run_case(c, t_end, figures);
   return 0;
 }

@@ -11,10 +11,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "analysis/moments.hpp"
+#include "bench/figures.hpp"
 #include "solvers/exact_solutions.hpp"
 #include "solvers/cvode_integrator.hpp"
 
@@ -63,6 +65,9 @@ Reference exact_reference(double lambda, const std::vector<double>& times, const
   return ref;
 }
 
+std::optional<aggkit::bench::Figures> figures;  // set in main
+std::string study_case;                         // "lambda=0.1 N=32768 cutoff", set by study()
+
 void print_row(const char* label, double rtol, const Run& r, const Reference& ref) {
   double worst = 0.0;
   std::vector<double> per_time;
@@ -78,6 +83,9 @@ void print_row(const char* label, double rtol, const Run& r, const Reference& re
   for (double e : per_time) std::printf(" %8.1e |", e);
   std::printf("\n");
   std::fflush(stdout);
+  const std::string case_name = study_case + " integrator=" + label + " rtol=" + aggkit::bench::Figures::text(rtol);
+  figures->add(case_name, "error_over_rtol", worst / rtol, "1");
+  figures->add(case_name, "wall_seconds", r.stats.wall_seconds, "s");
 }
 
 struct Variant {
@@ -91,6 +99,7 @@ void study(double lambda, Truncation truncation, std::size_t N, const std::vecto
   const AggregationModel model = constant_two(lambda, N, truncation);
   Run tight;
   bool have_tight = false;
+  study_case = "lambda=" + aggkit::bench::Figures::text(lambda) + " N=" + std::to_string(N) + " " + to_string(truncation);
   std::printf("\n### K = 2, lambda = %g, N = %zu, %s, monodisperse\n\n", lambda, N, to_string(truncation).c_str());
   if (lambda > 0.0) {
     IntegratorOptions o;
@@ -138,6 +147,7 @@ void study(double lambda, Truncation truncation, std::size_t N, const std::vecto
 }  // namespace
 
 int main(int argc, char** argv) {
+  figures.emplace("tolerance_proportionality", argc, argv);
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const std::vector<double> rtols =
       quick ? std::vector<double>{1e-6, 1e-8, 1e-10} : std::vector<double>{1e-6, 1e-7, 1e-8, 1e-9, 1e-10};

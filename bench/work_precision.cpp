@@ -5,6 +5,7 @@
 //   bench_work_precision [a|b] [--quick]
 //   (a) constant kernel, λ = 0.1, N = 32768;  (b) ballistic kernel, λ = 0.01, N = 5000.
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "analysis/moments.hpp"
+#include "bench/figures.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/rates.hpp"
 
@@ -22,6 +24,8 @@ namespace {
 
 const std::vector<double> times{1.0, 10.0, 100.0};
 const std::vector<double> orders{0.0, 2.0, 3.0};
+std::optional<aggkit::bench::Figures> figures;  // set in main
+std::string study_case;                         // "case=a", set by study()
 
 struct Run {
   std::vector<std::vector<double>> moments;  // [time][order]
@@ -58,6 +62,8 @@ double max_error(const Run& r, const Run& reference) {
 
 void print_row(const char* label, double rtol, const Run& r, const Run& reference) {
   if (r.failed) {
+    figures->add(study_case + " integrator=" + label + " rtol=" + aggkit::bench::Figures::text(rtol), "max_relative_error",
+                 std::nan(""), "1");
     std::printf("| %-22s | %7.0e | failed at t = %g: %.60s |\n", label, rtol, r.reached, r.failure.c_str());
     return;
   }
@@ -70,9 +76,13 @@ void print_row(const char* label, double rtol, const Run& r, const Run& referenc
   }
   std::printf(" |\n");
   std::fflush(stdout);
+  const std::string case_name = study_case + " integrator=" + label + " rtol=" + aggkit::bench::Figures::text(rtol);
+  figures->add(case_name, "wall_seconds", r.stats.wall_seconds, "s");
+  figures->add(case_name, "max_relative_error", max_error(r, reference), "1");
 }
 
 void study(const char* name, AggregationModel model, bool quick) {
+  study_case = std::string("case=") + name;
   std::printf("\n### Case (%s): %s, lambda = %s, N = %zu, monodisperse, t = 1, 10, 100\n\n", name,
               model.kernel.describe().c_str(), model.lambda.describe().c_str(), model.size);
   IntegratorOptions reference_options;
@@ -137,6 +147,7 @@ void study(const char* name, AggregationModel model, bool quick) {
                 baseline.stats.wall_seconds, baseline.stats.rhs_evaluations, baseline.stats.jacobian_vector_products,
                 same.stats.wall_seconds, same.stats.rhs_evaluations, same.stats.jacobian_vector_products,
                 baseline.stats.wall_seconds / same.stats.wall_seconds, max_error(baseline, same));
+    figures->add(study_case + " rtol=1e-7 t=1", "speedup_over_direct_rhs", baseline.stats.wall_seconds / same.stats.wall_seconds, "1");
   }
   // Per-evaluation cost on a developed distribution (the reference state at t = 100 is not stored;
   // a smooth power law with cutoff stands in for it).
@@ -164,6 +175,7 @@ void study(const char* name, AggregationModel model, bool quick) {
 int main(int argc, char** argv) {
   bool quick = false;
   std::string which = "ab";
+  figures.emplace("work_precision", argc, argv);
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) quick = true;
     else which = argv[i];
