@@ -73,6 +73,17 @@ class CheckTest(unittest.TestCase):
         code, _, err = run("--standing", os.path.join(self.dir.name, "missing.csv"))
         self.assertEqual(code, 2)
 
+    def test_same_flags_a_change_either_way(self):
+        with open(self.standing, "a") as f:
+            f.write("Hopf,hopf,a=0.9,lambda_crit,1,same,,0.00962,0.01,,c,d\n")
+        self.figures_file(["2026-12-01T10:00:00Z,hopf,a=0.9,lambda_crit,0.00965,1,cmd"])
+        code, out, _ = run("--standing", self.standing, "--figures", self.figures)
+        self.assertEqual(code, 0, out)              # +0.3 %: within 1 %
+        self.figures_file(["2026-12-01T10:00:00Z,hopf,a=0.9,lambda_crit,0.0095,1,cmd"])
+        code, out, _ = run("--standing", self.standing, "--figures", self.figures)
+        self.assertEqual(code, 1, out)              # -1.2 %
+        self.assertIn("hopf [a=0.9] lambda_crit", out.split("regressed:")[-1])
+
     def test_markdown_has_one_table_per_section(self):
         code, out, _ = run("--standing", self.standing, "--markdown")
         self.assertEqual(code, 0)
@@ -91,6 +102,23 @@ class CheckTest(unittest.TestCase):
         self.assertEqual(rows[1]["reference"], "1.5e5")  # not measured: unchanged
         code, out, _ = run("--standing", self.standing, "--figures", self.figures)
         self.assertEqual(code, 0, out)
+
+
+class ResultsTest(unittest.TestCase):
+    def test_results_md_shows_the_current_standing(self):
+        """bench/RESULTS.md's tables are what bench/check --write-results makes of bench/standing.csv."""
+        root = os.path.dirname(os.path.dirname(CHECK))
+        with tempfile.TemporaryDirectory() as d:
+            copy = os.path.join(d, "RESULTS.md")
+            with open(os.path.join(root, "bench", "RESULTS.md")) as f, open(copy, "w") as g:
+                g.write(f.read())
+            code, out, err = run("--results", copy, "--write-results")
+            self.assertEqual(code, 0, err)
+            self.assertIn("already current", out, "run bench/check --write-results after editing bench/standing.csv")
+            for line in open(copy):  # every history link resolves
+                if "](log/" in line:
+                    target = line.split("](", 1)[1].split(")", 1)[0]
+                    self.assertTrue(os.path.exists(os.path.join(root, "bench", target)), target)
 
 
 if __name__ == "__main__":
