@@ -84,6 +84,16 @@ class CheckTest(unittest.TestCase):
         self.assertEqual(code, 1, out)              # -1.2 %
         self.assertIn("hopf [a=0.9] lambda_crit", out.split("regressed:")[-1])
 
+    def test_a_zero_reference_regresses_on_any_count(self):
+        with open(self.standing, "a") as f:
+            f.write("Fuzz,fuzz,seed=7,findings,1,lower,0,0,0,,c,d\n")
+        self.figures_file(["2026-12-01T10:00:00Z,fuzz,seed=7,findings,0,1,cmd"])
+        self.assertEqual(run("--standing", self.standing, "--figures", self.figures)[0], 0)
+        self.figures_file(["2026-12-01T10:00:00Z,fuzz,seed=7,findings,2,1,cmd"])
+        code, out, _ = run("--standing", self.standing, "--figures", self.figures)
+        self.assertEqual(code, 1, out)
+        self.assertIn("regressed, target missed", out)
+
     def test_markdown_has_one_table_per_section(self):
         code, out, _ = run("--standing", self.standing, "--markdown")
         self.assertEqual(code, 0)
