@@ -1,13 +1,16 @@
 // The `aggkit` command line: parses arguments and calls the libraries.
 //   aggkit run SCENE --out DIR [--quiet] [--no-plot]
 //   [mpirun -np K] aggkit scan SCENE --out DIR [--quiet] [--no-plot]
+//   aggkit validate [--tier fast|full] [--out DIR] [--jobs K] [--quiet] [--no-plot] [--rerun] [SCENE ...]
 //   aggkit kernels
 //   aggkit --version
 // Exit status: 0 pass; 1 a comparison failed (or an engine failed); 2 bad input (bad scene or command
 // line, unreadable scene, unwritable output folder); 3 an unexpected internal error.
 #include <exception>
 #include <iostream>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -20,6 +23,7 @@
 #include "validation/scan/scan.hpp"
 #include "validation/scan/scan_mpi.hpp"
 #include "validation/scene/scene.hpp"
+#include "validation/validate/validate.hpp"
 #include "validation/io/text.hpp"
 #include "validation/io/version.hpp"
 
@@ -68,6 +72,33 @@ int scan(const RunArguments& arguments, int* argc, char*** argv) {
   return aggkit::run_scan(plan, options).exit_code;
 }
 
+struct ValidateArguments {
+  std::string tier = "fast";
+  std::string out = "validation";
+  long jobs = 1;
+  bool quiet = false;
+  bool no_plot = false;
+  bool rerun = false;
+  std::vector<std::string> scenes;
+};
+
+// Each scene runs in a child process of this very program (/proc/self/exe).
+int validate(const ValidateArguments& arguments) {
+  aggkit::ValidateOptions options;
+  options.tier = aggkit::parse_tier(arguments.tier);
+  if (arguments.jobs < 1 || arguments.jobs > 1024)
+    throw aggkit::InputError("--jobs", std::to_string(arguments.jobs), "a number of child processes from 1 to 1024");
+  options.jobs = std::size_t(arguments.jobs);
+  options.out = arguments.out;
+  options.scenes = arguments.scenes;
+  options.plot = !arguments.no_plot;
+  options.rerun = arguments.rerun;
+  options.program = std::filesystem::read_symlink("/proc/self/exe");
+  options.progress = arguments.quiet ? nullptr : &std::cerr;
+  options.table = &std::cout;
+  return aggkit::run_validation(options).exit_code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -99,6 +130,28 @@ int main(int argc, char** argv) {
       "DIR/phase_diagram.png, DIR/timing.csv, DIR/truncation_check.csv (if asked) and DIR/points/ (finished\n"
       "points: an interrupted scan resumes). Exit status 0: every point classified; 1: some runs failed;\n"
       "2: bad input.");
+  ValidateArguments validate_arguments;
+  CLI::App* validate_command = app.add_subcommand(
+      "validate", "run every shipped scene (or those given) in parallel: pass/fail table, DIR/validation.json, DIR/report.html");
+  validate_command->add_option("scene", validate_arguments.scenes,
+                               "scene files, folders of scenes, or names of shipped scenes (default: every shipped scene "
+                               "of the tier)");
+  validate_command->add_option("--tier", validate_arguments.tier,
+                               "fast: the scenes of tier fast (default); full: every scene");
+  validate_command->add_option("--out,-o", validate_arguments.out,
+                               "output folder (default ./validation; a rerun resumes)");
+  validate_command->add_option("--jobs,-j", validate_arguments.jobs, "scenes run at once, each in a child process (default 1)");
+  validate_command->add_flag("--quiet,-q", validate_arguments.quiet, "no progress lines on stderr");
+  validate_command->add_flag("--no-plot", validate_arguments.no_plot, "no plots (report.html without images)");
+  validate_command->add_flag("--rerun", validate_arguments.rerun, "rerun the scenes an earlier validation into DIR finished");
+  validate_command->footer(
+      "Each scene runs as `aggkit run SCENE --out DIR/<scene>` (`aggkit scan` for a scene with a [scan]\n"
+      "section: it passes when every point is classified), its output in DIR/logs/<scene>.log. Finished scenes\n"
+      "are recorded in DIR/finished/: an interrupted validation rerun into the same DIR runs only the rest\n"
+      "(a changed scene file is rerun). Prints a pass/fail table (scene, engines, worst comparison, its error,\n"
+      "tolerance and share of the tolerance used, wall time); writes DIR/validation.json and DIR/report.html.\n"
+      "Not under mpirun: --jobs K runs K scenes at once.\n"
+      "Exit status 0: every scene passes; 1: a scene failed; 2: bad input (option, scene, output folder).");
   CLI::App* kernels_command = app.add_subcommand("kernels", "list the kernels and their parameters");
 
   try {
@@ -120,6 +173,7 @@ int main(int argc, char** argv) {
       return aggkit::exit_pass;
     }
     if (*scan_command) return scan(scan_arguments, &argc, &argv);
+    if (*validate_command) return validate(validate_arguments);
     return run(arguments);
   } catch (const aggkit::InputError& e) {
     std::cerr << "aggkit: error: " << e.what() << "\n";

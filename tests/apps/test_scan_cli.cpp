@@ -78,7 +78,7 @@ std::size_t lines(const std::string& text) { return std::size_t(std::count(text.
 
 }  // namespace
 
-TEST_CASE("scan cli: one process and mpirun -np 2 write the same scan.csv and lambda_crit.csv") {
+TEST_CASE("scan cli: one process and mpirun -np 2 write the same scan.csv and lambda_crit.csv", "[mpi]") {
   const auto folder = aggkit::testing::scratch_folder("scan-cli-mpi");
   const auto scene = aggkit::testing::write_text(folder / "scan.toml", small_scan);
   const Outcome single = run(scan_command("", scene, folder / "single"), folder);

@@ -45,6 +45,9 @@ TEST_CASE("harness: comparison takes the largest relative error over the output 
   CHECK(results[1].max_relative_error == Approx(1e-3));
   CHECK(results[1].time == 3.0);
   CHECK(results[1].pass);
+  // The share of the allowed error used: exactly all of it in both (0.01 of 0.02 * 0.5; 1e-3 of 1e-3 * 1).
+  CHECK(results[0].tolerance_used == Approx(1.0));
+  CHECK(results[1].tolerance_used == Approx(1.0));
 }
 
 TEST_CASE("harness: NaN, missing tolerances and failed engines in a comparison") {
@@ -62,6 +65,8 @@ TEST_CASE("harness: NaN, missing tolerances and failed engines in a comparison")
   CHECK(results[1].max_relative_error == Approx(9.0));
   CHECK_FALSE(results[1].tolerance);
   CHECK(results[1].pass);  // reported only
+  CHECK(std::isnan(results[0].tolerance_used));
+  CHECK(std::isnan(results[1].tolerance_used));  // no tolerance
 
   records[1].failure = "CVODE failed";
   results = compare_engines(plan, two_series(), records);

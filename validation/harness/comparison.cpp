@@ -1,5 +1,6 @@
 #include "validation/harness/comparison.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -31,6 +32,8 @@ void largest_error(const EngineRecord& engine, const EngineRecord& reference, st
       const double allowed = tolerance->relative_error * (x_ref != 0.0 ? std::abs(x_ref) : 1.0) +
                              tolerance->standard_errors.value_or(0.0) * sigma;
       if (!(std::abs(x - x_ref) <= allowed)) result.pass = false;
+      const double used = x == x_ref ? 0.0 : std::abs(x - x_ref) / allowed;  // a NaN x returns below
+      result.tolerance_used = i == 0 ? used : std::max(result.tolerance_used, used);
     }
     const double error = relative_error(x, x_ref);
     if (std::isnan(error)) {
@@ -80,6 +83,7 @@ ComparisonResult compare_final(const EngineRecord& engine, const EngineRecord& r
     const double allowed = tolerance->relative_error * (ref->mean != 0.0 ? std::abs(ref->mean) : 1.0) +
                            tolerance->standard_errors.value_or(0.0) * sigma;
     result.pass = std::abs(x->mean - ref->mean) <= allowed;
+    result.tolerance_used = x->mean == ref->mean ? 0.0 : std::abs(x->mean - ref->mean) / allowed;
   }
   return result;
 }

@@ -23,6 +23,9 @@ struct ComparisonResult {
   std::optional<double> tolerance;   // none: reported only (relative part of the tolerance)
   std::optional<double> stderr_multiple;  // k of a `stderr = k` tolerance
   double max_standard_errors = std::numeric_limits<double>::quiet_NaN();  // max |x - x_ref| / σ; NaN without σ
+  // The largest share of the allowed error used, max |x - x_ref| / (relative |x_ref| + k σ) over the output
+  // times: <= 1 passes; NaN without a tolerance or a number.
+  double tolerance_used = std::numeric_limits<double>::quiet_NaN();
   bool pass = true;                  // error <= tolerance (a NaN error fails); true without tolerance
   std::string note;                  // why there is no number, if there is none
 };

@@ -84,6 +84,7 @@ Json comparison_json(const ComparisonResult& c) {
                {"tolerance", c.tolerance ? Json(*c.tolerance) : Json(nullptr)},
                {"pass", c.tolerance ? Json(c.pass) : Json(nullptr)}};
   if (c.stderr_multiple) json["tolerance_stderr"] = *c.stderr_multiple;
+  if (c.tolerance) json["tolerance_used"] = number(c.tolerance_used);
   if (!std::isnan(c.max_standard_errors)) json["max_error_in_stderr"] = number(c.max_standard_errors);
   if (!c.note.empty()) json["note"] = c.note;
   return json;

@@ -105,7 +105,7 @@ void check_lambda(const std::string& key, double lambda) {
 ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   toml::table document = parse_toml_text(text, source);
   const SceneTable root(document, "");
-  root.allow_only({"name", "model", "time", "engine", "scan"});
+  root.allow_only({"name", "tier", "model", "time", "engine", "scan"});
   if (!root.contains("scan")) root.fail("scan", "required in a scan scene: [scan] with a = .. and lambda = ..");
   if (!document.get("scan")->is_table()) root.fail("scan", "a table [scan]");
   const toml::table scan_table = *document.get("scan")->as_table();

@@ -3,6 +3,7 @@
 // K_ij = (i/j)^a + (j/i)^a over which each point's oscillation regime is classified. Schema:
 //
 //   name = "..."
+//   tier = "full"  optional: the `aggkit validate` tier, as in a run scene (default fast)
 //   [model]     as in a run scene (scene.hpp); kernel must be { name = "brownian", a = .. }: each point
 //               replaces a and λ (the model's own values are only placeholders); size N, truncation, initial
 //   [time]      end and outputs/every: each point's CVODE run (sample often enough: >= 8 outputs per period,

@@ -1,0 +1,49 @@
+#include "validation/validate/finished_record.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "validation/io/atomic_file.hpp"
+
+namespace aggkit {
+
+namespace {
+
+std::filesystem::path record_file(const std::filesystem::path& out, const PlannedScene& scene) {
+  return finished_folder(out) / (scene.folder + ".json");
+}
+
+}  // namespace
+
+std::filesystem::path finished_folder(const std::filesystem::path& out) { return out / "finished"; }
+
+void write_finished_record(const std::filesystem::path& out, const PlannedScene& scene, const FinishedRecord& record) {
+  const nlohmann::ordered_json json = {{"scene", scene.name},
+                                       {"file", scene.file.string()},
+                                       {"fingerprint", scene.fingerprint},
+                                       {"exit_code", record.exit_code},
+                                       {"wall_seconds", record.wall_seconds}};
+  write_file_atomically(record_file(out, scene), json.dump(2) + "\n");
+}
+
+std::optional<FinishedRecord> read_finished_record(const std::filesystem::path& out, const PlannedScene& scene) {
+  std::ifstream in(record_file(out, scene));
+  if (!in) return std::nullopt;
+  const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!json.is_object() || json.value("fingerprint", "") != scene.fingerprint || !json.contains("exit_code") ||
+      !json["exit_code"].is_number_integer() || !json.contains("wall_seconds") || !json["wall_seconds"].is_number())
+    return std::nullopt;
+  FinishedRecord record{json["exit_code"].get<int>(), json["wall_seconds"].get<double>()};
+  if (record.exit_code != 0 && record.exit_code != 1) return std::nullopt;
+  return record;
+}
+
+void forget_finished_record(const std::filesystem::path& out, const PlannedScene& scene) {
+  std::error_code error;
+  std::filesystem::remove(record_file(out, scene), error);
+}
+
+}  // namespace aggkit

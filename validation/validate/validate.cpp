@@ -1,0 +1,174 @@
+#include "validation/validate/validate.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <system_error>
+#include <unistd.h>
+
+#include "analysis/input_error.hpp"
+#include "validation/io/atomic_file.hpp"
+#include "validation/validate/finished_record.hpp"
+#include "validation/validate/report_html.hpp"
+#include "validation/validate/scene_jobs.hpp"
+#include "validation/validate/validation_json.hpp"
+#include "validation/validate/validation_plan.hpp"
+#include "validation/validate/validation_table.hpp"
+
+namespace aggkit {
+
+namespace {
+
+[[noreturn]] void unusable(const std::filesystem::path& out, const std::string& why) {
+  throw InputError("--out", out.string(), "a folder that can be created and written (" + why + ")");
+}
+
+// DIR is empty, new, or an earlier validation's (it has DIR/finished or DIR/validation.json): a validation
+// never spreads its folders into a folder of someone else's.
+void prepare_output(const std::filesystem::path& out) {
+  std::error_code error;
+  if (std::filesystem::exists(out, error)) {
+    if (!std::filesystem::is_directory(out, error)) unusable(out, "it is a file");
+    const bool ours = std::filesystem::is_directory(finished_folder(out), error) ||
+                      std::filesystem::exists(out / "validation.json", error);
+    if (!ours && !std::filesystem::is_empty(out, error))
+      throw InputError("--out", out.string(),
+                       "a new or empty folder, or one an earlier `aggkit validate` wrote (this one holds other files)");
+  }
+  for (const auto& folder : {finished_folder(out), out / "logs"}) {
+    std::filesystem::create_directories(folder, error);
+    if (error) unusable(out, error.message());
+  }
+  // Root may write anywhere by permissions alone; only writing a file proves the folder is usable.
+  const std::filesystem::path probe = out / "logs" / (".write-test-" + std::to_string(::getpid()));
+  std::ofstream file(probe);
+  file << "probe\n";
+  file.close();
+  const bool ok = static_cast<bool>(file);
+  std::filesystem::remove(probe, error);
+  if (!ok) unusable(out, "cannot write files in it");
+}
+
+bool outputs_present(const std::filesystem::path& out, const PlannedScene& scene) {
+  std::error_code error;
+  return std::filesystem::exists(out / scene.folder / (scene.kind == SceneKind::run ? "summary.json" : "scan.csv"), error);
+}
+
+// Refused under mpirun: every rank would run every scene into the same folder.
+void refuse_mpirun() {
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (const char* value = std::getenv(variable); value && *value)
+      throw InputError("mpirun", std::string(variable) + "=" + value,
+                       "no mpirun: aggkit validate runs its scenes as child processes, --jobs K at a time");
+}
+
+std::string line_for(const SceneOutcome& s) {
+  std::string line = s.scene.name + ": " + to_string(s.verdict);
+  if (s.worst) {
+    const ComparisonLine& c = s.comparisons[*s.worst];
+    line += ", worst " + c.engine + " " + c.observable + " " + error_text(c) + " (tolerance " + tolerance_text(c) +
+            ", used " + used_text(c) + ")";
+  } else if (s.scene.kind == SceneKind::scan) {
+    line += ", " + std::to_string(s.scan_points) + " points";
+  }
+  if (!s.problem.empty() && s.verdict != Verdict::pass) line += ": " + s.problem;
+  return line + " (" + seconds_text(s.wall_seconds) + " s)";
+}
+
+}  // namespace
+
+ValidationOutcome run_validation(const ValidateOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  if (options.jobs < 1 || options.jobs > 1024)
+    throw InputError("--jobs", std::to_string(options.jobs), "a number of child processes from 1 to 1024");
+  refuse_mpirun();
+  const ValidationPlan plan = plan_validation(options.scenes, options.tier, options.plot);
+  if (plan.scenes.empty())
+    throw InputError("--tier", to_string(options.tier),
+                     "a tier with scenes to run: " + std::to_string(plan.notes.size()) +
+                         " scenes are left out (tier full; use --tier full)");
+  const std::filesystem::path& out = options.out;
+  prepare_output(out);
+
+  std::vector<SceneOutcome> outcomes(plan.scenes.size());
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < plan.scenes.size(); ++i) {
+    const PlannedScene& scene = plan.scenes[i];
+    if (options.rerun) forget_finished_record(out, scene);
+    const auto record = read_finished_record(out, scene);
+    if (record && outputs_present(out, scene)) {
+      outcomes[i] = read_scene_outcome(out, scene, record->exit_code, 0, record->wall_seconds, /*resumed=*/true);
+    } else {
+      forget_finished_record(out, scene);
+      outcomes[i].scene = scene;
+      todo.push_back(i);
+    }
+  }
+  std::ostream* progress = options.progress;
+  if (progress)
+    *progress << "aggkit validate: " << plan.scenes.size() << " scenes (tier " << to_string(options.tier) << "), "
+              << plan.scenes.size() - todo.size() << " finished earlier, " << todo.size() << " to run, "
+              << options.jobs << " at a time; outputs in " << out.string() << "\n"
+              << std::flush;
+
+  std::vector<ChildJob> jobs;
+  for (const std::size_t i : todo) {
+    const PlannedScene& scene = plan.scenes[i];
+    ChildJob job;
+    job.argv = {options.program.string(), to_string(scene.kind), scene.file.string(), "--out",
+                (out / scene.folder).string(), "--quiet"};
+    if (!options.plot) job.argv.push_back("--no-plot");
+    job.log = out / "logs" / (scene.folder + ".log");
+    jobs.push_back(std::move(job));
+  }
+  std::size_t done = 0;
+  JobCallbacks callbacks;
+  callbacks.started = [&](std::size_t job) {
+    if (progress) *progress << "aggkit validate: started " << plan.scenes[todo[job]].name << "\n" << std::flush;
+  };
+  callbacks.finished = [&](std::size_t job, const ChildOutcome& child) {
+    const std::size_t i = todo[job];
+    const PlannedScene& scene = plan.scenes[i];
+    const int exit_code = child.started ? child.exit_status : -1;
+    if (exit_code == 0 || exit_code == 1) write_finished_record(out, scene, {exit_code, child.wall_seconds});
+    outcomes[i] = read_scene_outcome(out, scene, exit_code, child.signal, child.wall_seconds, false);
+    ++done;
+    if (progress)
+      *progress << "aggkit validate: [" << done << "/" << todo.size() << "] " << line_for(outcomes[i]) << "\n"
+                << std::flush;
+  };
+  callbacks.running = [&](const std::vector<std::pair<std::size_t, double>>& running) {
+    if (!progress) return;
+    std::string line = "aggkit validate: " + std::to_string(done) + "/" + std::to_string(todo.size()) + " done; running";
+    for (const auto& [job, seconds] : running) line += " " + plan.scenes[todo[job]].name + " (" + seconds_text(seconds) + " s)";
+    *progress << line << "\n" << std::flush;
+  };
+  run_child_jobs(jobs, options.jobs, callbacks);
+
+  ValidationOutcome result;
+  result.scenes = std::move(outcomes);
+  bool bad_input = false, failed = false;
+  for (const auto& s : result.scenes) {
+    bad_input = bad_input || s.verdict == Verdict::bad_input;
+    failed = failed || s.verdict != Verdict::pass;
+  }
+  result.exit_code = bad_input ? 2 : failed ? 1 : 0;
+  ValidationTotals totals;
+  totals.tier = options.tier;
+  totals.jobs = options.jobs;
+  totals.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  totals.exit_code = result.exit_code;
+  totals.notes = plan.notes;
+  write_file_atomically(out / "validation.json", validation_json(result.scenes, totals));
+  write_file_atomically(out / "report.html", report_html(out, result.scenes, totals));
+  if (options.table) {
+    print_validation_table(*options.table, result.scenes);
+    *options.table << "aggkit validate: " << (result.exit_code == 0 ? "PASS" : "FAIL") << " ("
+                   << seconds_text(totals.wall_seconds) << " s); " << (out / "validation.json").string() << ", "
+                   << (out / "report.html").string() << "\n";
+  }
+  return result;
+}
+
+}  // namespace aggkit
