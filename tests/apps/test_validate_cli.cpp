@@ -166,14 +166,14 @@ TEST_CASE("validate cli: a passing and a failing scene give exit 1, the table, v
     CHECK(pngs.count("tiny-scan/phase_diagram.png") == 1);
   }
 
-  SECTION("exit 0 when every scene passes; a scene file named explicitly runs whatever its tier") {
+  {  // exit 0 when every scene passes; a scene file named explicitly runs whatever its tier
     const Outcome passing = validate({"--out", (folder / "out-pass").string(), (scenes / "a-pass.toml").string(),
                                       (scenes / "c-full.toml").string()}, folder);
     INFO(passing.out << passing.err);
     CHECK(passing.exit_code == 0);
     CHECK(json_of(folder / "out-pass" / "validation.json")["counts"]["pass"] == 2);
   }
-  SECTION("exit 2 for bad input, naming the option, the value and what is allowed, before anything runs") {
+  {  // exit 2 for bad input, naming the option, the value and what is allowed, before anything runs
     const fs::path bad = folder / "out-bad";
     Outcome refused = validate({"--tier", "medium", "--out", bad.string(), scenes.string()}, folder);
     CHECK(refused.exit_code == 2);

@@ -102,7 +102,7 @@ TEST_CASE("dem: fractal_dimension_com recovers known dimensions", "[dem]") {
   }
 }
 
-TEST_CASE("dem: a cold cloud collapses to one aggregate; final.json follows the contract", "[dem][harness]") {
+TEST_CASE("dem: a cold cloud collapses to one aggregate, final.json follows the contract", "[dem][harness]") {
   const auto out = aggkit::testing::scratch_folder("dem-collapse");
   const RunResult result = run_scene(aggkit::testing::parse_checked(dem_scene(
                                          "restitution = 0.1\ncontact_time = 0.05\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n"
@@ -226,7 +226,7 @@ TEST_CASE("dem: elastic gases in periodic and reflecting boxes keep energy and m
   }
 }
 
-TEST_CASE("dem: a cloud with friction collapses; the Coulomb limit holds", "[dem][harness][friction]") {
+TEST_CASE("dem: a cloud with friction collapses, the Coulomb limit holds", "[dem][harness][friction]") {
   const auto out = aggkit::testing::scratch_folder("dem-friction");
   run_scene(aggkit::testing::parse_checked(
                 dem_scene("restitution = 0.3\ncontact_time = 0.05\nfriction = 0.5\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n")),
@@ -250,7 +250,7 @@ TEST_CASE("dem: tree gravity collapses the cloud as the direct sum does", "[dem]
         Approx(t_agg("gravity = { G = 1.0 }\n")).epsilon(0.05));
 }
 
-TEST_CASE("dem: a step above t_c/20 runs with a warning; the aggregation threshold is an option", "[dem][harness]") {
+TEST_CASE("dem: a step above t_c/20 runs with a warning, the aggregation threshold is an option", "[dem][harness]") {
   auto run = [](const std::string& extra) {
     const auto out = aggkit::testing::scratch_folder("dem-options");
     run_scene(aggkit::testing::parse_checked(

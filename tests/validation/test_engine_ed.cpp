@@ -161,7 +161,7 @@ TEST_CASE("ed: thermalize runs the elastic stage first, then sticking from t = 0
   CHECK(final["momentum_drift"].get<double>() < 1e-13);
 }
 
-TEST_CASE("ed: without stop the run ends at time.end; { clusters = K } stops at K", "[ed][harness]") {
+TEST_CASE("ed: without stop the run ends at time.end, { clusters = K } stops at K", "[ed][harness]") {
   const auto out = aggkit::testing::scratch_folder("ed-stop");
   const RunResult by_time = run_scene(aggkit::testing::parse_checked(ed_scene("", "", "series = [\"clusters\"]\n")), quiet(out));
   REQUIRE(by_time.records[0].completed());
@@ -264,7 +264,7 @@ TEST_CASE("ed: observables a kinetic engine cannot give are refused for it, nami
   }
 }
 
-TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the key; the others run", "[ed][particles]") {
+TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the key, the others run", "[ed][particles]") {
   const std::string base = ed_scene();
   const auto replace = [&](const std::string& from, const std::string& to) { return replaced(base, from, to); };
   const std::string cloud = replace("lattice = \"square\", speed = 1.0", "cloud = \"cube\", speed = 1.0");
@@ -291,7 +291,7 @@ TEST_CASE("ed: [particles] forms the engine cannot use are refused naming the ke
   CHECK(run.records[0].values.front()[1] > 0.5 * 100 * 3.14159265358979 / 4 * 0.1);
 }
 
-TEST_CASE("ed: extreme but valid scales finish; scales doubles cannot resolve are refused", "[ed][input]") {
+TEST_CASE("ed: extreme but valid scales finish, scales doubles cannot resolve are refused", "[ed][input]") {
   const std::string base = ed_scene();
   const auto replace = [&](const std::string& from, const std::string& to) { return replaced(base, from, to); };
   // Collisions ~1e10 time.end apart: the run to one cluster goes on in doubling chunks and ends.

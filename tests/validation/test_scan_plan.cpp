@@ -72,7 +72,7 @@ TEST_CASE("scan plan: lists, linear and log ranges") {
   CHECK(parse_scan_plan(geometric.text()).lambda_log);
 }
 
-TEST_CASE("scan plan: the point model carries a, lambda and N; the fingerprint ignores the grid") {
+TEST_CASE("scan plan: the point model carries a, lambda and N, the fingerprint ignores the grid") {
   const ScanPlan plan = parse_scan_plan(ScanText().text());
   const AggregationModel m = point_model(plan, 0.95, 0.02, 128);
   CHECK(m.kernel.describe() == Kernel::brownian(0.95).describe());

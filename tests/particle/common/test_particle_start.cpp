@@ -188,7 +188,7 @@ TEST_CASE("a density mass law gives m = 4/3 pi rho R^3 (pi rho R^2 in 2-D)", "[p
   }
 }
 
-TEST_CASE("uniform components have zero momentum with unequal masses; speed 0 is a cold start", "[particles][start]") {
+TEST_CASE("uniform components have zero momentum with unequal masses, speed 0 is a cold start", "[particles][start]") {
   for (int d : {2, 3}) {
     ParticleSystem s = cloud_system(d);
     s.mass_law.density = 3.0;

@@ -199,7 +199,7 @@ DemSettings collapse_settings(std::size_t threads) {
 
 }  // namespace
 
-TEST_CASE("dem: results do not depend on the gravity thread count; momentum kept to round-off", "[dem]") {
+TEST_CASE("dem: results do not depend on the gravity thread count, momentum kept to round-off", "[dem]") {
   // 300 particles: 4 chunks of the gravity tiling, 10 tiles shared out among the threads.
   Dem one(open_box(), cloud(3, 300, 24), collapse_settings(1));
   Dem three(open_box(), cloud(3, 300, 24), collapse_settings(3));
@@ -229,7 +229,7 @@ TEST_CASE("dem: an elastic self-gravitating cloud keeps its energy", "[dem]") {
   CHECK(worst < 1e-3);
 }
 
-TEST_CASE("dem: oblique collisions with friction never gain energy; |F_t| <= μ F_n; angular momentum kept", "[dem][friction]") {
+TEST_CASE("dem: oblique collisions with friction never gain energy, |F_t| <= μ F_n, angular momentum kept", "[dem][friction]") {
   // Spheres R = 1 and R = 0.7 (masses 1 and 0.4) meeting at impact angle α between the relative velocity and
   // the line of centres (impact parameter (R_1 + R_2) sin α), including the grazing α = 76° with μ = 0.5.
   // Energy: K (translation + rotation) + the normal and tangential springs, at every step, never above its

@@ -26,7 +26,7 @@ std::vector<std::vector<std::pair<std::uint64_t, std::uint64_t>>> histories(dsmc
 
 }  // namespace
 
-TEST_CASE("dsmc: the same seed gives the same series bit for bit, threads or not; other seeds differ") {
+TEST_CASE("dsmc: the same seed gives the same series bit for bit, threads or not, other seeds differ") {
   for (const auto method : {dsmc::Method::acceptance_rejection, dsmc::Method::fast}) {
     INFO("method " << dsmc::to_string(method));
     const auto serial = histories(method, 123, 1);
