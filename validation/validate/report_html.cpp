@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "validation/io/text.hpp"
 #include "validation/io/version.hpp"
 #include "validation/validate/validation_table.hpp"
@@ -19,7 +21,7 @@ th{background:#eee}td.num{text-align:right;font-variant-numeric:tabular-nums}
 .pass{color:#060;font-weight:bold}.fail{color:#b00;font-weight:bold}
 .description{white-space:pre-wrap;background:#f6f6f6;padding:.5em;border-left:3px solid #999}
 pre.log{background:#fee;padding:.5em;overflow-x:auto}
-figure{display:inline-block;margin:.5em}figure img{max-width:100%;border:1px solid #ccc}
+figure{display:inline-block;margin:.5em}figure img{max-width:100%;max-height:40em;border:1px solid #ccc}
 figcaption{font-size:85%;color:#555}section{border-top:2px solid #ccc;margin-top:1.5em})";
 
 std::string cell(const std::string& text, bool number = false) {
@@ -63,6 +65,24 @@ std::string csv_table(const std::filesystem::path& file, std::size_t limit) {
   return html.str();
 }
 
+// The final values of a particle engine (DIR/<scene>/<label>/final.json: means, with `_stderr` standard errors).
+std::string final_values_table(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) return "";
+  const nlohmann::ordered_json values = nlohmann::ordered_json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!values.is_object()) return "";
+  std::ostringstream html;
+  html << "<table><tr><th>final value</th><th>mean</th><th>standard error</th></tr>";
+  for (const auto& [name, value] : values.items()) {
+    if (!value.is_number() || (name.size() > 7 && name.ends_with("_stderr"))) continue;
+    const auto error = values.find(name + "_stderr");
+    html << "<tr>" << cell(name) << cell(number_text(value.get<double>()), true)
+         << cell(error != values.end() && error->is_number() ? number_text(error->get<double>()) : "", true) << "</tr>";
+  }
+  html << "</table>";
+  return html.str();
+}
+
 void summary_table(std::ostream& html, const std::vector<SceneOutcome>& scenes) {
   html << "<table><tr><th>scene</th><th>tier</th><th>engines</th><th>worst comparison</th><th>error</th>"
           "<th>tolerance</th><th>used</th><th>wall s</th><th>result</th></tr>\n";
@@ -94,6 +114,10 @@ void scene_section(std::ostream& html, const std::filesystem::path& out, const S
       html << "<tr>" << cell(e.label) << cell(e.name) << cell(e.status) << cell(seconds_text(e.wall_seconds), true)
            << cell(e.error) << "</tr>\n";
     html << "</table>\n";
+  }
+  for (const auto& e : s.engines) {
+    const std::string finals = final_values_table(out / s.scene.folder / e.label / "final.json");
+    if (!finals.empty()) html << "<h3>Final values of " << html_escape(e.label) << "</h3>" << finals << "\n";
   }
   if (!s.comparisons.empty()) {
     html << "<h3>Comparisons</h3><table><tr><th>engine</th><th>reference</th><th>observable</th><th>kind</th>"
