@@ -32,12 +32,13 @@ void largest_error(const EngineRecord& engine, const EngineRecord& reference, st
       const double allowed = tolerance->relative_error * (x_ref != 0.0 ? std::abs(x_ref) : 1.0) +
                              tolerance->standard_errors.value_or(0.0) * sigma;
       if (!(std::abs(x - x_ref) <= allowed)) result.pass = false;
-      const double used = x == x_ref ? 0.0 : std::abs(x - x_ref) / allowed;  // a NaN x returns below
+      const double used = x == x_ref ? 0.0 : std::abs(x - x_ref) / allowed;  // NaN: set below
       result.tolerance_used = i == 0 ? used : std::max(result.tolerance_used, used);
     }
     const double error = relative_error(x, x_ref);
     if (std::isnan(error)) {
       result.max_relative_error = not_a_number;
+      if (tolerance) result.tolerance_used = not_a_number;
       result.time = engine.times[i];
       result.note = "not a number at t = " + shortest_text(engine.times[i]);
       return;
