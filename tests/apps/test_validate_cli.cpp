@@ -36,10 +36,12 @@ std::string validate_command(const std::vector<std::string>& arguments) {
   return command;
 }
 
-Outcome validate(const std::vector<std::string>& arguments, const fs::path& folder) {
+// `environment` ("NAME=value ...") is prefixed to the command.
+Outcome validate(const std::vector<std::string>& arguments, const fs::path& folder, const std::string& environment = "") {
   const auto out = folder / "stdout.txt", err = folder / "stderr.txt";
-  const int status =
-      std::system((validate_command(arguments) + " >" + quoted(out.string()) + " 2>" + quoted(err.string())).c_str());
+  const int status = std::system((environment + " " + validate_command(arguments) + " >" + quoted(out.string()) +
+                                  " 2>" + quoted(err.string()))
+                                     .c_str());
   REQUIRE(WIFEXITED(status));
   return {WEXITSTATUS(status), aggkit::testing::read_text(out), aggkit::testing::read_text(err)};
 }
@@ -188,6 +190,10 @@ TEST_CASE("validate cli: a passing and a failing scene give exit 1, the table, v
     refused = validate({"--out", bad.string(), (folder / "broken").string()}, folder);
     CHECK(refused.exit_code == 2);
     CHECK_THAT(refused.err, Contains("tolerance"));
+    // Under mpirun every rank would run every scene into the same folder: refused (Open MPI's variable).
+    refused = validate({"--out", bad.string(), scenes.string()}, folder, "OMPI_COMM_WORLD_SIZE=2");
+    CHECK(refused.exit_code == 2);
+    CHECK_THAT(refused.err, Contains("mpirun") && Contains("--jobs"));
     CHECK_FALSE(fs::exists(bad));
     aggkit::testing::write_text(folder / "someone-elses" / "notes.txt", "mine\n");
     refused = validate({"--out", (folder / "someone-elses").string(), scenes.string()}, folder);
