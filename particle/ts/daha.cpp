@@ -64,7 +64,10 @@ DahaResult minimise(DahaProblem& problem, const DahaParameters& q) {
   double mean = 0, worst = 0;
   measure(x, mean, worst);
   result.start_overlap = worst;
-  for (std::size_t k = 0; k < m; ++k) lambda[k] = q.lambda0 * std::max(0.0, phi[k]);  // eq. 3.26
+  // eq. 3.26, warm-started: a link starts at its contact multiplier ½ (see the header), so links that
+  // already touch start in equilibrium and only the overlaps move spheres.
+  for (std::size_t k = 0; k < m; ++k)
+    lambda[k] = (problem.pairs[k].attract ? 0.5 : 0.0) + q.lambda0 * std::max(0.0, phi[k]);
   if (n == 0 || m == 0) {
     result.converged = true;
     result.mean_overlap = mean;

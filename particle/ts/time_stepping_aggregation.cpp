@@ -169,7 +169,7 @@ void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {
   ++counters_.merges;
 }
 
-DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std::uint32_t>& moved) {
+DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move) {
   const double range = settings_.interaction_range * radius_;       // Δ_W
   const double constrained = std::max(range, 6.0 * radius_);        // constraint pairs closer than this
   std::unordered_map<std::uint32_t, std::uint32_t> local;
@@ -221,7 +221,11 @@ DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std
   problem.x.resize(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) problem.x[k] = scale_ * x_[order[k]];
   const DahaResult result = aggkit::minimise(problem, settings_.daha);
-  for (std::size_t k = 0; k < free; ++k) x_[order[k]] = (1.0 / scale_) * problem.x[k];
+  for (std::size_t k = 0; k < free; ++k) {
+    const Vector3 to = (1.0 / scale_) * problem.x[k];
+    largest_move = std::max(largest_move, norm(to - x_[order[k]]));
+    x_[order[k]] = to;
+  }
   moved.assign(order.begin(), order.begin() + std::ptrdiff_t(free));
   return result;
 }
@@ -234,7 +238,9 @@ void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::
       break;
     }
     ++counters_.rounds;
+    const std::uint64_t merges_before = counters_.merges;
     for (const auto& [a, b] : new_links) link(a, b);
+    if (rounds > 1) counters_.secondary_merges += counters_.merges - merges_before;
     std::vector<Group> groups;
     std::unordered_map<std::uint32_t, std::size_t> group_of;
     for (const auto& [a, b] : new_links) {
@@ -250,16 +256,17 @@ void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::
     }
     std::vector<DahaResult> results(groups.size());
     std::vector<std::vector<std::uint32_t>> moved(groups.size());
+    std::vector<double> moves(groups.size(), 0.0);
     const std::size_t workers = std::min(settings_.threads, groups.size());
     if (workers <= 1) {
-      for (std::size_t g = 0; g < groups.size(); ++g) results[g] = minimise(groups[g], moved[g]);
+      for (std::size_t g = 0; g < groups.size(); ++g) results[g] = minimise(groups[g], moved[g], moves[g]);
     } else {
       // Separate clusters: disjoint free spheres, each group reads only its own cluster.
       std::atomic<std::size_t> next{0};
       std::vector<std::thread> pool;
       for (std::size_t w = 0; w < workers; ++w)
         pool.emplace_back([&] {
-          for (std::size_t g; (g = next++) < groups.size();) results[g] = minimise(groups[g], moved[g]);
+          for (std::size_t g; (g = next++) < groups.size();) results[g] = minimise(groups[g], moved[g], moves[g]);
         });
       for (auto& t : pool) t.join();
     }
@@ -271,6 +278,7 @@ void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::
       counters_.free_spheres += moved[g].size();
       if (!r.converged) ++counters_.iteration_cap_hits;
       counters_.max_overlap = std::max(counters_.max_overlap, r.max_overlap);
+      counters_.largest_move = std::max(counters_.largest_move, moves[g]);
       counters_.overlap_sum += r.mean_overlap;
       last_mean_ = r.mean_overlap;
       bool outside = false;

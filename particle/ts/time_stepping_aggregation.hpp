@@ -52,6 +52,7 @@ struct TsSettings {
 struct TsCounters {
   std::uint64_t steps = 0;
   std::uint64_t merges = 0;
+  std::uint64_t secondary_merges = 0;  // merges found after a minimisation of the same step (not in flight)
   std::uint64_t minimisations = 0;
   std::uint64_t minimisation_iterations = 0;
   std::uint64_t iteration_cap_hits = 0;
@@ -60,6 +61,7 @@ struct TsCounters {
   std::uint64_t wall_contacts = 0;
   std::uint64_t free_spheres = 0;       // summed over minimisations
   double max_overlap = 0;               // largest √φ⁺ of a pair after any minimisation (length units)
+  double largest_move = 0;             // largest displacement of a sphere by one minimisation (length units)
   double overlap_sum = 0;               // Σ over minimisations of their final mean link measure (eq. 3.28)
 };
 
@@ -120,7 +122,8 @@ class TimeSteppingAggregation {
   void reflect(std::uint32_t cluster);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among) const;
   void link(std::uint32_t a, std::uint32_t b);
-  DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved);  // writes only the group's free spheres
+  // Writes only the group's free spheres; `largest_move`: the largest displacement of one of them.
+  DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move);
   void resolve(std::vector<std::pair<std::uint32_t, std::uint32_t>> new_links);
   Vector3 sep(std::uint32_t i, std::uint32_t j) const { return box_.minimum_image(x_[j] - x_[i]); }
   template <class F>
