@@ -28,6 +28,7 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       members_(positions.size()),
       x_(positions.begin(), positions.end()),
       velocity_(velocities.begin(), velocities.end()),
+      flown_(positions.size(), Vector3{0, 0, 0}),
       links_(positions.size()) {
   if (positions.size() != velocities.size() || positions.size() < 2)
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
@@ -73,19 +74,33 @@ void TimeSteppingAggregation::for_near(std::uint32_t i, double reach, F&& f) con
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::overlaps_between_clusters(
-    std::span<const std::uint32_t> among) const {
+    std::span<const std::uint32_t> among, bool swept) const {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> found;
   const double contact2 = 4.0 * radius_ * radius_;
   const double same_cluster2 = contact2 * (1 - same_cluster_tolerance) * (1 - same_cluster_tolerance);
+  // A swept pair touched during the flight if the segment of its separations, from d − w to d (w the
+  // relative displacement), passes within 2R: d + s w' with w' = −w, s ∈ [0, 1], closest at s = d·w / |w|².
+  const double reach = 2.0 * radius_ + (swept ? 2.0 * longest_flight_ : 0.0);
   auto scan = [&](std::uint32_t i, bool all) {
-    for_near(i, 2.0 * radius_, [&](std::uint32_t j) {
+    for_near(i, reach, [&](std::uint32_t j) {
       if (all && j < i) return;
       const Vector3 d = sep(i, j);
       // Different clusters: any overlap links them. Within a cluster (only after a minimisation, `among`
       // given): an overlap deeper than the tolerance — a free sphere that moved onto a sphere it was not
       // constrained against — is minimised again with that pair as a link.
-      const double limit = members_.cluster_of(j) != members_.cluster_of(i) ? contact2 : (all ? 0.0 : same_cluster2);
-      if (dot(d, d) < limit) found.emplace_back(std::min(i, j), std::max(i, j));
+      const bool different = members_.cluster_of(j) != members_.cluster_of(i);
+      const double limit = different ? contact2 : (all ? 0.0 : same_cluster2);
+      double closest2 = dot(d, d);
+      if (swept && different && closest2 >= contact2) {
+        const Vector3 w = flown_[j] - flown_[i];
+        const double ww = dot(w, w);
+        if (ww > 0) {
+          const double s = std::clamp(dot(d, w) / ww, 0.0, 1.0);
+          const Vector3 c = d - s * w;
+          closest2 = dot(c, c);
+        }
+      }
+      if (closest2 < limit) found.emplace_back(std::min(i, j), std::max(i, j));
     });
   };
   if (among.empty()) {
@@ -135,19 +150,27 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
       shift = std::max(shift, -lo);
     }
     ++counters_.wall_contacts;
-    for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) x_[p][d] += shift;
+    for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) {
+      x_[p][d] += shift;
+      flown_[p][d] += shift;
+    }
   }
 }
 
 void TimeSteppingAggregation::flight(double dt) {
-  for (std::uint32_t p = 0; p < x_.size(); ++p) x_[p] = x_[p] + dt * velocity_[members_.cluster_of(p)];
+  for (std::uint32_t p = 0; p < x_.size(); ++p) {
+    flown_[p] = dt * velocity_[members_.cluster_of(p)];
+    x_[p] = x_[p] + flown_[p];
+  }
   if (box_.boundary == Boundary::reflecting) {
     for (std::uint32_t c = 0; c < x_.size(); ++c)
       if (members_.size(c) > 0) reflect(c);
   } else {
     for (Vector3& x : x_) x = box_.wrap(x);
   }
+  longest_flight_ = 0;
   for (std::uint32_t p = 0; p < x_.size(); ++p) {
+    longest_flight_ = std::max(longest_flight_, norm(flown_[p]));
     const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
     if (cell != cells_.cell_of(p)) cells_.move(p, cell);
   }
@@ -306,11 +329,22 @@ void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::
 
 void TimeSteppingAggregation::step(double dt) {
   if (!(dt > 0)) dt = time_step();
-  flight(dt);
-  time_ += dt;
   ++counters_.steps;
   last_mean_ = 0;
-  resolve(overlaps_between_clusters({}));
+  // Substeps: no cluster flies farther than substep_displacement · 2R in one flight, so that a contact is
+  // found by the swept test below, and resolved from a shallow overlap, however long the step.
+  double speed = 0;
+  for (std::uint32_t c = 0; c < x_.size(); ++c)
+    if (members_.size(c) > 0) speed = std::max(speed, norm(velocity_[c]));
+  const double cap = settings_.substep_displacement * 2.0 * radius_;
+  const double pieces = std::max(1.0, std::ceil(speed * dt / cap));
+  const std::size_t substeps = std::size_t(std::min(pieces, 1e9));
+  for (std::size_t k = 0; k < substeps; ++k) {
+    flight(dt / double(substeps));
+    ++counters_.substeps;
+    resolve(overlaps_between_clusters({}, true));
+  }
+  time_ += dt;
 }
 
 TsStop TimeSteppingAggregation::advance(double t, std::size_t target_clusters, const std::function<void()>& progress) {

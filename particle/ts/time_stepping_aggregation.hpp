@@ -47,10 +47,12 @@ struct TsSettings {
   bool global = false;             // Sec. 3.1 instead of the local variant of Sec. 3.3
   std::size_t threads = 1;         // workers for the minimisations of separate clusters
   std::size_t max_rounds = 1000;   // link–minimise rounds per step before giving up (counted)
+  double substep_displacement = 0.25;  // largest flight of a cluster in one substep, in diameters 2R
 };
 
 struct TsCounters {
   std::uint64_t steps = 0;
+  std::uint64_t substeps = 0;           // flights (≥ 1 per step; more when a cluster would fly too far)
   std::uint64_t merges = 0;
   std::uint64_t secondary_merges = 0;  // merges found after a minimisation of the same step (not in flight)
   std::uint64_t minimisations = 0;
@@ -120,7 +122,11 @@ class TimeSteppingAggregation {
   };
   void flight(double dt);
   void reflect(std::uint32_t cluster);
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among) const;
+  // Pairs to link: of different clusters overlapping now, or (`swept`, after a flight) whose relative
+  // path over the flight came within 2R; with `among`, those of the given spheres, same-cluster pairs
+  // overlapping by more than same_cluster_tolerance included.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among,
+                                                                               bool swept = false) const;
   void link(std::uint32_t a, std::uint32_t b);
   // Writes only the group's free spheres; `largest_move`: the largest displacement of one of them.
   DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move);
@@ -138,6 +144,8 @@ class TimeSteppingAggregation {
   ClusterMembership members_;
   std::vector<Vector3> x_;
   std::vector<Vector3> velocity_;  // per cluster id
+  std::vector<Vector3> flown_;     // per sphere: its displacement in the last flight (walls included)
+  double longest_flight_ = 0;      // the largest |flown_|
   std::vector<std::vector<std::uint32_t>> links_;  // per sphere: its linked partners
   double time_ = 0, dt0_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
