@@ -83,14 +83,16 @@ TEST_CASE("ts: bad options and [particles] name the key", "[ts][harness]") {
   check_bad(unequal, "particles.radius", "distribution");
 }
 
-TEST_CASE("ts: the shipped TS-vs-ED scene passes and the final aggregates agree", "[ts][harness][physics]") {
-  const auto out = aggkit::testing::scratch_folder("ts-vs-ed");
-  const Scene scene = load_scene(std::filesystem::path(AGGKIT_SOURCE_DIR) / "validation/scenes/ballistic-ts-vs-ed.toml");
+TEST_CASE("ts: the shipped TS-vs-ED scenes (2-D and 3-D) pass and the final aggregates agree", "[ts][harness][physics]") {
+  const std::string name = GENERATE(std::string("ballistic-ts-vs-ed"), std::string("ballistic-ts-vs-ed-3d"));
+  INFO(name);
+  const auto out = aggkit::testing::scratch_folder(name);
+  const Scene scene = load_scene(std::filesystem::path(AGGKIT_SOURCE_DIR) / "validation/scenes" / (name + ".toml"));
   const RunResult result = run_scene(scene, aggkit::testing::quiet_run(out));
   REQUIRE(result.records.size() == 2);
   CHECK(result.pass);
-  // Measured (10 realizations, N = 400, ν = 0.2): D_f 1.708 ± 0.007 (TS) vs 1.711 ± 0.005 (ED);
-  // contacts_with_self 0.521 vs 0.513.
+  // Measured (10 realizations): 2-D, N = 400, ν = 0.2: D_f 1.693 ± 0.004 (TS) vs 1.711 ± 0.005 (ED),
+  // contacts_with_self 0.522 vs 0.513; 3-D, N = 343, ν = 0.1: D_f 2.393 vs 2.386, 0.2619 vs 0.2593.
   const double df_ts = final_value(out / "ts" / "final.json", "fractal_dimension_box");
   const double df_ed = final_value(out / "ed" / "final.json", "fractal_dimension_box");
   CHECK(std::abs(df_ts - df_ed) <= 0.03 * df_ed);
