@@ -15,6 +15,16 @@ namespace {
 
 constexpr double paper_radius = 0.2;  // [Degond2024, Table 1]: the units the DAHA parameters are tuned in
 
+// Cells wide enough for the swept contact test of a flight of at most `substep` diameters per cluster
+// (reach 2R + 2 · flight) to need only the 3^d stencil; 2R when that would leave a periodic axis fewer than
+// 3 cells (the wider reach then falls back to a wider search).
+double detection_cell_side(const Box& box, double radius, double substep) {
+  const double wide = 2.0 * radius * (1.0 + 2.0 * std::min(substep, 1.0));
+  for (int d = 0; d < box.dimension; ++d)
+    if (wide > box.side[d] / 3.0) return 2.0 * radius;
+  return wide;
+}
+
 }  // namespace
 
 TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, std::span<const Vector3> positions,
@@ -23,7 +33,7 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       radius_(radius),
       scale_(paper_radius / radius),
       settings_(settings),
-      grid_(box, 2.0 * radius, positions.size()),
+      grid_(box, detection_cell_side(box, radius, settings.substep_displacement), positions.size()),
       cells_(grid_.size(), positions.size()),
       members_(positions.size()),
       x_(positions.begin(), positions.end()),
@@ -34,6 +44,8 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
   if (!(settings.interaction_range >= 2.0))
     throw InputError("interaction_range", format_value(settings.interaction_range), "Δ_W / R >= 2 (links touch at 2R)");
+  for (const CellCoords& o : grid_.stencil())
+    if (o[2] > 0 || (o[2] == 0 && (o[1] > 0 || (o[1] == 0 && o[0] >= 0)))) half_stencil_.push_back(o);
   for (std::uint32_t p = 0; p < x_.size(); ++p) cells_.insert(p, grid_.index(grid_.coords_of(x_[p])));
   const auto start_overlaps = overlaps_between_clusters({});
   for (const auto& [a, b] : start_overlaps)
@@ -81,29 +93,59 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
   // A swept pair touched during the flight if the segment of its separations, from d − w to d (w the
   // relative displacement), passes within 2R: d + s w' with w' = −w, s ∈ [0, 1], closest at s = d·w / |w|².
   const double reach = 2.0 * radius_ + (swept ? 2.0 * longest_flight_ : 0.0);
+  // Different clusters at separation d (from i to j): overlapping now, or (swept) touched in the flight.
+  auto touched = [&](const Vector3& d, std::uint32_t i, std::uint32_t j) {
+    double closest2 = dot(d, d);
+    if (swept && closest2 >= contact2) {
+      const Vector3 w = flown_[j] - flown_[i];
+      const double ww = dot(w, w);
+      if (ww > 0) {
+        const double s = std::clamp(dot(d, w) / ww, 0.0, 1.0);
+        const Vector3 c = d - s * w;
+        closest2 = dot(c, c);
+      }
+    }
+    return closest2 < contact2;
+  };
   auto scan = [&](std::uint32_t i, bool all) {
     for_near(i, reach, [&](std::uint32_t j) {
       if (all && j < i) return;
       const Vector3 d = sep(i, j);
-      // Different clusters: any overlap links them. Within a cluster (only after a minimisation, `among`
-      // given): an overlap deeper than the tolerance — a free sphere that moved onto a sphere it was not
-      // constrained against — is minimised again with that pair as a link.
-      const bool different = members_.cluster_of(j) != members_.cluster_of(i);
-      const double limit = different ? contact2 : (all ? 0.0 : same_cluster2);
-      double closest2 = dot(d, d);
-      if (swept && different && closest2 >= contact2) {
-        const Vector3 w = flown_[j] - flown_[i];
-        const double ww = dot(w, w);
-        if (ww > 0) {
-          const double s = std::clamp(dot(d, w) / ww, 0.0, 1.0);
-          const Vector3 c = d - s * w;
-          closest2 = dot(c, c);
-        }
-      }
-      if (closest2 < limit) found.emplace_back(std::min(i, j), std::max(i, j));
+      // Different clusters: any overlap (or swept contact) links them. Within a cluster (only after a
+      // minimisation, `among` given): an overlap deeper than the tolerance — a free sphere that moved onto
+      // a sphere it was not constrained against — is minimised again with that pair as a link.
+      const bool linked = members_.cluster_of(j) != members_.cluster_of(i) ? touched(d, i, j)
+                                                                           : (!all && dot(d, d) < same_cluster2);
+      if (linked) found.emplace_back(std::min(i, j), std::max(i, j));
     });
   };
-  if (among.empty()) {
+  double narrowest = grid_.cell_side()[0];
+  for (int d = 1; d < box_.dimension; ++d) narrowest = std::min(narrowest, grid_.cell_side()[d]);
+  if (among.empty() && reach <= narrowest) {
+    // Every pair once: each cell against itself and the half of its stencil ahead of it.
+    const CellCoords& n = grid_.counts();
+    for (int z = 0; z < n[2]; ++z)
+      for (int y = 0; y < n[1]; ++y)
+        for (int xo = 0; xo < n[0]; ++xo) {
+          const CellCoords c{xo, y, z};
+          const std::size_t here = grid_.index(c);
+          if (cells_.first(here) == CellList::none) continue;
+          for (const CellCoords& o : half_stencil_) {
+            const auto other = grid_.neighbour(c, o);
+            if (!other) continue;
+            const std::size_t there = grid_.index(*other);
+            for (std::uint32_t i = cells_.first(here); i != CellList::none; i = cells_.next(i)) {
+              const std::uint32_t ci = members_.cluster_of(i);
+              for (std::uint32_t j = there == here ? cells_.next(i) : cells_.first(there); j != CellList::none; j = cells_.next(j)) {
+                if (members_.cluster_of(j) == ci) continue;
+                const Vector3 d = grid_.stencil_image(x_[j] - x_[i], o);
+                if (touched(d, i, j)) found.emplace_back(std::min(i, j), std::max(i, j));
+              }
+            }
+          }
+        }
+    std::sort(found.begin(), found.end());
+  } else if (among.empty()) {
     for (std::uint32_t i = 0; i < x_.size(); ++i) scan(i, true);
   } else {
     for (const std::uint32_t i : among) scan(i, false);

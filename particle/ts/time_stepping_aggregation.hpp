@@ -141,6 +141,7 @@ class TimeSteppingAggregation {
   TsSettings settings_;
   CellGrid grid_;
   CellList cells_;
+  std::vector<CellCoords> half_stencil_;  // the offset 0 and one of each ± pair of the 3^d stencil
   ClusterMembership members_;
   std::vector<Vector3> x_;
   std::vector<Vector3> velocity_;  // per cluster id
