@@ -39,6 +39,7 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       x_(positions.begin(), positions.end()),
       velocity_(velocities.begin(), velocities.end()),
       flown_(positions.size(), Vector3{0, 0, 0}),
+      reflected_(positions.size(), 0),
       links_(positions.size()) {
   if (positions.size() != velocities.size() || positions.size() < 2)
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
@@ -192,6 +193,7 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
       shift = std::max(shift, -lo);
     }
     ++counters_.wall_contacts;
+    reflected_[cluster] = 1;
     for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) {
       x_[p][d] += shift;
       flown_[p][d] += shift;
@@ -200,6 +202,7 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
 }
 
 void TimeSteppingAggregation::flight(double dt) {
+  std::fill(reflected_.begin(), reflected_.end(), 0);
   for (std::uint32_t p = 0; p < x_.size(); ++p) {
     flown_[p] = dt * velocity_[members_.cluster_of(p)];
     x_[p] = x_[p] + flown_[p];
@@ -295,6 +298,81 @@ DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std
   return result;
 }
 
+std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::merge_binary_contacts(
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> found, double dt) {
+  const double contact2 = 4.0 * radius_ * radius_;
+  // The fraction τ ∈ [0, 1] of the flight at which a swept pair first touched: |d0 + τ w| = 2R with
+  // d0 = d − w the separation before the flight.
+  auto first_touch = [&](std::uint32_t i, std::uint32_t j) {
+    const Vector3 d = sep(i, j), w = flown_[j] - flown_[i], d0 = d - w;
+    const double a = dot(w, w), b = 2.0 * dot(d0, w), c = dot(d0, d0) - contact2;
+    if (c <= 0 || a <= 0) return 0.0;
+    const double disc = b * b - 4.0 * a * c;
+    if (disc < 0) return 1.0;
+    return std::clamp((-b - std::sqrt(disc)) / (2.0 * a), 0.0, 1.0);
+  };
+  // Partner clusters of each cluster over the found pairs; a pair of clusters that only met each other
+  // (and no wall) in this flight is a binary collision.
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> partners;
+  for (const auto& [i, j] : found) {
+    const std::uint32_t ci = members_.cluster_of(i), cj = members_.cluster_of(j);
+    auto add = [&](std::uint32_t c, std::uint32_t other) {
+      auto& list = partners[c];
+      if (std::find(list.begin(), list.end(), other) == list.end()) list.push_back(other);
+    };
+    add(ci, cj);
+    add(cj, ci);
+  }
+  auto binary = [&](std::uint32_t ci, std::uint32_t cj) {
+    return partners[ci].size() == 1 && partners[cj].size() == 1 && !reflected_[ci] && !reflected_[cj];
+  };
+  // Earliest touching pair of each binary collision (found is sorted: deterministic).
+  std::unordered_map<std::uint32_t, std::pair<double, std::pair<std::uint32_t, std::uint32_t>>> earliest;  // by lower cluster
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> rest;
+  for (const auto& pr : found) {
+    const std::uint32_t ci = members_.cluster_of(pr.first), cj = members_.cluster_of(pr.second);
+    if (!binary(ci, cj)) {
+      rest.push_back(pr);
+      continue;
+    }
+    const double tau = first_touch(pr.first, pr.second);
+    const auto [it, fresh] = earliest.emplace(std::min(ci, cj), std::make_pair(tau, pr));
+    if (!fresh && tau < it->second.first) it->second = {tau, pr};
+  }
+  std::vector<std::uint32_t> keys;
+  for (const auto& e : earliest) keys.push_back(e.first);
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint32_t> moved;
+  for (const std::uint32_t key : keys) {
+    const auto& [tau, pr] = earliest[key];
+    const auto [i, j] = pr;
+    // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
+    // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones.
+    for (const std::uint32_t c : {members_.cluster_of(i), members_.cluster_of(j)})
+      for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p))
+        x_[p] = x_[p] - (1.0 - tau) * flown_[p];
+    link(i, j);
+    const std::uint32_t c = members_.cluster_of(i);
+    const Vector3 rest_of_flight = ((1.0 - tau) * dt) * velocity_[c];
+    for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p)) {
+      x_[p] = x_[p] + rest_of_flight;
+      moved.push_back(p);
+    }
+    reflect(c);
+    ++counters_.contact_time_merges;
+  }
+  for (const std::uint32_t p : moved) {
+    x_[p] = box_.wrap(x_[p]);
+    const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
+    if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+  }
+  // What the merged clusters now overlap is left to the minimisation, with the other contacts.
+  for (const auto& pr : overlaps_between_clusters(moved)) rest.push_back(pr);
+  std::sort(rest.begin(), rest.end());
+  rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
+  return rest;
+}
+
 void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::uint32_t>> new_links) {
   std::size_t rounds = 0;
   while (!new_links.empty()) {
@@ -384,7 +462,9 @@ void TimeSteppingAggregation::step(double dt) {
   for (std::size_t k = 0; k < substeps; ++k) {
     flight(dt / double(substeps));
     ++counters_.substeps;
-    resolve(overlaps_between_clusters({}, true));
+    auto found = overlaps_between_clusters({}, true);
+    if (settings_.contact_time && !found.empty()) found = merge_binary_contacts(std::move(found), dt / double(substeps));
+    resolve(std::move(found));
   }
   time_ += dt;
 }

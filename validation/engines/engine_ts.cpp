@@ -34,6 +34,8 @@ const OptionTable& ts_options() {
       number_option("eps_s", "0.001", "ε_s: largest move of a sphere in the last iteration (paper units, R = 0.2)", 0.0, 1.0, true),
       number_option("interaction_range", "4", "Δ_W / R: links attract only within Δ_W; free spheres lie within Δ_W of a new link", 2.0,
                     1e6),
+      flag_option("contact_time", true, "merge a binary collision at its contact time (rewound along the flight, merged, flown on); "
+                                        "false: every contact resolved from its end-of-flight overlap by the DAHA, as [Degond2024]"),
       number_option("substep_displacement", "0.25", "largest flight of a cluster in one substep, in diameters 2R: a longer step is "
                     "flown in substeps, each followed by contact detection along the flown paths", 0.0, 1e6, true),
       integer_option("max_iterations", "100000", "iteration cap of one minimisation (hits are counted)", 1, 1e9),
@@ -99,6 +101,7 @@ class TsSimulation final : public ParticleSimulation {
     return {{"steps", std::int64_t(c.steps)},
             {"substeps", std::int64_t(c.substeps)},
             {"secondary_merges", std::int64_t(c.secondary_merges)},
+            {"contact_time_merges", std::int64_t(c.contact_time_merges)},
             {"merges", std::int64_t(c.merges)},
             {"minimisations", std::int64_t(c.minimisations)},
             {"minimisation_iterations", std::int64_t(c.minimisation_iterations)},
@@ -146,6 +149,7 @@ ParticleEngineKind::Setup setup_ts(const EngineOptions& given, const Scene& scen
   ts.daha.max_iterations = std::size_t(given.integer("max_iterations", std::int64_t(ts.daha.max_iterations)));
   ts.interaction_range = given.number("interaction_range", ts.interaction_range);
   ts.substep_displacement = given.number("substep_displacement", ts.substep_displacement);
+  ts.contact_time = given.boolean("contact_time", ts.contact_time);
   ts.global = given.word("variant", "local") == "global";
   ts.threads = std::size_t(given.integer("cluster_threads", 1));
   if (ts.daha.delta * ts.daha.c_bar > 1.0)

@@ -52,9 +52,10 @@ History ed_history() {
   return h;
 }
 
-History ts_history(double dt_factor) {
+History ts_history(double dt_factor, bool contact_time) {
   TsSettings s;
   s.dt_factor = dt_factor;
+  s.contact_time = contact_time;
   TimeSteppingAggregation ts(chain_box, 0.5, chain_x, chain_v, s);
   History h;
   h.join.assign(4, -1.0);
@@ -72,6 +73,9 @@ History ts_history(double dt_factor) {
 }  // namespace
 
 TEST_CASE("ts: as dt -> 0 the merge order, times and final offsets converge to ED's", "[ts][against_ed]") {
+  // Every collision of the chain is binary: with contact-time merging (the default) TS is ED's dynamics
+  // up to round-off at any Δt; without it (the paper's scheme: overlaps resolved by the minimisation) it
+  // converges at first order.
   const History ed = ed_history();
   // The hand-built chain: 1 joins at t ≈ 3.05, 2 at ≈ 7.1, 3 later; all three by t_end.
   REQUIRE(ed.join[1] > 0);
@@ -79,7 +83,9 @@ TEST_CASE("ts: as dt -> 0 the merge order, times and final offsets converge to E
   REQUIRE(ed.join[3] > ed.join[2]);
   std::vector<double> errors;
   for (const double f : {0.004, 0.001, 0.00025, 0.0000625}) {
-    const History ts = ts_history(f);
+    const History ts = ts_history(f, false);
+    const History exact = ts_history(f, true);
+    for (std::uint32_t p = 1; p < 4; ++p) CHECK(norm(exact.offsets[p] - ed.offsets[p]) < 1e-9);
     const double dt = f * 40.0 * 2.0;  // the longest step of the law: 2 Δt(0), Δt(0) = f L / max|V|
     double offset_error = 0;
     CHECK(ts.join[1] < ts.join[2]);  // the same merge order
@@ -120,21 +126,32 @@ TEST_CASE("ts: a step of many diameters misses no contact (substeps), as ED", "[
   REQUIRE(ed.counters().merges == 4);
   TsSettings s;
   s.dt_factor = 15.0 / 40.0;  // Δt(0) = dt_factor L / max|V| = 15 (10 clusters of 10: the law's factor is 1)
-  TimeSteppingAggregation ts(box, 0.5, x, v, s);
-  REQUIRE(ts.time_step() == Approx(15.0));
-  ts.step();
-  CHECK(ts.counters().merges == ed.counters().merges);
-  CHECK(ts.counters().substeps == 60);  // 15 diameters in flights of at most 0.25
-  CHECK(ts.largest_relative_overlap() <= TimeSteppingAggregation::same_cluster_tolerance);
-  for (int k = 0; k < 4; ++k) CHECK(ts.cluster_of(2 * k) == ts.cluster_of(2 * k + 1));
-  CHECK(ts.cluster_of(8) != ts.cluster_of(9));
-  // Without substeps the one flight carries every pair through the other: the swept test still links the
-  // four pairs, but 10 diameters apart, beyond the attraction range: the configuration is wrong.
+  for (const bool contact_time : {true, false}) {  // binary merges at contact, or all by the minimisation
+    INFO("contact_time " << contact_time);
+    s.contact_time = contact_time;
+    TimeSteppingAggregation ts(box, 0.5, x, v, s);
+    REQUIRE(ts.time_step() == Approx(15.0));
+    ts.step();
+    CHECK(ts.counters().merges == ed.counters().merges);
+    CHECK(ts.counters().substeps == 60);  // 15 diameters in flights of at most 0.25
+    CHECK(ts.largest_relative_overlap() <= TimeSteppingAggregation::same_cluster_tolerance);
+    for (int k = 0; k < 4; ++k) CHECK(ts.cluster_of(2 * k) == ts.cluster_of(2 * k + 1));
+    CHECK(ts.cluster_of(8) != ts.cluster_of(9));
+  }
+  s.contact_time = true;
+  // One flight of 15 diameters: contact-time merging rewinds each pair to its contact, so even then the
+  // pairs end touching; without it the swept test links the four pairs 10 diameters apart, beyond the
+  // attraction range: the configuration is wrong.
   s.substep_displacement = 1e6;
   TimeSteppingAggregation one_flight(box, 0.5, x, v, s);
   one_flight.step();
   CHECK(one_flight.counters().substeps == 1);
-  CHECK(norm(one_flight.positions()[1] - one_flight.positions()[0]) > 9.0);
+  CHECK(one_flight.counters().merges == 4);
+  CHECK(std::abs(norm(one_flight.positions()[1] - one_flight.positions()[0]) - 1.0) < 1e-9);
+  s.contact_time = false;
+  TimeSteppingAggregation one_flight_overlaps(box, 0.5, x, v, s);
+  one_flight_overlaps.step();
+  CHECK(norm(one_flight_overlaps.positions()[1] - one_flight_overlaps.positions()[0]) > 9.0);
   // Substeps of 0.25 diameters with end-of-flight overlaps only would still miss the grazing lane
   // (overlap chord 2R √(1 − 0.99²) = 0.28 R against a relative flight of R per substep): the swept test
   // finds it (lane 3 merged above).
