@@ -47,6 +47,11 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
     throw InputError("interaction_range", format_value(settings.interaction_range), "Δ_W / R >= 2 (links touch at 2R)");
   for (const CellCoords& o : grid_.stencil())
     if (o[2] > 0 || (o[2] == 0 && (o[1] > 0 || (o[1] == 0 && o[0] >= 0)))) half_stencil_.push_back(o);
+  half_neighbours_.assign(grid_.size() * half_stencil_.size(), no_cell);
+  for (std::size_t cell = 0; cell < grid_.size(); ++cell)
+    for (std::size_t k = 0; k < half_stencil_.size(); ++k)
+      if (const auto n = grid_.neighbour(grid_.coords(cell), half_stencil_[k]))
+        half_neighbours_[cell * half_stencil_.size() + k] = std::uint32_t(grid_.index(*n));
   for (std::uint32_t p = 0; p < x_.size(); ++p) cells_.insert(p, grid_.index(grid_.coords_of(x_[p])));
   const auto start_overlaps = overlaps_between_clusters({});
   for (const auto& [a, b] : start_overlaps)
@@ -123,28 +128,39 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
   double narrowest = grid_.cell_side()[0];
   for (int d = 1; d < box_.dimension; ++d) narrowest = std::min(narrowest, grid_.cell_side()[d]);
   if (among.empty() && reach <= narrowest) {
-    // Every pair once: each cell against itself and the half of its stencil ahead of it.
-    const CellCoords& n = grid_.counts();
-    for (int z = 0; z < n[2]; ++z)
-      for (int y = 0; y < n[1]; ++y)
-        for (int xo = 0; xo < n[0]; ++xo) {
-          const CellCoords c{xo, y, z};
-          const std::size_t here = grid_.index(c);
-          if (cells_.first(here) == CellList::none) continue;
-          for (const CellCoords& o : half_stencil_) {
-            const auto other = grid_.neighbour(c, o);
-            if (!other) continue;
-            const std::size_t there = grid_.index(*other);
-            for (std::uint32_t i = cells_.first(here); i != CellList::none; i = cells_.next(i)) {
-              const std::uint32_t ci = members_.cluster_of(i);
-              for (std::uint32_t j = there == here ? cells_.next(i) : cells_.first(there); j != CellList::none; j = cells_.next(j)) {
-                if (members_.cluster_of(j) == ci) continue;
-                const Vector3 d = grid_.stencil_image(x_[j] - x_[i], o);
-                if (touched(d, i, j)) found.emplace_back(std::min(i, j), std::max(i, j));
-              }
+    // Every pair once: each cell against itself and the half of its stencil ahead of it (a precomputed
+    // table), over ranges of cells on `threads` workers; the sorted union does not depend on the split.
+    const std::size_t cells = grid_.size(), width = half_stencil_.size();
+    auto pass = [&](std::size_t from, std::size_t to, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
+      for (std::size_t here = from; here < to; ++here) {
+        if (cells_.first(here) == CellList::none) continue;
+        for (std::size_t k = 0; k < width; ++k) {
+          const std::uint32_t there = half_neighbours_[here * width + k];
+          if (there == no_cell) continue;
+          const CellCoords& o = half_stencil_[k];
+          for (std::uint32_t i = cells_.first(here); i != CellList::none; i = cells_.next(i)) {
+            const std::uint32_t ci = members_.cluster_of(i);
+            for (std::uint32_t j = there == here ? cells_.next(i) : cells_.first(there); j != CellList::none; j = cells_.next(j)) {
+              if (members_.cluster_of(j) == ci) continue;
+              const Vector3 d = grid_.stencil_image(x_[j] - x_[i], o);
+              if (touched(d, i, j)) out.emplace_back(std::min(i, j), std::max(i, j));
             }
           }
         }
+      }
+    };
+    const std::size_t workers = cells >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
+    if (workers <= 1) {
+      pass(0, cells, found);
+    } else {
+      std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(workers);
+      std::vector<std::thread> pool;
+      for (std::size_t w = 1; w < workers; ++w)
+        pool.emplace_back([&, w] { pass(cells * w / workers, cells * (w + 1) / workers, parts[w]); });
+      pass(0, cells / workers, parts[0]);
+      for (auto& t : pool) t.join();
+      for (const auto& part : parts) found.insert(found.end(), part.begin(), part.end());
+    }
     std::sort(found.begin(), found.end());
   } else if (among.empty()) {
     for (std::uint32_t i = 0; i < x_.size(); ++i) scan(i, true);

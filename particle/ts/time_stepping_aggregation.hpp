@@ -161,6 +161,9 @@ class TimeSteppingAggregation {
   CellGrid grid_;
   CellList cells_;
   std::vector<CellCoords> half_stencil_;  // the offset 0 and one of each ± pair of the 3^d stencil
+  static constexpr std::uint32_t no_cell = 0xffffffffu;
+  static constexpr std::size_t parallel_cells = 16384;  // fewer cells: one worker (thread start-up dominates)
+  std::vector<std::uint32_t> half_neighbours_;  // per cell, its half-stencil neighbours (no_cell past a wall)
   ClusterMembership members_;
   std::vector<Vector3> x_;
   std::vector<Vector3> velocity_;  // per cluster id

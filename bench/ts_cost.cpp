@@ -1,0 +1,116 @@
+// TS cost study [Degond2024, Sec. 4.1] against our ED on the same starts, in the same run: 2-D discs on a
+// square lattice at volume fraction ν, unit speed in uniform directions, reflecting walls (the published
+// setup; R = 1/2 here, lengths scale), run to one cluster by TS and then by ED (interleaved per N).
+//   bench_ts_cost cost DT_FACTOR NU N1 [N2 ...]      one line per N, then the cost exponents (log-log fits)
+//   bench_ts_cost threads DT_FACTOR NU N REPEATS     cluster_threads 1 and 2 alternated, REPEATS times each
+// Per N: TS seconds, steps, substeps, merges, minimisation iterations per merge, free spheres per
+// minimisation, merges found after a minimisation (secondary), ED seconds and events, and TS/ED.
+// Iterations per merge and free spheres per minimisation flat in N mean the minimisation work follows the
+// new contacts, not N [Degond2024, Sec. 3.3]; the rest of a step (flight and contact detection) is O(N).
+#include <cmath>
+#include <ctime>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "analysis/least_squares.hpp"
+#include "bench/ed_common.hpp"
+#include "particle/ts/time_stepping_aggregation.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+// Processor time of this process: on a shared machine a single-threaded run's CPU seconds are steadier than
+// its wall seconds (the threads mode, which needs wall time, states the load instead).
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+struct TsRun {
+  double seconds, cpu;
+  TsCounters counters;
+  std::size_t clusters;
+};
+
+TsRun run_ts(std::size_t n, double nu, double dt_factor, std::size_t threads, std::uint64_t seed = 1) {
+  const double radius = 0.5;
+  const double side = box_side_for_volume_fraction(2, n, radius, nu);
+  const Box box{2, {side, side, 0.0}, Boundary::reflecting};
+  TsSettings settings;
+  settings.dt_factor = dt_factor;
+  settings.threads = threads;
+  TimeSteppingAggregation ts(box, radius, lattice_positions(box, n, radius),
+                             initial_velocities(2, n, VelocityLaw::fixed_speed, 1.0, seed), settings);
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu0 = cpu_seconds();
+  ts.advance(1e30, 1);
+  return {bench::seconds_since(start), cpu_seconds() - cpu0, ts.counters(), ts.clusters()};
+}
+
+double exponent(const std::vector<double>& n, const std::vector<double>& t, double& error) {
+  std::vector<double> x, y;
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    x.push_back(std::log(n[k]));
+    y.push_back(std::log(t[k]));
+  }
+  const LineFit f = fit_line(x, y);
+  error = f.slope_error;
+  return f.slope;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 5 || (std::strcmp(argv[1], "cost") != 0 && std::strcmp(argv[1], "threads") != 0)) {
+    std::fprintf(stderr, "usage: %s cost DT_FACTOR NU N1 [N2 ...] | threads DT_FACTOR NU N REPEATS\n", argv[0]);
+    return 2;
+  }
+  const double dt_factor = std::atof(argv[2]), nu = std::atof(argv[3]);
+  bench::print_load();
+  if (std::strcmp(argv[1], "threads") == 0) {
+    const auto n = std::size_t(std::atof(argv[4]));
+    const int repeats = argc > 5 ? std::atoi(argv[5]) : 3;
+    double one = 0, two = 0;
+    for (int r = 0; r < repeats; ++r) {
+      const TsRun a = run_ts(n, nu, dt_factor, 1), b = run_ts(n, nu, dt_factor, 2);
+      std::printf("N %zu nu %g dt_factor %g: 1 thread %.3f s, 2 threads %.3f s (same steps: %s)\n", n, nu, dt_factor, a.seconds,
+                  b.seconds, a.counters.steps == b.counters.steps ? "yes" : "NO");
+      one += a.seconds;
+      two += b.seconds;
+    }
+    std::printf("speed-up with 2 threads: %.2f\n", one / two);
+    bench::print_load();
+    return 0;
+  }
+  std::printf("# 2-D reflecting, square lattice, unit speed, nu %g, TS dt_factor %g, to one cluster; TS then ED per N\n", nu,
+              dt_factor);
+  std::printf("%9s %9s %9s %8s %9s %8s %9s %9s %9s %9s %9s %10s %9s\n", "N", "ts_cpu_s", "ts_wall_s", "steps", "substeps",
+              "merges", "iter/mrg", "free/min", "secondary", "ed_cpu_s", "ed_wall_s", "ed_events", "ts/ed_cpu");
+  std::vector<double> ns, ts_times, ed_times;
+  for (int k = 4; k < argc; ++k) {
+    const auto n = std::size_t(std::atof(argv[k]));
+    const TsRun ts = run_ts(n, nu, dt_factor, 1);
+    auto ed = bench::make_ed(2, n, nu, Boundary::reflecting, true, 1);
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu0 = cpu_seconds();
+    ed.advance(1e30, 1);
+    const double ed_seconds = bench::seconds_since(start), ed_cpu = cpu_seconds() - cpu0;
+    const TsCounters& c = ts.counters;
+    std::printf("%9zu %9.3f %9.3f %8llu %9llu %8llu %9.1f %9.1f %9llu %9.3f %9.3f %10llu %9.2f\n", n, ts.cpu, ts.seconds,
+                (unsigned long long)c.steps, (unsigned long long)c.substeps, (unsigned long long)c.merges,
+                double(c.minimisation_iterations) / double(std::max<std::uint64_t>(c.merges, 1)),
+                double(c.free_spheres) / double(std::max<std::uint64_t>(c.minimisations, 1)),
+                (unsigned long long)c.secondary_merges, ed_cpu, ed_seconds, (unsigned long long)ed.counters().events(),
+                ts.cpu / ed_cpu);
+    std::fflush(stdout);
+    ns.push_back(double(n));
+    ts_times.push_back(std::max(ts.cpu, 1e-3));  // clock() resolution
+    ed_times.push_back(std::max(ed_cpu, 1e-3));
+  }
+  if (ns.size() >= 3) {
+    double e_ts = 0, e_ed = 0;
+    const double x_ts = exponent(ns, ts_times, e_ts), x_ed = exponent(ns, ed_times, e_ed);
+    std::printf("# cost exponent (CPU seconds, least squares in log-log over all N): TS %.3f ± %.3f, ED %.3f ± %.3f\n", x_ts, e_ts, x_ed, e_ed);
+  }
+  bench::print_load();
+}
