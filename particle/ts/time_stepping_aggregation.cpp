@@ -217,24 +217,42 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
   }
 }
 
+template <class F>
+void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
+  const std::size_t workers = n >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
+  if (workers <= 1) return f(std::size_t(0), n, std::size_t(0));
+  std::vector<std::thread> pool;
+  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back([&, w] { f(n * w / workers, n * (w + 1) / workers, w); });
+  f(std::size_t(0), n / workers, std::size_t(0));
+  for (auto& t : pool) t.join();
+}
+
 void TimeSteppingAggregation::flight(double dt) {
   std::fill(reflected_.begin(), reflected_.end(), 0);
-  for (std::uint32_t p = 0; p < x_.size(); ++p) {
-    flown_[p] = dt * velocity_[members_.cluster_of(p)];
-    x_[p] = x_[p] + flown_[p];
-  }
+  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t) {
+    for (std::size_t p = from; p < to; ++p) {
+      flown_[p] = dt * velocity_[members_.cluster_of(std::uint32_t(p))];
+      x_[p] = x_[p] + flown_[p];
+    }
+  });
   if (box_.boundary == Boundary::reflecting) {
     for (std::uint32_t c = 0; c < x_.size(); ++c)
       if (members_.size(c) > 0) reflect(c);
   } else {
     for (Vector3& x : x_) x = box_.wrap(x);
   }
-  longest_flight_ = 0;
-  for (std::uint32_t p = 0; p < x_.size(); ++p) {
-    longest_flight_ = std::max(longest_flight_, norm(flown_[p]));
-    const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
-    if (cell != cells_.cell_of(p)) cells_.move(p, cell);
-  }
+  // New cells found in parallel, moved in the (order-dependent) cell list serially.
+  std::vector<double> longest(std::max<std::size_t>(settings_.threads, 1), 0.0);
+  new_cell_.resize(x_.size());
+  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+    for (std::size_t p = from; p < to; ++p) {
+      longest[w] = std::max(longest[w], norm(flown_[p]));
+      new_cell_[p] = std::uint32_t(grid_.index(grid_.coords_of(x_[p])));
+    }
+  });
+  longest_flight_ = *std::max_element(longest.begin(), longest.end());
+  for (std::uint32_t p = 0; p < x_.size(); ++p)
+    if (new_cell_[p] != cells_.cell_of(p)) cells_.move(p, new_cell_[p]);
 }
 
 void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {

@@ -162,8 +162,12 @@ class TimeSteppingAggregation {
   CellList cells_;
   std::vector<CellCoords> half_stencil_;  // the offset 0 and one of each ± pair of the 3^d stencil
   static constexpr std::uint32_t no_cell = 0xffffffffu;
-  static constexpr std::size_t parallel_cells = 16384;  // fewer cells: one worker (thread start-up dominates)
-  std::vector<std::uint32_t> half_neighbours_;  // per cell, its half-stencil neighbours (no_cell past a wall)
+  static constexpr std::size_t parallel_cells = 16384;  // fewer cells or spheres: one worker (thread start-up dominates)
+  std::vector<std::uint32_t> half_neighbours_;
+  std::vector<std::uint32_t> new_cell_;  // scratch of flight
+  // f(from, to, worker) over ranges of [0, n) on `threads` workers (one below parallel_cells items).
+  template <class F>
+  void for_ranges(std::size_t n, F&& f) const;  // per cell, its half-stencil neighbours (no_cell past a wall)
   ClusterMembership members_;
   std::vector<Vector3> x_;
   std::vector<Vector3> velocity_;  // per cluster id
