@@ -16,6 +16,7 @@
 
 #include "analysis/least_squares.hpp"
 #include "bench/ed_common.hpp"
+#include "bench/figures.hpp"
 #include "particle/ts/time_stepping_aggregation.hpp"
 
 using namespace aggkit;
@@ -25,6 +26,8 @@ namespace {
 // Processor time of this process: on a shared machine a single-threaded run's CPU seconds are steadier than
 // its wall seconds (the threads mode, which needs wall time, states the load instead).
 double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+constexpr std::uint64_t max_steps = 200000;
 
 struct TsRun {
   double seconds, cpu;
@@ -43,7 +46,13 @@ TsRun run_ts(std::size_t n, double nu, double dt_factor, std::size_t threads, st
                              initial_velocities(2, n, VelocityLaw::fixed_speed, 1.0, seed), settings);
   const auto start = std::chrono::steady_clock::now();
   const double cpu0 = cpu_seconds();
-  ts.advance(1e30, 1);
+  // To one cluster, or until no cluster moves relative to another (a cluster as wide as the box is held
+  // at rest along that axis, so the last clusters can end up never meeting), or a step cap.
+  while (ts.clusters() > 1 && !ts.at_rest() && ts.counters().steps < max_steps)
+    ts.advance(ts.time() + 64 * ts.time_step(), 1);
+  if (ts.clusters() > 1)
+    std::printf("# N %zu: stopped with %zu clusters after %llu steps (%s)\n", n, ts.clusters(),
+                (unsigned long long)ts.counters().steps, ts.at_rest() ? "at rest" : "step cap");
   return {bench::seconds_since(start), cpu_seconds() - cpu0, ts.counters(), ts.clusters()};
 }
 
@@ -66,6 +75,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const double dt_factor = std::atof(argv[2]), nu = std::atof(argv[3]);
+  const bench::Figures figures("ts_cost", argc, argv);
+  const std::string setup = "nu=" + bench::Figures::text(nu) + " dt_factor=" + bench::Figures::text(dt_factor);
   bench::print_load();
   if (std::strcmp(argv[1], "threads") == 0) {
     const auto n = std::size_t(std::atof(argv[4]));
@@ -79,6 +90,7 @@ int main(int argc, char** argv) {
       two += b.seconds;
     }
     std::printf("speed-up with 2 threads: %.2f\n", one / two);
+    figures.add(setup + " N=" + bench::Figures::text(double(n)), "speedup_2_threads", one / two, "1");
     bench::print_load();
     return 0;
   }
@@ -103,6 +115,10 @@ int main(int argc, char** argv) {
                 (unsigned long long)c.secondary_merges, ed_cpu, ed_seconds, (unsigned long long)ed.counters().events(),
                 ts.cpu / ed_cpu);
     std::fflush(stdout);
+    const std::string at = setup + " N=" + bench::Figures::text(double(n));
+    figures.add(at, "ts_cpu_seconds", ts.cpu, "s");
+    figures.add(at, "ed_cpu_seconds", ed_cpu, "s");
+    figures.add(at, "ts_over_ed_cpu", ts.cpu / ed_cpu, "1");
     ns.push_back(double(n));
     ts_times.push_back(std::max(ts.cpu, 1e-3));  // clock() resolution
     ed_times.push_back(std::max(ed_cpu, 1e-3));
@@ -111,6 +127,8 @@ int main(int argc, char** argv) {
     double e_ts = 0, e_ed = 0;
     const double x_ts = exponent(ns, ts_times, e_ts), x_ed = exponent(ns, ed_times, e_ed);
     std::printf("# cost exponent (CPU seconds, least squares in log-log over all N): TS %.3f ± %.3f, ED %.3f ± %.3f\n", x_ts, e_ts, x_ed, e_ed);
+    figures.add(setup, "ts_cost_exponent", x_ts, "1");
+    figures.add(setup, "ed_cost_exponent", x_ed, "1");
   }
   bench::print_load();
 }
