@@ -77,6 +77,8 @@ TEST_CASE("ts: bad options and [particles] name the key", "[ts][harness]") {
   check_bad(ts_scene("eps_s = -1.0\n"), "engine[0].eps_s", "-1");
   check_bad(ts_scene("interaction_range = 1.5\n"), "engine[0].interaction_range", "1.5");
   check_bad(ts_scene("max_iterations = 0\n"), "engine[0].max_iterations", "0");
+  check_bad(ts_scene("substep_displacement = 0.0\n"), "engine[0].substep_displacement", "0");
+  check_bad(ts_scene("contact_time = 1\n"), "engine[0].contact_time", "1");
   check_bad(ts_scene("c_bar = 10.0\n"), "engine[0].c_bar", "10");
   check_bad(ts_scene("stop = \"never\"\n"), "engine[0].stop", "never");
   check_bad(ts_scene("variant = \"rigid\"\n"), "engine[0].variant", "rigid");

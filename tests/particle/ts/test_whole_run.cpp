@@ -12,13 +12,14 @@ using namespace aggkit;
 namespace {
 
 TimeSteppingAggregation make_run(int dimension, std::size_t count, double nu, Boundary boundary, double dt_factor,
-                                 std::size_t threads = 1) {
+                                 std::size_t threads = 1, bool contact_time = true) {
   const double radius = 0.5;
   const double side = box_side_for_volume_fraction(dimension, count, radius, nu);
   const Box box{dimension, {side, side, dimension == 3 ? side : 0.0}, boundary};
   TsSettings settings;
   settings.dt_factor = dt_factor;
   settings.threads = threads;
+  settings.contact_time = contact_time;
   return TimeSteppingAggregation(box, radius, lattice_positions(box, count, radius),
                                  initial_velocities(dimension, count, VelocityLaw::fixed_speed, 1.0, 7), settings);
 }
@@ -60,6 +61,11 @@ TEST_CASE("ts: 2-D periodic run to one cluster", "[ts][whole_run]") {
 TEST_CASE("ts: 3-D reflecting and periodic runs to one cluster", "[ts][whole_run]") {
   check_whole_run(make_run(3, 125, 0.1, Boundary::reflecting, 0.01));
   check_whole_run(make_run(3, 125, 0.1, Boundary::periodic, 0.01));
+}
+
+TEST_CASE("ts: runs with every contact resolved by the minimisation (contact_time off), 2-D and 3-D", "[ts][whole_run]") {
+  check_whole_run(make_run(2, 225, 0.2, Boundary::reflecting, 0.005, 1, false));
+  check_whole_run(make_run(3, 125, 0.1, Boundary::periodic, 0.01, 1, false));
 }
 
 TEST_CASE("ts: two cluster threads give the same run as one", "[ts][threads]") {
