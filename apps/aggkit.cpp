@@ -1,11 +1,12 @@
 // The `aggkit` command line: parses arguments and calls the libraries.
-//   aggkit run SCENE --out DIR [--quiet] [--no-plot]
+//   aggkit run SCENE --out DIR [--quiet] [--no-plot] [-- PETSC_OPTIONS]
 //   [mpirun -np K] aggkit scan SCENE --out DIR [--quiet] [--no-plot]
 //   aggkit validate [--tier fast|full] [--out DIR] [--jobs K] [--quiet] [--no-plot] [--rerun] [SCENE ...]
 //   aggkit kernels
 //   aggkit --version
 // Exit status: 0 pass; 1 a comparison failed (or an engine failed); 2 bad input (bad scene or command
 // line, unreadable scene, unwritable output folder); 3 an unexpected internal error.
+#include <algorithm>
 #include <exception>
 #include <iostream>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include "analysis/input_error.hpp"
+#include "solvers/petsc_options.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/io/exit_code.hpp"
 #include "validation/harness/harness.hpp"
@@ -47,12 +49,28 @@ struct RunArguments {
   bool quiet = false;
   bool no_plot = false;
   bool force = false;
+  std::string petsc_options;  // after `--`: PETSc options for the snes engines
 };
+
+// The PETSc options after `--` go to every snes engine of the scene (after the scene's petsc_options).
+void use_petsc_options(const aggkit::Scene& scene, const std::string& options) {
+  if (options.empty()) return;
+  const bool has_snes = std::any_of(scene.engines.begin(), scene.engines.end(),
+                                    [](const aggkit::EngineSpec& e) { return e.name == "snes"; });
+  if (!has_snes) {
+    std::cerr << "aggkit: warning: the PETSc options after -- (" << options
+              << ") are read by engine snes only, and this scene has none\n";
+    return;
+  }
+  aggkit::check_petsc_options(options, "-- (PETSc options on the command line)");
+  aggkit::set_command_line_petsc_options(options);
+}
 
 int run(const RunArguments& arguments) {
   // Before the scene is read: a run refused for bad input must not leave an earlier run's summary behind.
   aggkit::OutputFolder(arguments.out).forget_summary();
   const aggkit::Scene scene = aggkit::load_scene(arguments.scene);
+  use_petsc_options(scene, arguments.petsc_options);
   aggkit::RunOptions options;
   options.out = arguments.out;
   options.plot = !arguments.no_plot;
@@ -115,7 +133,8 @@ int main(int argc, char** argv) {
   run_command->add_flag("--no-plot", arguments.no_plot, "do not draw report.png");
   run_command->add_flag("--force", arguments.force,
                         "write into a non-empty folder that no aggkit run wrote (files of other names are left alone)");
-  run_command->footer(engine_help());
+  run_command->footer("PETSc options (-snes_monitor, -snes_rtol 1e-12, -ksp_type bcgs, ...) for the snes engines go "
+                      "after --:\n  aggkit run SCENE --out DIR -- -snes_monitor\n\n" + engine_help());
   RunArguments scan_arguments;
   CLI::App* scan_command = app.add_subcommand(
       "scan", "classify the oscillation regime over an (a, lambda) grid and locate lambda_crit(a); MPI: mpirun -np K");
@@ -154,8 +173,18 @@ int main(int argc, char** argv) {
       "Exit status 0: every scene passes; 1: a scene failed; 2: bad input (option, scene, output folder).");
   CLI::App* kernels_command = app.add_subcommand("kernels", "list the kernels and their parameters");
 
+  // Everything after `--` is for PETSc (aggkit run ... -- -snes_monitor), not for the command line parser.
+  int own_arguments = argc;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--") {
+      own_arguments = i;
+      break;
+    }
+  for (int i = own_arguments + 1; i < argc; ++i)
+    arguments.petsc_options += (arguments.petsc_options.empty() ? "" : " ") + std::string(argv[i]);
+
   try {
-    app.parse(argc, argv);
+    app.parse(own_arguments, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

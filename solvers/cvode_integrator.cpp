@@ -328,6 +328,8 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   // The leaked mass matters relative to the total mass M; an absolute tolerance tied to atol would make
   // CVODE resolve a leak of ~1e-20 driven by the far tail (thousands of extra steps were seen).
   abstol[N] = std::max(options.effective_atol(), options.rtol * problem.mass);
+  IntegratorStatistics stats;
+  stats.atol_floor = options.effective_atol_floor() * density_scale;
   problem.rtol = options.rtol;
   problem.monomer_preconditioner = options.preconditioner == Preconditioner::monomer;
   problem.abstol = abstol;
@@ -367,7 +369,6 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
     check(CVodeSetProjFn(s.cvode, project_mass), "CVodeSetProjFn", problem);
   std::vector<double> correction(N + 1);
 
-  IntegratorStatistics stats;
   N_Vector out = N_VClone(s.y);
   struct Free {
     N_Vector v;
@@ -398,10 +399,19 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
       for (std::size_t i = 0; i <= N; ++i) interpolated[i] += correction[i];
     }
     const auto n = view(out, N);
-    std::size_t negatives = 0;
-    for (double x : n)
-      if (x < 0.0) ++negatives, stats.most_negative_density = std::min(stats.most_negative_density, x);
+    std::size_t negatives = 0, beyond = 0;
+    for (std::size_t k = 0; k < N; ++k) {
+      const double x = n[k];
+      if (!(x < 0.0)) continue;
+      ++negatives, stats.most_negative_density = std::min(stats.most_negative_density, x);
+      if (x < -abstol[k]) {
+        ++beyond;
+        if (x < stats.most_negative_beyond_tolerance)
+          stats.most_negative_beyond_tolerance = x, stats.most_negative_size = k + 1, stats.most_negative_time = t_out;
+      }
+    }
     stats.negative_densities = std::max(stats.negative_densities, negatives);
+    stats.negative_beyond_tolerance = std::max(stats.negative_beyond_tolerance, beyond);
     on_output(t_out, n, interpolated[N]);
   }
 

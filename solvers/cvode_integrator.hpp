@@ -86,6 +86,13 @@ struct IntegratorStatistics {
   double kernel_relative_error = 0.0;     // its measured max relative entry error
   std::size_t negative_densities = 0;     // most entries < 0 at any output (tolerance level, not clipped)
   double most_negative_density = 0.0;
+  double atol_floor = 0.0;                // the absolute lower bound of atol_k used (floor · largest n_k(0))
+  // Negative densities beyond the tolerance, n_k < -atol_k, at any output: the integrator let an error
+  // larger than it was asked to grow (round-off and tolerance-level values, |n_k| < atol_k, are not counted).
+  std::size_t negative_beyond_tolerance = 0;  // most such entries at one output
+  double most_negative_beyond_tolerance = 0.0;  // the most negative of them (0 if none), at size k and time t
+  std::size_t most_negative_size = 0;
+  double most_negative_time = 0.0;
 };
 
 // Called at each output time with the densities (sizes 1..N) and the mass leaked so far (drop).

@@ -1,7 +1,19 @@
 #include "solvers/stability.hpp"
 
+// GCC 12 reports -Wuse-after-free in Eigen's aligned_free, inlined into Spectra's
+// UpperHessenbergEigen::doComputeEigenvectors (a temporary vector resized, then destroyed: each buffer is
+// freed once): a false positive of the warning new in GCC 12, in library headers we do not own. It is
+// silenced for these headers only; the warning is located in Eigen's Memory.h, so the pragma wraps the
+// includes (the first inclusion of Eigen in this file).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuse-after-free"
+#endif
 #include <Eigen/Dense>
 #include <Spectra/GenEigsSolver.h>
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
+#pragma GCC diagnostic pop
+#endif
 #include <petscksp.h>
 
 #include <algorithm>

@@ -6,10 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
 
 #include "analysis/input_error.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/mass_constrained_system.hpp"
+#include "solvers/petsc_options.hpp"
 #include "solvers/petsc_session.hpp"
 #include "solvers/petsc_shell.hpp"
 
@@ -87,6 +89,7 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
   SNES snes = nullptr;
   Vec x = nullptr, r = nullptr;
   Mat J = nullptr;
+  std::optional<PetscOptionDatabase> database;  // outlives the SNES that reads it (destroyed in cleanup)
   auto cleanup = [&] {
     if (snes) SNESDestroy(&snes);
     if (J) MatDestroy(&J);
@@ -102,6 +105,10 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
     VecRestoreArray(x, &xx);
     J = make_shell_matrix(context.op);
     check_petsc(SNESCreate(PETSC_COMM_SELF, &snes), "SNESCreate");
+    // The user's PETSc options (scene, then command line): a database of this SNES and its KSP, PC and line
+    // search, read by SNESSetFromOptions after aggkit's settings.
+    const std::string user_options = options.petsc_options + " " + command_line_petsc_options();
+    if (user_options.find_first_not_of(' ') != std::string::npos) database.emplace(user_options, "petsc_options");
     check_petsc(SNESSetType(snes, SNESNEWTONLS), "SNESSetType");
     check_petsc(SNESSetFunction(snes, r, form_function, &context), "SNESSetFunction");
     check_petsc(SNESSetJacobian(snes, J, J, form_jacobian, &context), "SNESSetJacobian");
@@ -124,7 +131,12 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
     check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
     set_shell_preconditioner(pc, context.op, options.precondition);
     if (options.eisenstat_walker) check_petsc(SNESKSPSetUseEW(snes, PETSC_TRUE), "SNESKSPSetUseEW");
+    if (database) {
+      check_petsc(use_options_database(snes, database->get()), "PetscObjectSetOptions");
+      check_petsc(SNESSetFromOptions(snes), "SNESSetFromOptions (petsc_options)");
+    }
     check_petsc(SNESSolve(snes, nullptr, x), "SNESSolve");
+    if (database) result.unused_petsc_options = database->unused();
     SNESConvergedReason reason;
     SNESGetConvergedReason(snes, &reason);
     PetscInt iterations = 0, linear = 0;

@@ -39,6 +39,10 @@ struct SteadyStateOptions {
   double start_time = 20.0;
   double start_rtol = 1e-4;
   int start_retries = 2;
+  // PETSc options-database entries for the SNES and its KSP/PC ("-snes_rtol 1e-12 -ksp_type bcgs"),
+  // applied after the settings above (they override them); the command line's (solvers/petsc_options.hpp)
+  // come after these.
+  std::string petsc_options;
   void validate() const;  // throws InputError
 };
 
@@ -55,6 +59,7 @@ struct SteadyStateResult {
   double most_negative_density = 0;      // min(0, min_k n_k) relative to max_k n_k
   double start_time = 0;                 // CVODE time of the start (0: the caller's guess)
   std::string note;                      // why it did not converge, retries
+  std::vector<std::string> unused_petsc_options;  // PETSc options no solver object read (misspelled?)
 };
 
 // Steady state of model (a serial, PETSC_COMM_SELF solve: each MPI rank solves its own points).

@@ -274,3 +274,22 @@ TEST_CASE("cli: a scene name that looks like an option still gets its plot") {
   CHECK(run.exit_code == 0);
   CHECK(summary_of(folder / "out")["plot"]["status"] == "written");
 }
+
+TEST_CASE("cli: PETSc options after -- reach the snes engine; bad ones exit 2") {
+  const auto folder = aggkit::testing::scratch_folder("cli-petsc-options");
+  const auto out = folder / "out";
+  const std::string scene = aggkit::testing::shipped_scene("brownian-steady.toml").string();
+  // -snes_monitor prints PETSc's residual lines on stdout.
+  const Outcome monitored = aggkit_cli({"run", scene, "--out", out.string(), "--quiet", "--no-plot", "--", "-snes_monitor"}, folder);
+  CHECK(monitored.exit_code == 0);
+  CHECK_THAT(monitored.out, Contains("SNES Function norm"));
+  // -snes_max_it 1 stops Newton after one step: the engine fails (exit 1) and the message says why.
+  const Outcome stopped = aggkit_cli({"run", scene, "--out", out.string(), "--quiet", "--no-plot", "--", "-snes_max_it", "1"}, folder);
+  CHECK(stopped.exit_code == 1);
+  CHECK_THAT(stopped.err, Contains("DIVERGED_MAX_IT"));
+  // Bad options are bad input, refused before anything runs.
+  const Outcome bad = aggkit_cli({"run", scene, "--out", out.string(), "--quiet", "--no-plot", "--", "-ksp_type", "foo"}, folder);
+  CHECK(bad.exit_code == 2);
+  CHECK_THAT(bad.err, Contains("-ksp_type foo") && Contains("KSP type foo"));
+  CHECK_FALSE(std::filesystem::exists(out / "summary.json"));
+}

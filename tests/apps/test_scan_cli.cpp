@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <sstream>
 #include <cstdlib>
 #include <sys/wait.h>
 #include <thread>
@@ -118,6 +119,12 @@ TEST_CASE("scan cli: an interrupted scan resumes without recomputing its finishe
   INFO(resumed.err);
   REQUIRE(resumed.exit_code == 0);
   CHECK_THAT(resumed.err, Contains("9 runs, 7 finished earlier, 2 to compute"));
+  // Progress lines continue the count after the 7 finished runs, and a relaxing point prints no "period nan".
+  CHECK_THAT(resumed.err, Contains(" 8/9 a = ") && Contains(" 9/9 a = "));
+  CHECK(resumed.err.find(" 1/2 ") == std::string::npos);
+  std::istringstream progress_lines(resumed.err);
+  for (std::string line; std::getline(progress_lines, line);)
+    if (line.find("/9 a = ") != std::string::npos) CHECK(line.find("nan") == std::string::npos);
   const auto after = point_files(out);
   REQUIRE(after.size() == 9);
   // Finished points were not recomputed: their files (with the wall time of their run) are unchanged.

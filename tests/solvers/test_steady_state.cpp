@@ -8,6 +8,7 @@
 #include "analysis/moments.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/mass_constrained_system.hpp"
+#include "solvers/petsc_options.hpp"
 #include "solvers/steady_state.hpp"
 
 using namespace aggkit;
@@ -128,4 +129,47 @@ TEST_CASE("steady-state bad input", "[snes][steady][input]") {
   model.initial.assign(64, 0.0);
   model.initial[63] = 1.0;  // all mass in the absorbing class of the cutoff
   CHECK_THROWS_AS(solve_steady_state(model), InputError);
+}
+
+TEST_CASE("PETSc options change the solve: -snes_rtol stops earlier, the command line overrides the scene",
+          "[snes][steady][petsc]") {
+  // a = 0.9, λ = 0.1: Newton needs 4 steps from the CVODE start (residuals 1.3e-3, 2.7e-4, 2.0e-5, 1.7e-7,
+  // 4.7e-11), so stopping at a relative decrease of 1e-2 saves one.
+  const AggregationModel model = brownian_model(0.9, 0.1, 1024);
+  SteadyStateOptions options;
+  options.start_retries = 0;
+  const SteadyStateResult plain = solve_steady_state(model, options);
+  REQUIRE(plain.converged);
+  REQUIRE(plain.newton_iterations >= 2);
+  // A relative decrease of 1e-2 of the start's residual is reached after fewer Newton steps than aggkit's
+  // absolute 1e-10 test (PETSc's tolerance, applied after aggkit's settings).
+  options.petsc_options = "-snes_rtol 1e-2";
+  const SteadyStateResult loose = solve_steady_state(model, options);
+  CHECK(loose.converged);
+  CHECK(loose.newton_iterations < plain.newton_iterations);
+  CHECK(loose.relative_residual > plain.relative_residual);
+  CHECK(loose.unused_petsc_options.empty());
+  // One Newton step only: not converged.
+  options.petsc_options = "-snes_max_it 1";
+  const SteadyStateResult one = solve_steady_state(model, options);
+  CHECK_FALSE(one.converged);
+  CHECK(one.newton_iterations == 1);
+  CHECK_THAT(one.note, Catch::Contains("DIVERGED_MAX_IT"));
+  // The command line's options come last and override the scene's.
+  set_command_line_petsc_options("-snes_max_it 50");
+  const SteadyStateResult overridden = solve_steady_state(model, options);
+  set_command_line_petsc_options("");
+  CHECK(overridden.converged);
+  CHECK(overridden.newton_iterations == plain.newton_iterations);
+  // Unread options are reported, not silently dropped.
+  options.petsc_options = "-snes_rtl 3 -ksp_type gmres";
+  const SteadyStateResult misspelled = solve_steady_state(model, options);
+  CHECK(misspelled.converged);
+  REQUIRE(misspelled.unused_petsc_options.size() == 1);
+  CHECK(misspelled.unused_petsc_options[0] == "-snes_rtl 3");
+  // Bad options: InputError with PETSc's reason.
+  CHECK_THROWS_WITH(check_petsc_options("-ksp_type foo", "petsc_options"), Catch::Contains("KSP type foo"));
+  CHECK_THROWS_WITH(check_petsc_options("-snes_rtol abc", "petsc_options"), Catch::Contains("abc"));
+  CHECK_THROWS_AS(check_petsc_options("snes_rtol 1e-3", "petsc_options"), InputError);
+  CHECK_NOTHROW(check_petsc_options("-snes_monitor_cancel -ksp_type bcgs -snes_linesearch_type basic", "petsc_options"));
 }

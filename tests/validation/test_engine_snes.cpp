@@ -55,3 +55,42 @@ name = "snes"
   driven.replace(driven.find("lambda = 0.5"), 12, "lambda = { kind = \"linear\", initial = 0.1, slope = 0.01 }");
   CHECK_THROWS_WITH(aggkit::testing::parse_checked(driven + observe), Catch::Contains("model.lambda"));
 }
+
+TEST_CASE("engine snes: petsc_options reach SNES; bad ones are refused before the run", "[snes][harness][input][petsc]") {
+  const std::string scene = R"(name = "s"
+[model]
+kernel = { name = "brownian", a = 0.0 }
+lambda = 0.5
+size = 256
+truncation = "cutoff"
+initial = { kind = "monodisperse" }
+[time]
+end = 1.0
+outputs = [1.0]
+[observe]
+series = ["M0"]
+[[engine]]
+name = "snes"
+start_time = 20.0
+)";
+  // -snes_max_it 1 stops Newton after one step, far from the 1e-10 tolerance: the engine fails and says why.
+  const auto out = aggkit::testing::scratch_folder("engine-snes-petsc") / "out";
+  const RunResult stopped =
+      run_scene(aggkit::testing::parse_checked(scene + "petsc_options = \"-snes_max_it 1\"\n"), aggkit::testing::quiet_run(out));
+  REQUIRE(stopped.records.size() == 1);
+  REQUIRE(stopped.records[0].failure);
+  CHECK_THAT(*stopped.records[0].failure, Catch::Contains("DIVERGED_MAX_IT"));
+  // A misspelled option is run past but reported as unread.
+  const RunResult misspelled =
+      run_scene(aggkit::testing::parse_checked(scene + "petsc_options = \"-snes_rtl 3\"\n"), aggkit::testing::quiet_run(out));
+  CHECK(misspelled.pass);
+  REQUIRE(misspelled.records[0].warnings.size() == 1);
+  CHECK_THAT(misspelled.records[0].warnings[0], Catch::Contains("-snes_rtl 3"));
+  // Bad input: not a string, an unknown type, a value that is no number, text that is no option.
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene + "petsc_options = 3\n"), Catch::Contains("engine[0].petsc_options"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene + "petsc_options = \"-ksp_type foo\"\n"),
+                    Catch::Contains("engine[0].petsc_options") && Catch::Contains("KSP type foo"));
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene + "petsc_options = \"-snes_rtol abc\"\n"),
+                    Catch::Contains("engine[0].petsc_options") && Catch::Contains("abc"));
+  CHECK_THROWS_AS(aggkit::testing::parse_checked(scene + "petsc_options = \"1e-12\"\n"), InputError);
+}

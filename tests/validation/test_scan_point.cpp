@@ -77,3 +77,21 @@ TEST_CASE("scan point: a = 0.9, lambda = 0.01 is damped towards the steady state
   CHECK(r.decay_rate > -r.rightmost_real);
   CHECK(r.decay_rate < -2 * r.rightmost_real);
 }
+
+TEST_CASE("scan point: the progress line's outcome names only the numbers the regime has") {
+  ScanRecord steady;
+  steady.regime = "steady";
+  CHECK(outcome_summary(steady) == "steady");
+  ScanRecord damped;  // a monotone relaxation: decay rate, no period
+  damped.regime = "damped";
+  damped.decay_rate = 0.0042;
+  CHECK(outcome_summary(damped) == "damped, decay rate 0.0042");
+  damped.period = 48.7;  // a damped oscillation
+  CHECK(outcome_summary(damped) == "damped, decay rate 0.0042 (period 48.7)");
+  ScanRecord sustained;
+  sustained.regime = "sustained";
+  sustained.period = 52.1;
+  sustained.amplitude = 0.0123;
+  CHECK(outcome_summary(sustained) == "sustained, period 52.1, amplitude 0.0123");
+  for (const ScanRecord* r : {&steady, &damped, &sustained}) CHECK(outcome_summary(*r).find("nan") == std::string::npos);
+}

@@ -53,6 +53,9 @@ struct EngineObserver {
   std::function<void(const ParticleView& configuration)> final_configuration;
   std::function<void(double t)> progress;                // the time reached, as often as it likes
   std::function<void(const std::string& what)> status;   // a stage or count in words, as often as it likes
+  // Something the user should know about a completed run (e.g. densities negative beyond the tolerance):
+  // printed as a warning and kept in summary.json; may be unset.
+  std::function<void(const std::string& what)> warning;
   std::filesystem::path folder;  // the engine's output folder (exists), for the files it declares
 
   void output(double t, const ObservedState& state) const { record(t, {measure(t, state)}); }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/input_error.hpp"
+#include "solvers/petsc_options.hpp"
 #include "solvers/steady_state.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/io/atomic_file.hpp"
@@ -24,8 +25,12 @@ class SnesEngine final : public Engine {
       : Engine("snes", std::move(label)), options_(options), keys_(std::move(keys)) {}
 
   std::string describe() const override {
-    return "Newton-Krylov (PETSc SNES), rhs " + to_string(options_.rates) + ", tolerance " +
-           shortest_text(options_.relative_tolerance);
+    std::string line = "Newton-Krylov (PETSc SNES), rhs " + to_string(options_.rates) + ", tolerance " +
+                       shortest_text(options_.relative_tolerance);
+    if (!options_.petsc_options.empty()) line += ", PETSc options \"" + options_.petsc_options + "\"";
+    const std::string command_line = command_line_petsc_options();
+    if (!command_line.empty()) line += ", command-line PETSc options \"" + command_line + "\"";
+    return line;
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
@@ -35,6 +40,11 @@ class SnesEngine final : public Engine {
  private:
   EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     const SteadyStateResult r = solve_steady_state(scene.model, options_);
+    if (!r.unused_petsc_options.empty() && observer.warning) {
+      std::string names;
+      for (const std::string& o : r.unused_petsc_options) names += (names.empty() ? "" : ", ") + o;
+      observer.warning("PETSc options not read by SNES, KSP or PC (misspelled, or for another solver?): " + names);
+    }
     if (!r.converged) throw std::runtime_error("no steady state: " + r.note);
     std::ostringstream csv;
     csv.precision(17);
@@ -68,6 +78,10 @@ const OptionTable& snes_options() {
       number_option("start_time", "20", "the initial guess is the CVODE solution at this time", 0.0,
                     std::numeric_limits<double>::infinity(), true),
       flag_option("precondition", true, "precondition GMRES (false: plain GMRES, for comparison only)"),
+      custom_option("petsc_options", "\"\"",
+                    "PETSc options for the SNES, its KSP and PC, applied after the above (e.g. \"-snes_rtol 1e-12 "
+                    "-ksp_type bcgs\"); the command line's (aggkit run ... -- OPTIONS) come after these",
+                    "a string of PETSc options \"-name value -flag ...\""),
   };
   return table;
 }
@@ -80,6 +94,12 @@ std::unique_ptr<Engine> build_snes(const EngineOptions& given, const EngineSpec&
   options.rates = rates_path_from_name(given.word("rhs", to_string(options.rates)));
   options.start_time = given.number("start_time", options.start_time);
   options.precondition = given.boolean("precondition", options.precondition);
+  if (given.has("petsc_options")) {
+    const nlohmann::json& value = given.value("petsc_options");
+    if (!value.is_string()) given.fail("petsc_options", "a string of PETSc options \"-name value -flag ...\"");
+    options.petsc_options = value.get<std::string>();
+    check_petsc_options(options.petsc_options, given.key("petsc_options"));  // bad input before any output
+  }
   under_key(rekey, [&] { options.validate(); });
   if (!scene.model.lambda.is_constant())
     throw InputError("model.lambda", scene.model.lambda.describe(), "a constant shattering rate for engine snes");

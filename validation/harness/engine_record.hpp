@@ -30,6 +30,7 @@ struct EngineRecord {
   double wall_seconds = 0.0;
   double final_mass_leak = std::numeric_limits<double>::quiet_NaN();
   std::optional<std::string> failure;  // why the run failed, if it did
+  std::vector<std::string> warnings;   // what the engine warned about (EngineObserver::warning)
   bool completed() const { return !failure; }
 };
 

@@ -32,6 +32,7 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
   observer.final_state = [&](std::vector<FinalStatistic> values) { record.finals = std::move(values); };
   observer.progress = [&](double t) { progress.reached(t); };
   observer.status = [&](const std::string& what) { progress.note(what); };
+  observer.warning = [&](const std::string& what) { record.warnings.push_back(what); };
   observer.folder = folder.engine_folder(engine.label());
   try {
     record.statistics = engine.run(scene, observer);
@@ -74,6 +75,9 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
     progress.start(engine.label(), i + 1, engines.size(), scene.time.end);
     result.records.push_back(run_engine(scene, engine, progress, folder));
     progress.finish();
+    if (options.warnings)
+      for (const std::string& warning : result.records.back().warnings)
+        *options.warnings << "aggkit: warning: engine " << engine.label() << ": " << warning << "\n";
     if (result.records.back().completed()) write_engine_outputs(scene, result.records.back(), folder);
     else if (options.warnings)
       *options.warnings << "aggkit: warning: engine " << engine.label() << " failed: " << *result.records.back().failure

@@ -1,15 +1,28 @@
 #include "validation/harness/plot.hpp"
 
 #include <cstdlib>
+#include <optional>
+#include <variant>
 #include <system_error>
 
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/child_process.hpp"
 #include "validation/io/python_plotter.hpp"
+#include "validation/io/text.hpp"
 
 namespace aggkit {
 
 namespace {
+
+// A numeric statistic the engine reported, if it did.
+std::optional<double> statistic(const EngineRecord& record, const std::string& name) {
+  for (const auto& s : record.statistics)
+    if (s.name == name) {
+      if (const double* x = std::get_if<double>(&s.value)) return *x;
+      if (const std::int64_t* i = std::get_if<std::int64_t>(&s.value)) return double(*i);
+    }
+  return std::nullopt;
+}
 
 constexpr std::chrono::seconds plot_timeout{120};
 
@@ -39,6 +52,13 @@ PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& rec
     argv.insert(argv.end(), {"--series", record.label, folder.series_file(record.label).string()});
     if (!record.distributions.empty())
       argv.insert(argv.end(), {"--distribution", record.label, folder.distribution_file(record.label).string()});
+    // An engine with an absolute tolerance atol_k = max(atol k^-q, floor): the plot shows what lies below as
+    // unresolved.
+    const auto atol = statistic(record, "atol"), exponent = statistic(record, "atol_exponent"),
+               floor = statistic(record, "atol_floor");
+    if (!record.distributions.empty() && atol && exponent && floor)
+      argv.insert(argv.end(), {"--absolute-tolerance", record.label, shortest_text(*atol), shortest_text(*exponent),
+                               shortest_text(*floor)});
     ++plotted;
   }
   if (plotted == 0) return {PlotOutcome::Status::skipped, "no engine completed"};

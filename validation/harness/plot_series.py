@@ -4,6 +4,11 @@ written, the size distributions n_k (log-log). Called by the harness (validation
 
   plot_series.py --output FILE.png --title NAME [--reference LABEL]
                  --series LABEL series.csv [--series ...] [--distribution LABEL distribution.csv ...]
+                 [--absolute-tolerance LABEL ATOL EXPONENT FLOOR ...]
+
+A deterministic integrator resolves n_k only down to its absolute tolerance atol_k = max(ATOL k^-EXPONENT,
+FLOOR): values below it (the far tail at early times, round-off of either sign) are not drawn, and the region
+below atol_k is shaded as unresolved.
 
 Values are drawn on a log axis where they are positive and span more than a factor 30; times too, unless
 the output times are (nearly) evenly spaced, as from `every`, where a linear axis keeps oscillations legible.
@@ -72,20 +77,43 @@ def plot_series(axes, observable, engines, reference):
     axes.legend(fontsize="small")
 
 
-def plot_distributions(axes, distributions, reference):
+def absolute_tolerance(tolerance, k):
+    """atol_k of an engine's tolerance (atol, exponent, floor), or 0 where none was given."""
+    if tolerance is None:
+        return 0.0
+    atol, exponent, floor = tolerance
+    return max(atol * k ** -exponent, floor)
+
+
+def plot_distributions(axes, distributions, reference, tolerances):
     times = sorted({t for _, columns in distributions.values() for t in columns["t"]})
     colours = plt.cm.viridis([i / max(1, len(times) - 1) for i in range(len(times))])
     dashes = ["-", "--", ":", "-."]
+    lowest, largest_k = math.inf, 1
     for e, (label, (_, columns)) in enumerate(distributions.items()):
+        tolerance = tolerances.get(label)
         for colour, time in zip(colours, times):
-            points = [(k, n) for t, k, n in zip(columns["t"], columns["k"], columns["n"]) if t == time and n > 0]
+            # Below atol_k the integrator does not resolve n_k: those values are left out (masked), not drawn
+            # as a jagged tail of round-off.
+            points = [(k, n) for t, k, n in zip(columns["t"], columns["k"], columns["n"])
+                      if t == time and n > 0 and n >= absolute_tolerance(tolerance, k)]
             if not points:
                 continue
             k, n = zip(*points)
+            lowest, largest_k = min(lowest, min(n)), max(largest_k, max(columns["k"]))
             axes.plot(k, n, linestyle=dashes[e % len(dashes)], color=colour,
                       linewidth=2.0 if label == reference else 1.0, label=f"{label}, t = {time:g}")
     axes.set_xscale("log")
     axes.set_yscale("log")
+    shaded = [(label, tolerances[label]) for label in distributions if label in tolerances]
+    if shaded and math.isfinite(lowest):
+        bottom = lowest / 10.0
+        k = sorted(set([1.0] + [math.exp(math.log(largest_k) * i / 400.0) for i in range(401)]))
+        for label, tolerance in shaded:
+            atol_k = [max(absolute_tolerance(tolerance, x), bottom) for x in k]
+            axes.fill_between(k, bottom, atol_k, color="grey", alpha=0.2, linewidth=0,
+                              label=f"below atol_k ({label}): unresolved")
+        axes.set_ylim(bottom=bottom)
     axes.set_title("size distribution")
     axes.set_xlabel("k")
     axes.set_ylabel("n_k")
@@ -100,10 +128,14 @@ def main():
     parser.add_argument("--reference", default=None)
     parser.add_argument("--series", nargs=2, action="append", metavar=("LABEL", "CSV"), required=True)
     parser.add_argument("--distribution", nargs=2, action="append", metavar=("LABEL", "CSV"), default=[])
+    parser.add_argument("--absolute-tolerance", nargs=4, action="append", default=[],
+                        metavar=("LABEL", "ATOL", "EXPONENT", "FLOOR"))
     args = parser.parse_args()
 
     engines = {label: read_csv(path) for label, path in args.series}
     distributions = {label: read_csv(path) for label, path in args.distribution}
+    tolerances = {label: (float(atol), float(exponent), float(floor))
+                  for label, atol, exponent, floor in args.absolute_tolerance}
     observables = [name for name in next(iter(engines.values()))[0][1:] if not name.endswith("_stderr")]
     panels = len(observables) + (1 if distributions else 0)
     columns = min(3, panels)
@@ -113,7 +145,7 @@ def main():
     for axes, observable in zip(cells, observables):
         plot_series(axes, observable, engines, args.reference)
     if distributions:
-        plot_distributions(cells[len(observables)], distributions, args.reference)
+        plot_distributions(cells[len(observables)], distributions, args.reference, tolerances)
     for axes in cells[panels:]:
         axes.set_visible(False)
     figure.suptitle(args.title)

@@ -62,6 +62,7 @@ Json engine_json(const EngineRecord& record, const OutputFolder& folder) {
   Json engine = {{"name", record.name}, {"description", record.description},
                  {"status", record.completed() ? "completed" : "failed"}};
   if (record.failure) engine["error"] = *record.failure;
+  if (!record.warnings.empty()) engine["warnings"] = record.warnings;
   engine["wall_seconds"] = number(record.wall_seconds);
   engine["outputs_reached"] = record.times.size();
   engine["final_mass_leak"] = number(record.final_mass_leak);

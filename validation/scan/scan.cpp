@@ -111,9 +111,12 @@ class RunCache {
       *progress_ << "aggkit scan: " << what << ": " << runs.size() << " runs, " << runs.size() - todo.size()
                  << " finished earlier, " << todo.size() << " to compute on " << world_.size
                  << (world_.size == 1 ? " rank\n" : " ranks\n") << std::flush;
+    // Runs are numbered over the whole batch: after a resume the count continues after the runs finished
+    // earlier ("8/9") instead of starting again at 1.
+    const std::size_t earlier = runs.size() - todo.size();
     long failed = 0;
     for (std::size_t i = std::size_t(world_.rank); i < todo.size(); i += std::size_t(world_.size))
-      failed += compute_one(todo[i], i + 1, todo.size()) ? 0 : 1;
+      failed += compute_one(todo[i], earlier + i + 1, runs.size()) ? 0 : 1;
     failed_ += std::size_t(mpi_sum(failed));  // also the barrier after which every result is on disk
   }
 
@@ -136,8 +139,8 @@ class RunCache {
       ++computed_;
       if (progress_) {
         char line[512];
-        std::snprintf(line, sizeof line, "aggkit scan: [rank %d] %zu/%zu %s: %s, period %.4g, amplitude %.4g (%.1f s)\n",
-                      world_.rank, number, count, label.c_str(), r.regime.c_str(), r.period, r.amplitude, r.seconds);
+        std::snprintf(line, sizeof line, "aggkit scan: [rank %d] %zu/%zu %s: %s (%.1f s)\n", world_.rank, number, count,
+                      label.c_str(), outcome_summary(r).c_str(), r.seconds);
         *progress_ << line << std::flush;
       }
       return true;

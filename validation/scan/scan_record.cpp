@@ -1,6 +1,8 @@
 #include "validation/scan/scan_record.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <vector>
 
@@ -30,6 +32,23 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 }  // namespace
+
+std::string outcome_summary(const ScanRecord& r) {
+  const auto number = [](double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", x);
+    return std::string(text);
+  };
+  std::string words = r.regime.empty() ? "no verdict" : r.regime;
+  if (r.regime == "damped") {
+    if (std::isfinite(r.decay_rate)) words += ", decay rate " + number(r.decay_rate);
+    if (std::isfinite(r.period)) words += " (period " + number(r.period) + ")";
+  } else if (r.regime == "sustained" || r.regime == "irregular") {
+    if (std::isfinite(r.period)) words += ", period " + number(r.period);
+    if (std::isfinite(r.amplitude)) words += ", amplitude " + number(r.amplitude);
+  }
+  return words;
+}
 
 std::string scan_csv_header() { return columns; }
 

@@ -29,6 +29,10 @@ struct ScanRecord {
   int rank = 0;
 };
 
+// The outcome in words for a progress line: the regime and only the numbers it has, e.g. "sustained, period
+// 52.1, amplitude 0.0123", "damped, decay rate 0.0042 (period 48.7)", "steady" (never "period nan").
+std::string outcome_summary(const ScanRecord& record);
+
 // The header and a row of scan.csv (full precision: a resumed scan writes the same bytes).
 std::string scan_csv_header();
 std::string scan_csv_row(const ScanRecord& record);
