@@ -275,7 +275,7 @@ TEST_CASE("cli: a scene name that looks like an option still gets its plot") {
   CHECK(summary_of(folder / "out")["plot"]["status"] == "written");
 }
 
-TEST_CASE("cli: PETSc options after -- reach the snes engine; bad ones exit 2") {
+TEST_CASE("cli: PETSc options after -- reach the snes engine, bad ones exit 2") {
   const auto folder = aggkit::testing::scratch_folder("cli-petsc-options");
   const auto out = folder / "out";
   const std::string scene = aggkit::testing::shipped_scene("brownian-steady.toml").string();

@@ -56,7 +56,7 @@ name = "snes"
   CHECK_THROWS_WITH(aggkit::testing::parse_checked(driven + observe), Catch::Contains("model.lambda"));
 }
 
-TEST_CASE("engine snes: petsc_options reach SNES; bad ones are refused before the run", "[snes][harness][input][petsc]") {
+TEST_CASE("engine snes: petsc_options reach SNES, bad ones are refused before the run", "[snes][harness][input][petsc]") {
   const std::string scene = R"(name = "s"
 [model]
 kernel = { name = "brownian", a = 0.0 }
