@@ -152,16 +152,4 @@ void tree_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, d
   for (std::thread& t : pool) t.join();
 }
 
-void direct_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, std::vector<Vector3>& force) {
-  const double eps2 = softening * softening;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    for (std::size_t j = i + 1; j < x.size(); ++j) {
-      const Vector3 d = x[j] - x[i];
-      const double r2 = dot(d, d), r = std::sqrt(r2);
-      const double s = r > 0 ? G * m[i] * m[j] / (r * (r2 + eps2)) : 0.0;
-      force[i] = force[i] + s * d;
-      force[j] = force[j] - s * d;
-    }
-}
-
 }  // namespace aggkit

@@ -20,7 +20,4 @@ namespace aggkit {
 void tree_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, double opening_angle,
                   std::size_t threads, std::vector<Vector3>& force);
 
-// Forces by direct summation over all pairs (the reference), added to `force`.
-void direct_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, std::vector<Vector3>& force);
-
 }  // namespace aggkit

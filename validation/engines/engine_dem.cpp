@@ -133,6 +133,10 @@ class DemSimulation final : public ParticleSimulation {
   double kinetic_energy() const override { return dem_.kinetic_energy(); }
   Vector3 momentum() const override { return dem_.momentum(); }
   Vector3 wall_impulse() const override { return dem_.wall_impulse(); }
+  std::optional<CollisionStatistics> collision_statistics() const override {
+    const DemCounters& c = dem_.counters();
+    return CollisionStatistics{dem_.time(), double(c.collisions), c.virial_integral, c.kinetic_integral};
+  }
 
   std::vector<std::pair<std::string, double>> final_values() const override {
     const DemCounters& c = dem_.counters();
@@ -171,7 +175,7 @@ class DemSimulation final : public ParticleSimulation {
  private:
   bool aggregated() const { return settings_.stop_aggregated && !std::isnan(aggregation_time_); }
   void check_aggregated() {
-    if (std::isnan(aggregation_time_) && dem_.largest_cluster_mass_fraction() >= settings_.threshold) aggregation_time_ = dem_.time();
+    if (std::isnan(aggregation_time_) && dem_.largest_cluster_reaches(settings_.threshold)) aggregation_time_ = dem_.time();
   }
   void report(const StatusSink& status) const {
     char line[96];
@@ -323,7 +327,7 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
 
 EngineType dem_engine_type() {
   return particle_engine_type({"dem", "3-D soft-sphere DEM with spring–dashpot contacts and optional self-gravity ([particles])",
-                               dem_options(), setup_dem});
+                               dem_options(), setup_dem, need::particles | need::collisions | need::virial});
 }
 
 }  // namespace aggkit

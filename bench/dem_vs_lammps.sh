@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# DEM contact throughput against LAMMPS side by side (the case of bench/dem_throughput.cpp: N spheres at
+# volume fraction 0.3, periodic, Hooke + tangential history, dt = t_c/50, no gravity). Installs Debian's
+# `lammps` if missing (this script only; never a dependency of aggkit). Runs ours (1 and 2 threads) and LAMMPS
+# (1 thread) interleaved ROUNDS times on the same start and prints particle-steps/s of each and the ratios of
+# the best runs (a shared machine: interleaving keeps the ratios fair; the absolute figures are not).
+#   bench/dem_vs_lammps.sh [BUILD_DIR] [N] [STEPS] [ROUNDS]      defaults: build 10000 2000 3
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${1:-build}
+N=${2:-10000}
+STEPS=${3:-2000}
+ROUNDS=${4:-3}
+if ! command -v lmp >/dev/null; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq lammps >/dev/null
+fi
+cmake --build "$BUILD" --target bench_dem_throughput >/dev/null
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+"$BUILD/bench/bench_dem_throughput" lammps "$WORK" "$N" "$STEPS"
+echo "# $(cat /proc/loadavg) (load average), $(nproc) cores; N $N, $STEPS steps, $ROUNDS rounds"
+best_ours1=0; best_ours2=0; best_lammps=0
+max() { awk -v a="$1" -v b="$2" 'BEGIN { print (a > b ? a : b) }'; }
+for r in $(seq "$ROUNDS"); do
+  line=$("$BUILD/bench/bench_dem_throughput" run "$N" "$STEPS" 1); echo "$line"
+  best_ours1=$(max "$best_ours1" "$(echo "$line" | sed -E 's/.*particle_steps_per_s ([^ ]+).*/\1/')")
+  loop=$(cd "$WORK" && OMP_NUM_THREADS=1 lmp -in in.dem -log lammps.log -screen none >/dev/null && grep "^Loop time" lammps.log)
+  seconds=$(echo "$loop" | awk '{print $4}')
+  rate=$(awk -v n="$N" -v s="$STEPS" -v t="$seconds" 'BEGIN { printf "%.4g", n * s / t }')
+  echo "lammps N $N steps $STEPS threads 1 wall_s $seconds particle_steps_per_s $rate  ($loop)"
+  best_lammps=$(max "$best_lammps" "$rate")
+  line=$("$BUILD/bench/bench_dem_throughput" run "$N" "$STEPS" 2); echo "$line"
+  best_ours2=$(max "$best_ours2" "$(echo "$line" | sed -E 's/.*particle_steps_per_s ([^ ]+).*/\1/')")
+done
+awk -v o1="$best_ours1" -v o2="$best_ours2" -v l="$best_lammps" 'BEGIN {
+  printf "best particle-steps/s: ours 1 thread %.3g, ours 2 threads %.3g, LAMMPS 1 thread %.3g\n", o1, o2, l;
+  printf "ratio ours/LAMMPS: 1 thread %.2f (target >= 1), 2 threads %.2f (target >= 1.6)\n", o1 / l, o2 / l }'
