@@ -48,6 +48,12 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   radius_ = std::move(start.radii);
   mass_ = std::move(start.masses);
   periodic_ = box_.boundary == Boundary::periodic;
+  inverse_mass_.resize(n);
+  inverse_inertia_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    inverse_mass_[i] = 1 / mass_[i];
+    inverse_inertia_[i] = 1 / (0.4 * mass_[i] * radius_[i] * radius_[i]);  // 2/5 m R²
+  }
   for (int d = 0; d < 3; ++d) side_[d] = box_.side[d], half_side_[d] = 0.5 * box_.side[d];
   heaviest_first_ = mass_;
   std::sort(heaviest_first_.begin(), heaviest_first_.end(), std::greater<>());
@@ -56,6 +62,7 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   max_radius_ = *std::max_element(radius_.begin(), radius_.end());
   softening_ = settings.softening >= 0 ? settings.softening : 1e-3 * min_radius_;
   if (settings_.force_threads < 1) settings_.force_threads = 1;
+  if (settings_.force_threads > 1) pool_ = std::make_unique<WorkerPool>(settings_.force_threads);
   f_.assign(n, {0, 0, 0});
   u_ = v_;
   if (settings_.friction < 0) throw std::invalid_argument("dem: friction must be >= 0");
@@ -73,7 +80,7 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   first_evaluation_ = false;
 }
 
-Vector3 Dem::separation(std::size_t i, std::size_t j) const {
+inline Vector3 Dem::separation(std::size_t i, std::size_t j) const {
   Vector3 d = x_[j] - x_[i];
   if (periodic_)  // positions lie in [0, L): |d| < L, one image shift at most
     for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side_[k] ? -side_[k] : d[k] < -half_side_[k] ? side_[k] : 0.0;
@@ -149,8 +156,18 @@ void Dem::for_each_near_pair(double range, Visit&& visit) const {
       }
 }
 
+void Dem::parallel(std::size_t jobs, const std::function<void(std::size_t)>& job) {
+  if (pool_) pool_->run(jobs, job);
+  else
+    for (std::size_t k = 0; k < jobs; ++k) job(k);
+}
+
 void Dem::compute_forces() {
-  std::fill(f_.begin(), f_.end(), Vector3{0, 0, 0});
+  if (!forces_cleared_) {
+    std::fill(f_.begin(), f_.end(), Vector3{0, 0, 0});
+    if (settings_.friction > 0) std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
+  }
+  forces_cleared_ = false;
   contact_forces();
   if (settings_.gravity && settings_.gravity_substeps == 1) gravity_forces(f_);
 }
@@ -206,32 +223,48 @@ void Dem::rebuild_pairs() {
 }
 
 void Dem::contact_forces() {
-  const std::size_t n = x_.size();
-  if (settings_.friction > 0) std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
   // Rebuilt once some particle has moved more than skin/2 since the last build (two such particles close a
-  // gap of at most skin).
-  const double skin = 0.2 * max_radius_;
-  bool rebuild = pairs_built_at_.size() != n;
-  for (std::size_t i = 0; i < n && !rebuild; ++i) {
-    Vector3 moved = x_[i] - pairs_built_at_[i];
-    if (periodic_)
-      for (int k = 0; k < 3; ++k) moved[k] += moved[k] > half_side_[k] ? -side_[k] : moved[k] < -half_side_[k] ? side_[k] : 0.0;
-    rebuild = dot(moved, moved) > 0.25 * skin * skin;
+  // gap of at most skin): step() checks while it moves them.
+  if (moved_beyond_skin_ || pairs_built_at_.size() != x_.size()) rebuild_pairs();
+  moved_beyond_skin_ = false;
+  // The pairs in fixed chunks (their number from the list's length only), each computing its contacts'
+  // forces into its own buffer, possibly on several threads; the forces are then added in pair order, so
+  // the sums do not depend on the thread count.
+  const std::size_t chunks = std::clamp<std::size_t>(pairs_.size() / 4096, 1, 64);
+  contact_buffers_.resize(chunks);
+  std::vector<ContactTotals> chunk_totals(chunks);
+  parallel(chunks, [&](std::size_t c) {
+    chunk_totals[c] = pair_forces(c * pairs_.size() / chunks, (c + 1) * pairs_.size() / chunks, contact_buffers_[c]);
+  });
+  const bool friction = settings_.friction > 0;
+  double virial = 0;
+  graph_edges_ = 0;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const ContactTotals& t = chunk_totals[c];
+    counters_.collisions += t.collisions;
+    counters_.rebounds += t.rebounds;
+    counters_.clamped_contacts += t.clamped;
+    counters_.max_overlap = std::max(counters_.max_overlap, t.max_overlap);
+    counters_.max_friction_ratio = std::max(counters_.max_friction_ratio, t.max_friction_ratio);
+    graph_edges_ += t.graph_edges;
+    for (const ContactForce& f : contact_buffers_[c]) {
+      f_[f.i] = f_[f.i] - f.normal_force;
+      f_[f.j] = f_[f.j] + f.normal_force;
+      virial += f.virial;
+      if (!friction) continue;
+      f_[f.i] = f_[f.i] + f.tangential;
+      f_[f.j] = f_[f.j] - f.tangential;
+      torque_[f.i] = torque_[f.i] + f.torque_i;
+      torque_[f.j] = torque_[f.j] + f.torque_j;
+    }
   }
-  if (rebuild) rebuild_pairs();
-  const ContactTotals totals = pair_forces(0, pairs_.size());
-  counters_.collisions += totals.collisions;
-  counters_.rebounds += totals.rebounds;
-  counters_.clamped_contacts += totals.clamped;
-  counters_.max_overlap = std::max(counters_.max_overlap, totals.max_overlap);
-  counters_.max_friction_ratio = std::max(counters_.max_friction_ratio, totals.max_friction_ratio);
-  if (!first_evaluation_) counters_.virial_integral += settings_.dt * totals.virial;
-  graph_edges_ = totals.graph_edges;
+  if (!first_evaluation_) counters_.virial_integral += settings_.dt * virial;
   wall_forces();
 }
 
-Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end) {
+Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end, std::vector<ContactForce>& contacts) {
   ContactTotals totals;
+  contacts.clear();
   const double limit = settings_.overlap_limit * min_radius_;
   const double tolerance = settings_.contact_tolerance * min_radius_;
   const bool friction = settings_.friction > 0;
@@ -285,12 +318,11 @@ Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end) {
       // [Trivino2025, eq. 6], set to zero where it would attract.
       force = std::max(0.0, force - weight * pair_damping(reduced) * separating);
     }
-    totals.virial += r * force;  // r_ij · F_ij = (−d) · (−force n)
-    for (int k = 0; k < 3; ++k) {  // [Trivino2025, eq. 7]
-      f_[i][k] -= force * normal[k];
-      f_[j][k] += force * normal[k];
-    }
-    if (friction) tangential_force(i, j, pairs_.history[p], normal, overlap, force, stiffness, totals);
+    ContactForce& c = contacts.emplace_back();
+    c.i = i, c.j = j;
+    c.virial = r * force;  // r_ij · F_ij = (−d) · (−force n)
+    c.normal_force = force * normal;  // on j; −it on i [Trivino2025, eq. 7]
+    if (friction) tangential_force(i, j, pairs_.history[p], normal, overlap, force, stiffness, totals, c);
   }
   return totals;
 }
@@ -356,7 +388,7 @@ Vector3 cross(const Vector3& a, const Vector3& b) {
 }  // namespace
 
 void Dem::tangential_force(std::uint32_t i, std::uint32_t j, Vector3& history, const Vector3& normal, double overlap, double normal_force,
-                           double normal_stiffness, ContactTotals& totals) {
+                           double normal_stiffness, ContactTotals& totals, ContactForce& out) const {
   // Lever arms R − δ/2 that add up to the centre distance: the torques then balance the tangential forces'
   // moment exactly and the angular momentum about any point is kept.
   const double arm_i = radius_[i] - 0.5 * overlap, arm_j = radius_[j] - 0.5 * overlap;
@@ -380,10 +412,9 @@ void Dem::tangential_force(std::uint32_t i, std::uint32_t j, Vector3& history, c
   }
   if (limit > 0) totals.max_friction_ratio = std::max(totals.max_friction_ratio, norm(force) / limit);
   history = xi;
-  f_[i] = f_[i] + force;
-  f_[j] = f_[j] - force;
-  torque_[i] = torque_[i] + cross(arm_i * normal, force);
-  torque_[j] = torque_[j] + cross(arm_j * normal, force);  // (−a_j n) × (−F)
+  out.tangential = force;  // on i; −force on j
+  out.torque_i = cross(arm_i * normal, force);
+  out.torque_j = cross(arm_j * normal, force);  // (−a_j n) × (−F)
 }
 
 void Dem::gravity_forces(std::vector<Vector3>& out) {
@@ -400,9 +431,19 @@ void Dem::step() {
   const std::size_t substeps = settings_.gravity ? settings_.gravity_substeps : 1;
   // Impulse splitting (r-RESPA): gravity kicks by K dt/2 at both ends of every K contact steps.
   if (substeps > 1 && counters_.steps % substeps == 0)
-    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
-  for (std::size_t i = 0; i < n; ++i) {
-    v_[i] = v_[i] + (half / mass_[i]) * f_[i];
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt * inverse_mass_[i]) * gravity_[i];
+  // One pass: kick, drift, wrap, the dashpot's prediction, the list's displacement check, rotation, and the
+  // force and torque arrays cleared for the next evaluation (the arrays are streamed once).
+  // Fixed chunks of particles (their number from N only), possibly on several threads.
+  const bool friction = settings_.friction > 0;
+  const double skin = 0.2 * max_radius_, moved_limit = 0.25 * skin * skin;
+  const std::size_t chunks = std::clamp<std::size_t>(n / 2048, 1, 64);
+  std::vector<char> moved_in(chunks, 0);
+  parallel(chunks, [&](std::size_t chunk) {
+  bool moved = false;
+  for (std::size_t i = chunk * n / chunks, end = (chunk + 1) * n / chunks; i < end; ++i) {
+    const Vector3 kick = (half * inverse_mass_[i]) * f_[i];
+    v_[i] = v_[i] + kick;
     x_[i] = x_[i] + dt * v_[i];
     if (periodic_)
       for (int k = 0; k < 3; ++k) {
@@ -411,43 +452,62 @@ void Dem::step() {
         else if (c >= side_[k]) c -= side_[k];
         if (!(c >= 0 && c < side_[k])) c = box_.wrap(x_[i])[k];  // more than a box side per step, or −tiny + L = L
       }
-    u_[i] = v_[i] + (half / mass_[i]) * f_[i];  // the dashpot's estimate of v(t + dt): second order
-  }
-  if (settings_.friction > 0) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const double inertia = 0.4 * mass_[i] * radius_[i] * radius_[i];  // 2/5 m R²
-      w_[i] = w_[i] + (half / inertia) * torque_[i];
-      w_pred_[i] = w_[i] + (half / inertia) * torque_[i];
-      // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised.
-      const double angle = norm(w_[i]) * dt;
-      if (angle > 0) {
-        const Vector3 axis = (1 / norm(w_[i])) * w_[i];
-        const double c = std::cos(0.5 * angle), sn = std::sin(0.5 * angle);
-        const std::array<double, 4> r{c, sn * axis[0], sn * axis[1], sn * axis[2]}, q = q_[i];
-        std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
-                                r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
-        const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
-        for (double& c4 : p) c4 /= len;
-        q_[i] = p;
-      }
+    u_[i] = v_[i] + kick;  // the dashpot's estimate of v(t + dt): second order
+    f_[i] = {0, 0, 0};
+    if (!moved && i < pairs_built_at_.size()) {
+      Vector3 d = x_[i] - pairs_built_at_[i];
+      if (periodic_)
+        for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side_[k] ? -side_[k] : d[k] < -half_side_[k] ? side_[k] : 0.0;
+      moved = dot(d, d) > moved_limit;
+    }
+    if (!friction) continue;
+    const Vector3 spin = (half * inverse_inertia_[i]) * torque_[i];  // I = 2/5 m R²
+    w_[i] = w_[i] + spin;
+    w_pred_[i] = w_[i] + spin;
+    torque_[i] = {0, 0, 0};
+    // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised. For a half angle a below
+    // 1e-3, cos a and sin(a)/|ω| from their series (next terms < 1e-19) and the renormalisation by one
+    // Newton step from 1 (|p|² − 1 is round-off): no square root, no division.
+    const double w2 = dot(w_[i], w_[i]);
+    if (w2 > 0) {
+      const double a2 = 0.25 * w2 * dt * dt;
+      const bool small = a2 < 1e-6;
+      const double a = small ? 0.0 : std::sqrt(a2);
+      constexpr double c2 = 1.0 / 2, c4 = 1.0 / 24, s2 = 1.0 / 6, s4 = 1.0 / 120;  // multiplications, not divisions
+      const double c = small ? 1 - a2 * c2 + a2 * a2 * c4 : std::cos(a);
+      const double sw = small ? half * (1 - a2 * s2 + a2 * a2 * s4) : std::sin(a) * half / a;  // sin(a)/|ω|
+      const std::array<double, 4> r{c, sw * w_[i][0], sw * w_[i][1], sw * w_[i][2]}, q = q_[i];
+      std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
+                              r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
+      const double length2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3];
+      const double inverse_length = small ? 1.5 - 0.5 * length2 : 1 / std::sqrt(length2);
+      for (double& c4q : p) c4q *= inverse_length;
+      q_[i] = p;
     }
   }
+  moved_in[chunk] = moved;
+  });
+  moved_beyond_skin_ = std::find(moved_in.begin(), moved_in.end(), 1) != moved_in.end();
+  forces_cleared_ = true;
   wall_impulse_ = wall_impulse_ - half * wall_force_;
   compute_forces();
-  double twice_kinetic = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    v_[i] = v_[i] + (half / mass_[i]) * f_[i];
-    twice_kinetic += mass_[i] * dot(v_[i], v_[i]);
-  }
-  counters_.kinetic_integral += dt * twice_kinetic;
-  if (settings_.friction > 0)
-    for (std::size_t i = 0; i < n; ++i) w_[i] = w_[i] + (half / (0.4 * mass_[i] * radius_[i] * radius_[i])) * torque_[i];
+  std::vector<double> twice_kinetic(chunks, 0.0);  // Σ m|v|² per chunk, added in chunk order
+  parallel(chunks, [&](std::size_t chunk) {
+    double sum = 0;
+    for (std::size_t i = chunk * n / chunks, end = (chunk + 1) * n / chunks; i < end; ++i) {
+      v_[i] = v_[i] + (half * inverse_mass_[i]) * f_[i];
+      sum += mass_[i] * dot(v_[i], v_[i]);
+      if (friction) w_[i] = w_[i] + (half * inverse_inertia_[i]) * torque_[i];
+    }
+    twice_kinetic[chunk] = sum;
+  });
+  for (double sum : twice_kinetic) counters_.kinetic_integral += dt * sum;
   wall_impulse_ = wall_impulse_ - half * wall_force_;
   ++counters_.steps;
   if (substeps > 1 && counters_.steps % substeps == 0) {
     std::fill(gravity_.begin(), gravity_.end(), Vector3{0, 0, 0});
     gravity_forces(gravity_);
-    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt * inverse_mass_[i]) * gravity_[i];
   }
   time_ = double(counters_.steps) * dt;  // no accumulated round-off
 }

@@ -13,18 +13,23 @@
 // at μ F_n; torques about lever arms R − δ/2 (they add up to the centre distance, so the angular momentum is
 // kept), rotation by velocity Verlet half-kicks of ω (I = 2/5 m R²) and unit quaternions. Without friction
 // rotation is not integrated. Walls are frictionless (the spring–dashpot normal force only).
-// Direct gravity runs on `force_threads` over a fixed tiling of the pairs, reduced in a fixed order; the
-// Barnes–Hut tree (gravity_tree.hpp) walks per particle: either way the result does not depend on the thread
-// count. Contacts are evaluated on one thread.
+// `force_threads` run the integration, the contact forces and the gravity of one step: the integration over
+// fixed chunks of particles, the contacts over fixed chunks of the Verlet list into per-chunk buffers added
+// to the particles in pair order, direct gravity over a fixed tiling of the pairs reduced in a fixed order
+// (direct_gravity.hpp), the Barnes–Hut tree (gravity_tree.hpp) per particle: the result does not depend on
+// the thread count.
 #include <cstddef>
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "particle/common/box.hpp"
 #include "particle/common/particle_start.hpp"
 #include "particle/common/vector3.hpp"
+#include "particle/common/worker_pool.hpp"
 
 namespace aggkit {
 
@@ -135,14 +140,24 @@ class Dem {
     double max_overlap = 0, max_friction_ratio = 0, virial = 0;
   };
 
+  // One contact's forces as a chunk of the pair loop leaves them (added to the particles in pair order).
+  struct ContactForce {
+    std::uint32_t i, j;
+    Vector3 normal_force;  // on j (−it on i)
+    Vector3 tangential, torque_i, torque_j;  // friction: tangential force on i (−it on j), torques
+    double virial;
+  };
+
   void compute_forces();
   void contact_forces();
   void rebuild_pairs();
-  ContactTotals pair_forces(std::size_t begin, std::size_t end);
+  ContactTotals pair_forces(std::size_t begin, std::size_t end, std::vector<ContactForce>& contacts);
+  // job(k) for k < jobs, on the worker pool when force_threads > 1.
+  void parallel(std::size_t jobs, const std::function<void(std::size_t)>& job);
   void wall_forces();
   void gravity_forces(std::vector<Vector3>& out);  // adds the gravity forces to `out`
   void tangential_force(std::uint32_t i, std::uint32_t j, Vector3& xi, const Vector3& normal, double overlap, double normal_force,
-                        double normal_stiffness, ContactTotals& totals);
+                        double normal_stiffness, ContactTotals& totals, ContactForce& out) const;
   template <class Visit> void for_each_near_pair(double range, Visit&& visit) const;
   Vector3 separation(std::size_t i, std::size_t j) const;  // x_j − x_i (minimum image)
   std::vector<std::uint32_t> component_parents() const;    // union–find of the contact graph, roots = smallest index
@@ -154,7 +169,7 @@ class Dem {
   std::vector<Vector3> x_, v_, f_;
   std::vector<Vector3> gravity_;  // gravity forces at the last outer step (impulse splitting)
   std::vector<Vector3> u_;  // velocities the dashpot sees: v(t) at the start, then v(t+dt/2) + dt/2 · F(t)/m
-  std::vector<double> radius_, mass_;
+  std::vector<double> radius_, mass_, inverse_mass_, inverse_inertia_;
   std::vector<double> heaviest_first_;  // prefix sums of the masses sorted in decreasing order
   double min_radius_ = 0, max_radius_ = 0, softening_ = 0, time_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
@@ -166,6 +181,10 @@ class Dem {
   std::vector<Vector3> pairs_built_at_;  // positions at the list's build
   std::uint64_t graph_edges_ = 0;        // in_graph pairs at the last evaluation
   bool first_evaluation_ = false;
+  bool moved_beyond_skin_ = false;  // some particle moved more than skin/2 since the list's build (step())
+  bool forces_cleared_ = false;     // step() has zeroed f_ and torque_ for the next evaluation
+  std::vector<std::vector<ContactForce>> contact_buffers_;  // per chunk of the pair loop
+  std::unique_ptr<WorkerPool> pool_;                        // force_threads > 1
 };
 
 }  // namespace aggkit
