@@ -440,35 +440,51 @@ void Dem::step() {
   const std::size_t chunks = std::clamp<std::size_t>(n / 2048, 1, 64);
   std::vector<char> moved_in(chunks, 0);
   parallel(chunks, [&](std::size_t chunk) {
+  // Local pointers and constants: the loop streams the arrays without reloading them.
+  Vector3* const x = x_.data();
+  Vector3* const v = v_.data();
+  Vector3* const f = f_.data();
+  Vector3* const u = u_.data();
+  Vector3* const w = w_.data();
+  Vector3* const w_pred = w_pred_.data();
+  Vector3* const torque = torque_.data();
+  std::array<double, 4>* const orientation = q_.data();
+  const double* const inverse_mass = inverse_mass_.data();
+  const double* const inverse_inertia = inverse_inertia_.data();
+  const Vector3* const built = pairs_built_at_.data();
+  const bool periodic = periodic_, check = pairs_built_at_.size() == n;
+  const Vector3 side = side_, half_side = half_side_;
   bool moved = false;
   for (std::size_t i = chunk * n / chunks, end = (chunk + 1) * n / chunks; i < end; ++i) {
-    const Vector3 kick = (half * inverse_mass_[i]) * f_[i];
-    v_[i] = v_[i] + kick;
-    x_[i] = x_[i] + dt * v_[i];
-    if (periodic_)
+    const Vector3 kick = (half * inverse_mass[i]) * f[i];
+    v[i] = v[i] + kick;
+    Vector3 xi = x[i] + dt * v[i];
+    if (periodic)
       for (int k = 0; k < 3; ++k) {
-        double& c = x_[i][k];
-        if (c < 0) c += side_[k];
-        else if (c >= side_[k]) c -= side_[k];
-        if (!(c >= 0 && c < side_[k])) c = box_.wrap(x_[i])[k];  // more than a box side per step, or −tiny + L = L
+        double& c = xi[k];
+        if (c < 0) c += side[k];
+        else if (c >= side[k]) c -= side[k];
+        if (!(c >= 0 && c < side[k])) c = box_.wrap(xi)[k];  // more than a box side per step, or −tiny + L = L
       }
-    u_[i] = v_[i] + kick;  // the dashpot's estimate of v(t + dt): second order
-    f_[i] = {0, 0, 0};
-    if (!moved && i < pairs_built_at_.size()) {
-      Vector3 d = x_[i] - pairs_built_at_[i];
-      if (periodic_)
-        for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side_[k] ? -side_[k] : d[k] < -half_side_[k] ? side_[k] : 0.0;
+    x[i] = xi;
+    u[i] = v[i] + kick;  // the dashpot's estimate of v(t + dt): second order
+    f[i] = {0, 0, 0};
+    if (!moved && check) {
+      Vector3 d = xi - built[i];
+      if (periodic)
+        for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side[k] ? -side[k] : d[k] < -half_side[k] ? side[k] : 0.0;
       moved = dot(d, d) > moved_limit;
     }
     if (!friction) continue;
-    const Vector3 spin = (half * inverse_inertia_[i]) * torque_[i];  // I = 2/5 m R²
-    w_[i] = w_[i] + spin;
-    w_pred_[i] = w_[i] + spin;
-    torque_[i] = {0, 0, 0};
+    const Vector3 spin = (half * inverse_inertia[i]) * torque[i];  // I = 2/5 m R²
+    const Vector3 wi = w[i] + spin;
+    w[i] = wi;
+    w_pred[i] = wi + spin;
+    torque[i] = {0, 0, 0};
     // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised. For a half angle a below
     // 1e-3, cos a and sin(a)/|ω| from their series (next terms < 1e-19) and the renormalisation by one
     // Newton step from 1 (|p|² − 1 is round-off): no square root, no division.
-    const double w2 = dot(w_[i], w_[i]);
+    const double w2 = dot(wi, wi);
     if (w2 > 0) {
       const double a2 = 0.25 * w2 * dt * dt;
       const bool small = a2 < 1e-6;
@@ -476,13 +492,13 @@ void Dem::step() {
       constexpr double c2 = 1.0 / 2, c4 = 1.0 / 24, s2 = 1.0 / 6, s4 = 1.0 / 120;  // multiplications, not divisions
       const double c = small ? 1 - a2 * c2 + a2 * a2 * c4 : std::cos(a);
       const double sw = small ? half * (1 - a2 * s2 + a2 * a2 * s4) : std::sin(a) * half / a;  // sin(a)/|ω|
-      const std::array<double, 4> r{c, sw * w_[i][0], sw * w_[i][1], sw * w_[i][2]}, q = q_[i];
+      const std::array<double, 4> r{c, sw * wi[0], sw * wi[1], sw * wi[2]}, q = orientation[i];
       std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
                               r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
       const double length2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3];
       const double inverse_length = small ? 1.5 - 0.5 * length2 : 1 / std::sqrt(length2);
       for (double& c4q : p) c4q *= inverse_length;
-      q_[i] = p;
+      orientation[i] = p;
     }
   }
   moved_in[chunk] = moved;
