@@ -6,6 +6,7 @@
 //                                                then the direct sum (1 thread) on min(N, 20000) particles:
 //                                                seconds, unique pairs/s (N(N−1)/2 per evaluation) and
 //                                                pair interactions/s (N(N−1): each pair acts on two particles)
+// Records the figures for bench/check (bench/figures.hpp).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <random>
 #include <vector>
 
+#include "bench/figures.hpp"
 #include "particle/dem/direct_gravity.hpp"
 #include "particle/dem/gravity_tree.hpp"
 
@@ -46,6 +48,7 @@ int main(int argc, char** argv) {
   }
   const auto n = std::size_t(std::atof(argv[1]));
   const double G = 1, eps = 1e-3;
+  const bench::Figures figures("dem_gravity", argc, argv);
   const std::vector<Vector3> x = ball(n, 1);
   const std::vector<double> m(n, 1.0);
   if (FILE* f = std::fopen("/proc/loadavg", "r")) {
@@ -81,7 +84,12 @@ int main(int argc, char** argv) {
       const Vector3 e = force[sample[s]] - reference[s];
       sum += dot(e, e) / dot(reference[s], reference[s]);
     }
-    std::printf("%8.3f %10.3f %10.3f %12.3e\n", theta, wall, cpu, std::sqrt(sum / double(sample.size())));
+    const double error = std::sqrt(sum / double(sample.size()));
+    std::printf("%8.3f %10.3f %10.3f %12.3e\n", theta, wall, cpu, error);
+    const std::string name = "N=" + bench::Figures::text(double(n)) + " theta=" + bench::Figures::text(theta);
+    figures.add(name, "tree_wall_seconds", wall, "s");
+    figures.add(name, "tree_cpu_seconds", cpu, "s");
+    figures.add(name, "rms_relative_error", error, "1");
   }
   const std::size_t nd = std::min<std::size_t>(n, 20000);
   const std::vector<Vector3> xd(x.begin(), x.begin() + std::ptrdiff_t(nd));
@@ -94,5 +102,8 @@ int main(int argc, char** argv) {
   const double pairs = double(nd) * double(nd - 1) / 2;
   std::printf("direct N %zu: wall_s %.3f cpu_s %.3f unique_pairs_per_s %.3g (cpu %.3g) interactions_per_s %.3g (cpu %.3g)\n", nd, wall,
               cpu, pairs / wall, pairs / cpu, 2 * pairs / wall, 2 * pairs / cpu);
+  const std::string name = "N=" + bench::Figures::text(double(nd));
+  figures.add(name, "direct_unique_pairs_per_s", pairs / wall, "1/s");
+  figures.add(name, "direct_unique_pairs_per_cpu_s", pairs / cpu, "1/s");
   return 0;
 }

@@ -6,6 +6,7 @@
 //   bench_dem_throughput run N STEPS THREADS     ours: prints N, steps, threads, wall and CPU seconds and
 //                                                particle-steps/s (wall), plus contacts and list builds
 //   bench_dem_throughput lammps DIR N STEPS      writes DIR/data.dem and DIR/in.dem: the same start and law
+// `run` records particle_steps_per_s and particle_steps_per_cpu_s (bench/figures.hpp).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <string>
 
+#include "bench/figures.hpp"
 #include "particle/common/box.hpp"
 #include "particle/common/initial_state.hpp"
 #include "particle/dem/dem.hpp"
@@ -45,7 +47,7 @@ Case make_case(std::size_t n) {
   return c;
 }
 
-int run(std::size_t n, std::size_t steps, std::size_t threads) {
+int run(std::size_t n, std::size_t steps, std::size_t threads, const bench::Figures& figures) {
   Case c = make_case(n);
   DemSettings s;
   s.stiffness = c.kn;
@@ -64,6 +66,9 @@ int run(std::size_t n, std::size_t steps, std::size_t threads) {
               "max_overlap %.4g clamped %llu\n",
               n, steps, threads, wall, cpu, double(n) * double(steps) / wall, (unsigned long long)k.collisions,
               (unsigned long long)k.list_builds, k.max_overlap, (unsigned long long)k.clamped_contacts);
+  const std::string name = "N=" + bench::Figures::text(double(n)) + " threads=" + std::to_string(threads);
+  figures.add(name, "particle_steps_per_s", double(n) * double(steps) / wall, "1/s");
+  figures.add(name, "particle_steps_per_cpu_s", double(n) * double(steps) / cpu, "1/s");
   return 0;
 }
 
@@ -97,7 +102,9 @@ int write_lammps(const std::filesystem::path& dir, std::size_t n, std::size_t st
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
-  if (mode == "run" && argc == 5) return run(std::size_t(std::atof(argv[2])), std::size_t(std::atof(argv[3])), std::size_t(std::atoi(argv[4])));
+  if (mode == "run" && argc == 5)
+    return run(std::size_t(std::atof(argv[2])), std::size_t(std::atof(argv[3])), std::size_t(std::atoi(argv[4])),
+               bench::Figures("dem_throughput", argc, argv));
   if (mode == "lammps" && argc == 5) return write_lammps(argv[2], std::size_t(std::atof(argv[3])), std::size_t(std::atof(argv[4])));
   std::fprintf(stderr, "usage: %s run N STEPS THREADS | lammps DIR N STEPS\n", argv[0]);
   return 2;

@@ -7,6 +7,8 @@
 # time and, for one thread, by CPU time (ours: clock(); LAMMPS: its loop time × its reported "% CPU use"),
 # which a loaded machine distorts less.
 #   bench/dem_vs_lammps.sh [BUILD_DIR] [N] [STEPS] [ROUNDS]      defaults: build 10000 2000 3
+# The ratios and LAMMPS' rates are appended to FIGURES/dem_vs_lammps.csv for bench/check (bench/figures.hpp's
+# columns; FIGURES = $AGGKIT_BENCH_FIGURES or BUILD_DIR/bench/figures); ours are recorded by the bench itself.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
@@ -42,6 +44,15 @@ for r in $(seq "$ROUNDS"); do
   line=$("$BUILD/bench/bench_dem_throughput" run "$N" "$STEPS" 2); echo "$line"
   best_ours2=$(max "$best_ours2" "$(echo "$line" | sed -E 's/.*particle_steps_per_s ([^ ]+).*/\1/')")
 done
+figures=${AGGKIT_BENCH_FIGURES:-$BUILD/bench/figures}
+mkdir -p "$figures"
+[ -f "$figures/dem_vs_lammps.csv" ] || echo "date,bench,case,figure,value,unit,command" > "$figures/dem_vs_lammps.csv"
+awk -v o1="$best_ours1" -v o2="$best_ours2" -v l="$best_lammps" -v oc="$best_ours1_cpu" -v lc="$best_lammps_cpu" \
+    -v date="$(date -u +%Y-%m-%dT%H:%M:%SZ)" -v c="N=$N steps=$STEPS" -v cmd="bench/dem_vs_lammps.sh $BUILD $N $STEPS $ROUNDS" 'BEGIN {
+  row = date ",dem_vs_lammps," c ",%s,%.6g,%s," cmd "\n";
+  printf row, "lammps_particle_steps_per_s", l, "1/s"; printf row, "lammps_particle_steps_per_cpu_s", lc, "1/s";
+  printf row, "ratio_1_thread_wall", o1 / l, "1"; printf row, "ratio_1_thread_cpu", oc / lc, "1";
+  printf row, "ratio_2_threads_wall", o2 / l, "1" }' >> "$figures/dem_vs_lammps.csv"
 awk -v o1="$best_ours1" -v o2="$best_ours2" -v l="$best_lammps" -v oc="$best_ours1_cpu" -v lc="$best_lammps_cpu" 'BEGIN {
   printf "best particle-steps/s (wall): ours 1 thread %.3g, ours 2 threads %.3g, LAMMPS 1 thread %.3g\n", o1, o2, l;
   printf "best particle-steps per CPU-second, 1 thread: ours %.3g, LAMMPS %.3g\n", oc, lc;
