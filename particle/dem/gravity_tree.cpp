@@ -103,7 +103,6 @@ class Tree {
   }
 
   std::uint32_t particle_at(std::uint32_t k) const { return order_[k]; }
-  const Cell& cell(std::int32_t index) const { return cells_[std::size_t(index)]; }
 
  private:
   std::int32_t build(std::uint32_t begin, std::uint32_t end, const Vector3& lo, double side, int depth) {

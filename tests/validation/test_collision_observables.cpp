@@ -153,6 +153,7 @@ TEST_CASE("collision observables: bad input is refused naming the key", "[collis
   const std::string elastic = "name = \"ed\"\ncollisions = \"elastic\"\n";
   check_bad(scene("periodic", "name = \"ed\"\ncollisions = \"bouncy\"\n", "series = [\"clusters\"]"), "engine[0].collisions", "bouncy");
   check_bad(scene("periodic", elastic + "stop = \"one_cluster\"\n", "series = [\"clusters\"]"), "engine[0].stop", "elastic");
+  check_bad(scene("periodic", elastic + "cells = 100\n", "series = [\"clusters\"]"), "engine[0].cells", "elastic");
   check_bad(scene("periodic", "name = \"ed\"\n", "series = [\"collision_frequency\"]"), "observe.series[0]", "elastic");
   check_bad(scene("reflecting", elastic, "series = [\"clusters\"]\nfinal = [\"virial_pressure\"]"), "observe.final[0]", "periodic");
   check_bad(scene("periodic", "name = \"ts\"\n", "series = [\"collision_frequency\"]"), "observe.series[0]", "collision counts");

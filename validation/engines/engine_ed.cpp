@@ -234,6 +234,8 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
   if (settings.elastic) {
     if (settings.target_clusters > 0)
       given.fail("stop", "no cluster target with collisions = \"elastic\" (no clusters form): leave stop out to run to time.end");
+    if (given.has("cells"))
+      given.fail("cells", "no cells with collisions = \"elastic\" (the hard-sphere gas sizes its own grid): leave cells out");
     return {[system, settings](std::size_t r) {
               return std::make_unique<ElasticGasSimulation>(system, system.initial_state(r), settings);
             },
