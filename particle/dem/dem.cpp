@@ -1,8 +1,10 @@
 #include "particle/dem/dem.hpp"
 
+#include "particle/dem/direct_gravity.hpp"
 #include "particle/dem/gravity_tree.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -45,13 +47,24 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   v_ = std::move(start.velocities);
   radius_ = std::move(start.radii);
   mass_ = std::move(start.masses);
+  periodic_ = box_.boundary == Boundary::periodic;
+  inverse_mass_.resize(n);
+  inverse_inertia_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    inverse_mass_[i] = 1 / mass_[i];
+    inverse_inertia_[i] = 1 / (0.4 * mass_[i] * radius_[i] * radius_[i]);  // 2/5 m R²
+  }
+  for (int d = 0; d < 3; ++d) side_[d] = box_.side[d], half_side_[d] = 0.5 * box_.side[d];
+  heaviest_first_ = mass_;
+  std::sort(heaviest_first_.begin(), heaviest_first_.end(), std::greater<>());
+  for (std::size_t i = 1; i < n; ++i) heaviest_first_[i] += heaviest_first_[i - 1];
   min_radius_ = *std::min_element(radius_.begin(), radius_.end());
   max_radius_ = *std::max_element(radius_.begin(), radius_.end());
   softening_ = settings.softening >= 0 ? settings.softening : 1e-3 * min_radius_;
   if (settings_.force_threads < 1) settings_.force_threads = 1;
+  if (settings_.force_threads > 1) pool_ = std::make_unique<WorkerPool>(settings_.force_threads);
   f_.assign(n, {0, 0, 0});
   u_ = v_;
-  parent_.resize(n);
   if (settings_.friction < 0) throw std::invalid_argument("dem: friction must be >= 0");
   w_.assign(n, {0, 0, 0});
   w_pred_.assign(n, {0, 0, 0});
@@ -62,17 +75,16 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
     gravity_.assign(n, {0, 0, 0});
     gravity_forces(gravity_);
   }
-  first_evaluation_ = true;  // overlaps present at the start have no onset within a step
+  first_evaluation_ = true;  // overlaps present at the start have no onset within a step; they count as collisions
   compute_forces();
   first_evaluation_ = false;
-  overlapping_.swap(overlapping_next_);
-  history_.swap(history_next_);
-  counters_.collisions = overlapping_.size();  // pairs overlapping at the start count as collisions
-  update_episodes();
 }
 
-Vector3 Dem::separation(std::size_t i, std::size_t j) const {
-  return box_.boundary == Boundary::periodic ? box_.minimum_image(x_[j] - x_[i]) : x_[j] - x_[i];
+inline Vector3 Dem::separation(std::size_t i, std::size_t j) const {
+  Vector3 d = x_[j] - x_[i];
+  if (periodic_)  // positions lie in [0, L): |d| < L, one image shift at most
+    for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side_[k] ? -side_[k] : d[k] < -half_side_[k] ? side_[k] : 0.0;
+  return d;
 }
 
 template <class Visit>
@@ -144,123 +156,229 @@ void Dem::for_each_near_pair(double range, Visit&& visit) const {
       }
 }
 
+void Dem::parallel(std::size_t jobs, const std::function<void(std::size_t)>& job) {
+  if (pool_) pool_->run(jobs, job);
+  else
+    for (std::size_t k = 0; k < jobs; ++k) job(k);
+}
+
 void Dem::compute_forces() {
-  std::fill(f_.begin(), f_.end(), Vector3{0, 0, 0});
+  if (!forces_cleared_) {
+    std::fill(f_.begin(), f_.end(), Vector3{0, 0, 0});
+    if (settings_.friction > 0) std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
+  }
+  forces_cleared_ = false;
   contact_forces();
   if (settings_.gravity && settings_.gravity_substeps == 1) gravity_forces(f_);
 }
 
-void Dem::contact_forces() {
+void Dem::rebuild_pairs() {
+  // The pairs within 2 R_max + tolerance + skin, sorted by (i, j) by a counting sort on i; each keeps the state
+  // it had in the old list (both sorted: one merge). A pair of the old list missing from the new one has
+  // separated beyond the skin: an open episode with an overlap ends there as a rebound.
   const std::size_t n = x_.size();
+  const double tolerance = settings_.contact_tolerance * min_radius_;
+  const double skin = 0.2 * max_radius_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> found;
+  found.reserve(pairs_.size() + pairs_.size() / 8 + 16);
+  for_each_near_pair(2 * max_radius_ + tolerance + skin, [&](std::uint32_t i, std::uint32_t j) {
+    const Vector3 d = separation(i, j);
+    const double reach = radius_[i] + radius_[j] + tolerance + skin;
+    if (dot(d, d) < reach * reach) found.push_back({i, j});
+  });
+  std::vector<std::uint32_t> start(n + 1, 0);
+  for (const auto& pair : found) ++start[pair.first + 1];
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  PairList list;
+  list.first.resize(found.size());
+  list.second.resize(found.size());
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (const auto& [i, j] : found) {
+      const std::uint32_t slot = fill[i]++;
+      list.first[slot] = i;
+      list.second[slot] = j;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) std::sort(list.second.begin() + start[i], list.second.begin() + start[i + 1]);
+  list.state.assign(found.size(), 0);
+  if (settings_.friction > 0) list.history.assign(found.size(), Vector3{0, 0, 0});
+  std::size_t old = 0;
+  for (std::size_t p = 0; p < list.size(); ++p) {
+    const auto key = [](std::uint32_t i, std::uint32_t j) { return (std::uint64_t(i) << 32) | j; };
+    const std::uint64_t now = key(list.first[p], list.second[p]);
+    for (; old < pairs_.size() && key(pairs_.first[old], pairs_.second[old]) < now; ++old)
+      if ((pairs_.state[old] & in_graph) && (pairs_.state[old] & episode_overlapped)) ++counters_.rebounds;
+    if (old < pairs_.size() && key(pairs_.first[old], pairs_.second[old]) == now) {
+      list.state[p] = pairs_.state[old];
+      if (settings_.friction > 0) list.history[p] = pairs_.history[old];
+      ++old;
+    }
+  }
+  for (; old < pairs_.size(); ++old)
+    if ((pairs_.state[old] & in_graph) && (pairs_.state[old] & episode_overlapped)) ++counters_.rebounds;
+  pairs_ = std::move(list);
+  pairs_built_at_ = x_;
+  ++counters_.list_builds;
+}
+
+void Dem::contact_forces() {
+  // Rebuilt once some particle has moved more than skin/2 since the last build (two such particles close a
+  // gap of at most skin): step() checks while it moves them.
+  if (moved_beyond_skin_ || pairs_built_at_.size() != x_.size()) rebuild_pairs();
+  moved_beyond_skin_ = false;
+  // The pairs in fixed chunks (their number from the list's length only), each computing its contacts'
+  // forces into its own buffer, possibly on several threads; the forces are then added in pair order, so
+  // the sums do not depend on the thread count.
+  const std::size_t chunks = std::clamp<std::size_t>(pairs_.size() / 4096, 1, 64);
+  contact_buffers_.resize(chunks);
+  std::vector<ContactTotals> chunk_totals(chunks);
+  parallel(chunks, [&](std::size_t c) {
+    chunk_totals[c] = pair_forces(c * pairs_.size() / chunks, (c + 1) * pairs_.size() / chunks, contact_buffers_[c]);
+  });
+  const bool friction = settings_.friction > 0;
+  double virial = 0;
+  graph_edges_ = 0;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const ContactTotals& t = chunk_totals[c];
+    counters_.collisions += t.collisions;
+    counters_.rebounds += t.rebounds;
+    counters_.clamped_contacts += t.clamped;
+    counters_.max_overlap = std::max(counters_.max_overlap, t.max_overlap);
+    counters_.max_friction_ratio = std::max(counters_.max_friction_ratio, t.max_friction_ratio);
+    graph_edges_ += t.graph_edges;
+    for (const ContactForce& f : contact_buffers_[c]) {
+      f_[f.i] = f_[f.i] - f.normal_force;
+      f_[f.j] = f_[f.j] + f.normal_force;
+      virial += f.virial;
+      if (!friction) continue;
+      f_[f.i] = f_[f.i] + f.tangential;
+      f_[f.j] = f_[f.j] - f.tangential;
+      torque_[f.i] = torque_[f.i] + f.torque_i;
+      torque_[f.j] = torque_[f.j] + f.torque_j;
+    }
+  }
+  if (!first_evaluation_) counters_.virial_integral += settings_.dt * virial;
+  wall_forces();
+}
+
+Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end, std::vector<ContactForce>& contacts) {
+  ContactTotals totals;
+  contacts.clear();
   const double limit = settings_.overlap_limit * min_radius_;
   const double tolerance = settings_.contact_tolerance * min_radius_;
-  overlapping_next_.clear();
-  history_next_.clear();
-  graph_next_.clear();
-  std::fill(torque_.begin(), torque_.end(), Vector3{0, 0, 0});
-  std::iota(parent_.begin(), parent_.end(), 0u);
-  // Verlet list: the pairs within 2 R_max + tolerance + skin, rebuilt from the cell grid once some particle
-  // has moved more than skin/2 since the last build (two such particles close a gap of at most skin).
-  const double skin = 0.2 * max_radius_;
-  bool rebuild = pairs_built_at_.size() != n;
-  for (std::size_t i = 0; i < n && !rebuild; ++i) {
-    const Vector3 moved = box_.minimum_image(x_[i] - pairs_built_at_[i]);
-    rebuild = dot(moved, moved) > 0.25 * skin * skin;
-  }
-  if (rebuild) {
-    pairs_.clear();
-    const double range = 2 * max_radius_ + tolerance + skin;
-    for_each_near_pair(range, [&](std::uint32_t i, std::uint32_t j) {
-      const Vector3 d = separation(i, j);
-      const double reach = radius_[i] + radius_[j] + tolerance + skin;
-      if (dot(d, d) < reach * reach) pairs_.push_back({i, j});
-    });
-    pairs_built_at_ = x_;
-    ++counters_.list_builds;
-  }
-  for (const auto& [i, j] : pairs_) {
+  const bool friction = settings_.friction > 0;
+  const bool damped = settings_.damping_per_mass != 0 || settings_.damping != 0;
+  for (std::size_t p = begin; p < end; ++p) {
+    const std::uint32_t i = pairs_.first[p], j = pairs_.second[p];
     const Vector3 d = separation(i, j);
     const double r2 = dot(d, d);
     const double reach = radius_[i] + radius_[j];
-    if (r2 >= (reach + tolerance) * (reach + tolerance)) continue;
-    unite(parent_, i, j);
+    const std::uint8_t before = pairs_.state[p];
+    if (r2 >= (reach + tolerance) * (reach + tolerance)) {
+      // Outside the contact graph's distance: an episode that overlapped ends as a rebound.
+      if ((before & in_graph) && (before & episode_overlapped)) ++totals.rebounds;
+      pairs_.state[p] = 0;
+      if (friction) pairs_.history[p] = {0, 0, 0};
+      continue;
+    }
+    ++totals.graph_edges;
     const double r = std::sqrt(r2);
     const double overlap = reach - r;
-    graph_next_.push_back({std::uint64_t(i) * n + j, overlap > 0});
-    if (overlap <= 0 || r == 0) continue;
-    overlapping_next_.push_back(std::uint64_t(i) * n + j);
-    counters_.max_overlap = std::max(counters_.max_overlap, overlap / min_radius_);
+    std::uint8_t state = in_graph | ((before & in_graph) ? (before & episode_overlapped) : 0);
+    if (overlap <= 0 || r == 0) {
+      pairs_.state[p] = state;
+      if (friction) pairs_.history[p] = {0, 0, 0};  // the history is dropped with the contact
+      continue;
+    }
+    pairs_.state[p] = state | overlapping | episode_overlapped;
+    const bool onset = !(before & overlapping);
+    if (onset) ++totals.collisions;  // a pair that starts to overlap (at the start: every overlapping pair)
+    totals.max_overlap = std::max(totals.max_overlap, overlap / min_radius_);
     double spring = overlap;
     if (overlap > limit) {
       spring = limit;
-      ++counters_.clamped_contacts;
+      ++totals.clamped;
     }
     const Vector3 normal = (1.0 / r) * d;  // from i to j [Trivino2025, eq. 5]
-    const double separating = dot(u_[j] - u_[i], normal);
     const double reduced = mass_[i] * mass_[j] / (mass_[i] + mass_[j]);  // [Trivino2025, eq. 2]
-    // The dashpot switches on with a jump at the onset of a contact. Verlet weighs each force sample by dt
-    // (the cell t ± dt/2), so a contact that began s·dt before its first sample would get a dashpot impulse
-    // off by (s − ½) dt γ v: a first-order error in the restitution that depends on the onset phase. The
-    // first sample's dashpot is weighted by s + ½ instead (s from the overlap over the approach speed).
-    double weight = 1;
-    const std::uint64_t key = std::uint64_t(i) * n + j;
-    if (!first_evaluation_ && !std::binary_search(overlapping_.begin(), overlapping_.end(), key)) {
-      const double approach = -separating;
-      weight = 0.5 + (approach > 0 ? std::min(1.0, overlap / (approach * settings_.dt)) : 1.0);
+    const double stiffness = pair_stiffness(reduced);
+    double force = stiffness * spring;
+    if (damped || friction) {
+      const double separating = dot(u_[j] - u_[i], normal);
+      // The dashpot switches on with a jump at the onset of a contact. Verlet weighs each force sample by dt
+      // (the cell t ± dt/2), so a contact that began s·dt before its first sample would get a dashpot impulse
+      // off by (s − ½) dt γ v: a first-order error in the restitution that depends on the onset phase. The
+      // first sample's dashpot is weighted by s + ½ instead (s from the overlap over the approach speed).
+      double weight = 1;
+      if (onset && !first_evaluation_) {
+        const double approach = -separating;
+        weight = 0.5 + (approach > 0 ? std::min(1.0, overlap / (approach * settings_.dt)) : 1.0);
+      }
+      // [Trivino2025, eq. 6], set to zero where it would attract.
+      force = std::max(0.0, force - weight * pair_damping(reduced) * separating);
     }
-    // [Trivino2025, eq. 6], set to zero where it would attract.
-    const double force = std::max(0.0, pair_stiffness(reduced) * spring - weight * pair_damping(reduced) * separating);
-    for (int k = 0; k < 3; ++k) {  // [Trivino2025, eq. 7]
-      f_[i][k] -= force * normal[k];
-      f_[j][k] += force * normal[k];
-    }
-    if (settings_.friction > 0) tangential_force(i, j, key, normal, overlap, force, pair_stiffness(reduced));
+    ContactForce& c = contacts.emplace_back();
+    c.i = i, c.j = j;
+    c.virial = r * force;  // r_ij · F_ij = (−d) · (−force n)
+    c.normal_force = force * normal;  // on j; −it on i [Trivino2025, eq. 7]
+    if (friction) tangential_force(i, j, pairs_.history[p], normal, overlap, force, stiffness, totals, c);
   }
-  if (settings_.friction > 0) {
-    // Keys and histories sorted together by key.
-    std::vector<std::size_t> by_key(overlapping_next_.size());
-    std::iota(by_key.begin(), by_key.end(), std::size_t(0));
-    std::sort(by_key.begin(), by_key.end(), [&](std::size_t a, std::size_t b) { return overlapping_next_[a] < overlapping_next_[b]; });
-    std::vector<std::uint64_t> keys(by_key.size());
-    std::vector<Vector3> histories(by_key.size());
-    for (std::size_t k = 0; k < by_key.size(); ++k) keys[k] = overlapping_next_[by_key[k]], histories[k] = history_next_[by_key[k]];
-    overlapping_next_.swap(keys);
-    history_next_.swap(histories);
-  } else {
-    std::sort(overlapping_next_.begin(), overlapping_next_.end());
-  }
+  return totals;
+}
+
+void Dem::wall_forces() {
   // Walls: the same law with the wall as an infinite mass (m* = m_i).
   wall_force_ = {0, 0, 0};
-  if (box_.boundary == Boundary::reflecting) {
-    for (std::size_t i = 0; i < n; ++i)
-      for (int d = 0; d < 3; ++d) {
-        for (int side = 0; side < 2; ++side) {
-          const double overlap = side == 0 ? radius_[i] - x_[i][d] : x_[i][d] + radius_[i] - box_.side[d];
-          if (overlap <= 0) continue;
-          counters_.max_overlap = std::max(counters_.max_overlap, overlap / min_radius_);
-          double spring = overlap;
-          if (overlap > limit) {
-            spring = limit;
-            ++counters_.clamped_contacts;
-          }
-          const double separating = side == 0 ? u_[i][d] : -u_[i][d];
-          const double force = std::max(0.0, pair_stiffness(mass_[i]) * spring - pair_damping(mass_[i]) * separating);
-          const double signed_force = side == 0 ? force : -force;
-          f_[i][d] += signed_force;
-          wall_force_[d] += signed_force;
+  if (box_.boundary != Boundary::reflecting) return;
+  const double limit = settings_.overlap_limit * min_radius_;
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    for (int d = 0; d < 3; ++d) {
+      for (int side = 0; side < 2; ++side) {
+        const double overlap = side == 0 ? radius_[i] - x_[i][d] : x_[i][d] + radius_[i] - box_.side[d];
+        if (overlap <= 0) continue;
+        counters_.max_overlap = std::max(counters_.max_overlap, overlap / min_radius_);
+        double spring = overlap;
+        if (overlap > limit) {
+          spring = limit;
+          ++counters_.clamped_contacts;
         }
+        const double separating = side == 0 ? u_[i][d] : -u_[i][d];
+        const double force = std::max(0.0, pair_stiffness(mass_[i]) * spring - pair_damping(mass_[i]) * separating);
+        const double signed_force = side == 0 ? force : -force;
+        f_[i][d] += signed_force;
+        wall_force_[d] += signed_force;
       }
-  }
-  // The contact graph's largest component.
-  std::vector<double> component(n, 0.0);
+    }
+}
+
+std::vector<std::uint32_t> Dem::component_parents() const {
+  std::vector<std::uint32_t> parent(x_.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (std::size_t p = 0; p < pairs_.size(); ++p)
+    if (pairs_.state[p] & in_graph) unite(parent, pairs_.first[p], pairs_.second[p]);
+  return parent;
+}
+
+double Dem::largest_cluster_mass_fraction() const {
+  std::vector<std::uint32_t> parent = component_parents();
+  std::vector<double> component(x_.size(), 0.0);
   double total = 0, largest = 0;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t root = find_root(parent_, i);
+  for (std::uint32_t i = 0; i < x_.size(); ++i) {
+    const std::uint32_t root = find_root(parent, i);
     component[root] += mass_[i];
     total += mass_[i];
     largest = std::max(largest, component[root]);
   }
-  largest_fraction_ = largest / total;
+  return largest / total;
+}
+
+bool Dem::largest_cluster_reaches(double fraction) const {
+  // A component with e edges has at most e + 1 particles, so at most the mass of the e + 1 heaviest; the
+  // margin covers the round-off of the other summation order.
+  const std::size_t most = std::min<std::size_t>(graph_edges_ + 1, x_.size());
+  if (heaviest_first_[most - 1] < fraction * heaviest_first_.back() * (1 - 1e-9)) return false;
+  return largest_cluster_mass_fraction() >= fraction;
 }
 
 namespace {
@@ -269,8 +387,8 @@ Vector3 cross(const Vector3& a, const Vector3& b) {
 }
 }  // namespace
 
-void Dem::tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
-                           double normal_stiffness) {
+void Dem::tangential_force(std::uint32_t i, std::uint32_t j, Vector3& history, const Vector3& normal, double overlap, double normal_force,
+                           double normal_stiffness, ContactTotals& totals, ContactForce& out) const {
   // Lever arms R − δ/2 that add up to the centre distance: the torques then balance the tangential forces'
   // moment exactly and the angular momentum about any point is kept.
   const double arm_i = radius_[i] - 0.5 * overlap, arm_j = radius_[j] - 0.5 * overlap;
@@ -278,9 +396,7 @@ void Dem::tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, 
   const Vector3 relative = (u_[j] - u_[i]) - cross(arm_i * w_pred_[i] + arm_j * w_pred_[j], normal);
   const Vector3 sliding = relative - dot(relative, normal) * normal;
   // The stored displacement, created with the contact, rotated into the current tangent plane (length kept).
-  Vector3 xi{0, 0, 0};
-  const auto found = std::lower_bound(overlapping_.begin(), overlapping_.end(), key);
-  if (found != overlapping_.end() && *found == key) xi = history_[std::size_t(found - overlapping_.begin())];
+  Vector3 xi = history;  // zero for a new contact
   const double length = norm(xi);
   xi = xi - dot(xi, normal) * normal;
   const double projected = norm(xi);
@@ -294,12 +410,11 @@ void Dem::tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, 
     force = size > 0 ? (limit / size) * force : Vector3{0, 0, 0};
     xi = (1 / kt) * force;
   }
-  if (limit > 0) counters_.max_friction_ratio = std::max(counters_.max_friction_ratio, norm(force) / limit);
-  history_next_.push_back(xi);
-  f_[i] = f_[i] + force;
-  f_[j] = f_[j] - force;
-  torque_[i] = torque_[i] + cross(arm_i * normal, force);
-  torque_[j] = torque_[j] + cross(arm_j * normal, force);  // (−a_j n) × (−F)
+  if (limit > 0) totals.max_friction_ratio = std::max(totals.max_friction_ratio, norm(force) / limit);
+  history = xi;
+  out.tangential = force;  // on i; −force on j
+  out.torque_i = cross(arm_i * normal, force);
+  out.torque_j = cross(arm_j * normal, force);  // (−a_j n) × (−F)
 }
 
 void Dem::gravity_forces(std::vector<Vector3>& out) {
@@ -307,70 +422,7 @@ void Dem::gravity_forces(std::vector<Vector3>& out) {
     tree_gravity(x_, mass_, settings_.G, softening_, settings_.opening_angle, settings_.force_threads, out);
     return;
   }
-  // Fixed tiling of the pairs into K chunks (K independent of the thread count); each tile writes its own
-  // partial forces, reduced per particle in tile order, so the sums do not depend on force_threads.
-  const std::size_t n = x_.size();
-  // K depends on N only: chunks of at least 64 particles, at most 16 of them.
-  const std::size_t k_chunks = std::clamp<std::size_t>(n / 64, 1, 16);
-  auto chunk_begin = [&](std::size_t c) { return c * n / k_chunks; };
-  struct Tile {
-    std::size_t a, b, offset_a, offset_b;
-  };
-  std::vector<Tile> tiles;
-  std::size_t storage = 0;
-  for (std::size_t a = 0; a < k_chunks; ++a)
-    for (std::size_t b = a; b < k_chunks; ++b) {
-      Tile t{a, b, storage, 0};
-      storage += chunk_begin(a + 1) - chunk_begin(a);
-      t.offset_b = storage;
-      if (b != a) storage += chunk_begin(b + 1) - chunk_begin(b);
-      tiles.push_back(t);
-    }
-  tile_forces_.assign(storage, {0, 0, 0});
-  const double eps2 = softening_ * softening_;
-  const double G = settings_.G;
-  auto run_tile = [&](const Tile& t) {
-    const std::size_t a0 = chunk_begin(t.a), a1 = chunk_begin(t.a + 1), b0 = chunk_begin(t.b), b1 = chunk_begin(t.b + 1);
-    Vector3* fa = tile_forces_.data() + t.offset_a;
-    Vector3* fb = t.a == t.b ? fa : tile_forces_.data() + t.offset_b;
-    for (std::size_t i = a0; i < a1; ++i) {
-      double fx = 0, fy = 0, fz = 0;
-      const double gi = G * mass_[i];
-      for (std::size_t j = (t.a == t.b ? i + 1 : b0); j < b1; ++j) {
-        const double d[3] = {x_[j][0] - x_[i][0], x_[j][1] - x_[i][1], x_[j][2] - x_[i][2]};  // open or walls: no images
-        const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        const double r = std::sqrt(r2);
-        // |F| = G m_i m_j / (r² + ε²) along the pair [Trivino2025, eq. 1]
-        const double s = r > 0 ? gi * mass_[j] / (r * (r2 + eps2)) : 0.0;
-        fx += s * d[0], fy += s * d[1], fz += s * d[2];
-        Vector3& fj = fb[j - b0];
-        fj[0] -= s * d[0], fj[1] -= s * d[1], fj[2] -= s * d[2];
-      }
-      Vector3& own = fa[i - a0];
-      own[0] += fx, own[1] += fy, own[2] += fz;
-    }
-  };
-  const std::size_t threads = std::min(settings_.force_threads, tiles.size());
-  if (threads <= 1) {
-    for (const Tile& t : tiles) run_tile(t);
-  } else {
-    std::atomic<std::size_t> next{0};
-    std::vector<std::thread> pool;
-    for (std::size_t w = 0; w < threads; ++w)
-      pool.emplace_back([&] {
-        for (std::size_t t = next++; t < tiles.size(); t = next++) run_tile(tiles[t]);
-      });
-    for (std::thread& th : pool) th.join();
-  }
-  // Reduction in tile order (a, b ascending), one particle at a time.
-  for (const Tile& t : tiles) {
-    const std::size_t a0 = chunk_begin(t.a), a1 = chunk_begin(t.a + 1);
-    for (std::size_t i = a0; i < a1; ++i) out[i] = out[i] + tile_forces_[t.offset_a + (i - a0)];
-    if (t.b != t.a) {
-      const std::size_t b0 = chunk_begin(t.b), b1 = chunk_begin(t.b + 1);
-      for (std::size_t j = b0; j < b1; ++j) out[j] = out[j] + tile_forces_[t.offset_b + (j - b0)];
-    }
-  }
+  direct_gravity(x_, mass_, settings_.G, softening_, settings_.force_threads, out);
 }
 
 void Dem::step() {
@@ -379,80 +431,106 @@ void Dem::step() {
   const std::size_t substeps = settings_.gravity ? settings_.gravity_substeps : 1;
   // Impulse splitting (r-RESPA): gravity kicks by K dt/2 at both ends of every K contact steps.
   if (substeps > 1 && counters_.steps % substeps == 0)
-    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
-  for (std::size_t i = 0; i < n; ++i) {
-    v_[i] = v_[i] + (half / mass_[i]) * f_[i];
-    x_[i] = box_.wrap(x_[i] + dt * v_[i]);
-    u_[i] = v_[i] + (half / mass_[i]) * f_[i];  // the dashpot's estimate of v(t + dt): second order
-  }
-  if (settings_.friction > 0) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const double inertia = 0.4 * mass_[i] * radius_[i] * radius_[i];  // 2/5 m R²
-      w_[i] = w_[i] + (half / inertia) * torque_[i];
-      w_pred_[i] = w_[i] + (half / inertia) * torque_[i];
-      // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised.
-      const double angle = norm(w_[i]) * dt;
-      if (angle > 0) {
-        const Vector3 axis = (1 / norm(w_[i])) * w_[i];
-        const double c = std::cos(0.5 * angle), sn = std::sin(0.5 * angle);
-        const std::array<double, 4> r{c, sn * axis[0], sn * axis[1], sn * axis[2]}, q = q_[i];
-        std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
-                                r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
-        const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
-        for (double& c4 : p) c4 /= len;
-        q_[i] = p;
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt * inverse_mass_[i]) * gravity_[i];
+  // One pass: kick, drift, wrap, the dashpot's prediction, the list's displacement check, rotation, and the
+  // force and torque arrays cleared for the next evaluation (the arrays are streamed once).
+  // Fixed chunks of particles (their number from N only), possibly on several threads.
+  const bool friction = settings_.friction > 0;
+  const double skin = 0.2 * max_radius_, moved_limit = 0.25 * skin * skin;
+  const std::size_t chunks = std::clamp<std::size_t>(n / 2048, 1, 64);
+  std::vector<char> moved_in(chunks, 0);
+  parallel(chunks, [&](std::size_t chunk) {
+  // Local pointers and constants: the loop streams the arrays without reloading them.
+  Vector3* const x = x_.data();
+  Vector3* const v = v_.data();
+  Vector3* const f = f_.data();
+  Vector3* const u = u_.data();
+  Vector3* const w = w_.data();
+  Vector3* const w_pred = w_pred_.data();
+  Vector3* const torque = torque_.data();
+  std::array<double, 4>* const orientation = q_.data();
+  const double* const inverse_mass = inverse_mass_.data();
+  const double* const inverse_inertia = inverse_inertia_.data();
+  const Vector3* const built = pairs_built_at_.data();
+  const bool periodic = periodic_, check = pairs_built_at_.size() == n;
+  const Vector3 side = side_, half_side = half_side_;
+  bool moved = false;
+  for (std::size_t i = chunk * n / chunks, end = (chunk + 1) * n / chunks; i < end; ++i) {
+    const Vector3 kick = (half * inverse_mass[i]) * f[i];
+    v[i] = v[i] + kick;
+    Vector3 xi = x[i] + dt * v[i];
+    if (periodic)
+      for (int k = 0; k < 3; ++k) {
+        double& c = xi[k];
+        if (c < 0) c += side[k];
+        else if (c >= side[k]) c -= side[k];
+        if (!(c >= 0 && c < side[k])) c = box_.wrap(xi)[k];  // more than a box side per step, or −tiny + L = L
       }
+    x[i] = xi;
+    u[i] = v[i] + kick;  // the dashpot's estimate of v(t + dt): second order
+    f[i] = {0, 0, 0};
+    if (!moved && check) {
+      Vector3 d = xi - built[i];
+      if (periodic)
+        for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side[k] ? -side[k] : d[k] < -half_side[k] ? side[k] : 0.0;
+      moved = dot(d, d) > moved_limit;
+    }
+    if (!friction) continue;
+    const Vector3 spin = (half * inverse_inertia[i]) * torque[i];  // I = 2/5 m R²
+    const Vector3 wi = w[i] + spin;
+    w[i] = wi;
+    w_pred[i] = wi + spin;
+    torque[i] = {0, 0, 0};
+    // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised. For a half angle a below
+    // 1e-3, cos a and sin(a)/|ω| from their series (next terms < 1e-19) and the renormalisation by one
+    // Newton step from 1 (|p|² − 1 is round-off): no square root, no division.
+    const double w2 = dot(wi, wi);
+    if (w2 > 0) {
+      const double a2 = 0.25 * w2 * dt * dt;
+      const bool small = a2 < 1e-6;
+      const double a = small ? 0.0 : std::sqrt(a2);
+      constexpr double c2 = 1.0 / 2, c4 = 1.0 / 24, s2 = 1.0 / 6, s4 = 1.0 / 120;  // multiplications, not divisions
+      const double c = small ? 1 - a2 * c2 + a2 * a2 * c4 : std::cos(a);
+      const double sw = small ? half * (1 - a2 * s2 + a2 * a2 * s4) : std::sin(a) * half / a;  // sin(a)/|ω|
+      const std::array<double, 4> r{c, sw * wi[0], sw * wi[1], sw * wi[2]}, q = orientation[i];
+      std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
+                              r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
+      const double length2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3];
+      const double inverse_length = small ? 1.5 - 0.5 * length2 : 1 / std::sqrt(length2);
+      for (double& c4q : p) c4q *= inverse_length;
+      orientation[i] = p;
     }
   }
+  moved_in[chunk] = moved;
+  });
+  moved_beyond_skin_ = std::find(moved_in.begin(), moved_in.end(), 1) != moved_in.end();
+  forces_cleared_ = true;
   wall_impulse_ = wall_impulse_ - half * wall_force_;
   compute_forces();
-  for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (half / mass_[i]) * f_[i];
-  if (settings_.friction > 0)
-    for (std::size_t i = 0; i < n; ++i) w_[i] = w_[i] + (half / (0.4 * mass_[i] * radius_[i] * radius_[i])) * torque_[i];
+  std::vector<double> twice_kinetic(chunks, 0.0);  // Σ m|v|² per chunk, added in chunk order
+  parallel(chunks, [&](std::size_t chunk) {
+    double sum = 0;
+    for (std::size_t i = chunk * n / chunks, end = (chunk + 1) * n / chunks; i < end; ++i) {
+      v_[i] = v_[i] + (half * inverse_mass_[i]) * f_[i];
+      sum += mass_[i] * dot(v_[i], v_[i]);
+      if (friction) w_[i] = w_[i] + (half * inverse_inertia_[i]) * torque_[i];
+    }
+    twice_kinetic[chunk] = sum;
+  });
+  for (double sum : twice_kinetic) counters_.kinetic_integral += dt * sum;
   wall_impulse_ = wall_impulse_ - half * wall_force_;
-  // Collisions: overlapping pairs that did not overlap the step before.
-  std::size_t common = 0;
-  for (std::size_t p = 0, q = 0; p < overlapping_next_.size() && q < overlapping_.size();) {
-    if (overlapping_next_[p] < overlapping_[q]) ++p;
-    else if (overlapping_[q] < overlapping_next_[p]) ++q;
-    else ++common, ++p, ++q;
-  }
-  counters_.collisions += overlapping_next_.size() - common;
-  update_episodes();
-  overlapping_.swap(overlapping_next_);
-  history_.swap(history_next_);
   ++counters_.steps;
   if (substeps > 1 && counters_.steps % substeps == 0) {
     std::fill(gravity_.begin(), gravity_.end(), Vector3{0, 0, 0});
     gravity_forces(gravity_);
-    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt / mass_[i]) * gravity_[i];
+    for (std::size_t i = 0; i < n; ++i) v_[i] = v_[i] + (0.5 * double(substeps) * dt * inverse_mass_[i]) * gravity_[i];
   }
   time_ = double(counters_.steps) * dt;  // no accumulated round-off
 }
 
-void Dem::update_episodes() {
-  // Contact episodes: a pair within the contact graph's distance from one step to the next; an episode that
-  // ends (the pair separates beyond R_i + R_j + tolerance) after its spheres overlapped was a rebound.
-  std::sort(graph_next_.begin(), graph_next_.end(), [](const GraphPair& a, const GraphPair& b) { return a.key < b.key; });
-  std::size_t q = 0;
-  for (GraphPair& now : graph_next_) {
-    while (q < graph_.size() && graph_[q].key < now.key) {
-      if (graph_[q].overlapped) ++counters_.rebounds;
-      ++q;
-    }
-    if (q < graph_.size() && graph_[q].key == now.key) {
-      now.overlapped = now.overlapped || graph_[q].overlapped;
-      ++q;
-    }
-  }
-  for (; q < graph_.size(); ++q)
-    if (graph_[q].overlapped) ++counters_.rebounds;
-  graph_.swap(graph_next_);
-}
-
 double Dem::adhesive_fraction() const {
   std::uint64_t open = 0;
-  for (const GraphPair& p : graph_) open += p.overlapped ? 1 : 0;
+  for (std::uint8_t state : pairs_.state) open += (state & in_graph) && (state & episode_overlapped) ? 1 : 0;
   return open + counters_.rebounds > 0 ? double(open) / double(open + counters_.rebounds) : std::numeric_limits<double>::quiet_NaN();
 }
 
@@ -499,10 +577,10 @@ double Dem::elastic_energy() const {
     const double overlap = radius_[i] + radius_[j] - norm(separation(i, j));
     if (overlap > 0) e += spring_energy(pair_stiffness(mass_[i] * mass_[j] / (mass_[i] + mass_[j])), overlap);
   });
-  for (std::size_t k = 0; k < history_.size(); ++k) {  // tangential springs
-    const std::size_t i = overlapping_[k] / x_.size(), j = overlapping_[k] % x_.size();
+  for (std::size_t p = 0; p < pairs_.history.size(); ++p) {  // tangential springs (zero unless overlapping)
+    const std::size_t i = pairs_.first[p], j = pairs_.second[p];
     const double kt = settings_.tangential_stiffness_ratio * pair_stiffness(mass_[i] * mass_[j] / (mass_[i] + mass_[j]));
-    e += 0.5 * kt * dot(history_[k], history_[k]);
+    e += 0.5 * kt * dot(pairs_.history[p], pairs_.history[p]);
   }
   if (box_.boundary == Boundary::reflecting)
     for (std::size_t i = 0; i < x_.size(); ++i)
@@ -515,7 +593,7 @@ double Dem::elastic_energy() const {
 }
 
 std::vector<std::uint32_t> Dem::cluster_labels() const {
-  std::vector<std::uint32_t> parent = parent_, labels(x_.size());
+  std::vector<std::uint32_t> parent = component_parents(), labels(x_.size());
   std::vector<std::uint32_t> label_of_root(x_.size(), UINT32_MAX);
   std::uint32_t next = 0;
   for (std::uint32_t i = 0; i < x_.size(); ++i) {

@@ -13,18 +13,23 @@
 // at μ F_n; torques about lever arms R − δ/2 (they add up to the centre distance, so the angular momentum is
 // kept), rotation by velocity Verlet half-kicks of ω (I = 2/5 m R²) and unit quaternions. Without friction
 // rotation is not integrated. Walls are frictionless (the spring–dashpot normal force only).
-// Direct gravity runs on `force_threads` over a fixed tiling of the pairs, reduced in a fixed order; the
-// Barnes–Hut tree (gravity_tree.hpp) walks per particle: either way the result does not depend on the thread
-// count. Contacts are evaluated on one thread.
+// `force_threads` run the integration, the contact forces and the gravity of one step: the integration over
+// fixed chunks of particles, the contacts over fixed chunks of the Verlet list into per-chunk buffers added
+// to the particles in pair order, direct gravity over a fixed tiling of the pairs reduced in a fixed order
+// (direct_gravity.hpp), the Barnes–Hut tree (gravity_tree.hpp) per particle: the result does not depend on
+// the thread count.
 #include <cstddef>
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "particle/common/box.hpp"
 #include "particle/common/particle_start.hpp"
 #include "particle/common/vector3.hpp"
+#include "particle/common/worker_pool.hpp"
 
 namespace aggkit {
 
@@ -57,6 +62,11 @@ struct DemCounters {
   std::uint64_t list_builds = 0;      // Verlet-list rebuilds
   std::uint64_t rebounds = 0;         // contact episodes (below) that ended after an overlap
   double max_friction_ratio = 0;      // largest |F_t| / (μ F_n) over contact-steps with F_n > 0 (≤ 1)
+  // Time integrals since the start, each force evaluation of a step weighted by dt (the Verlet kicks'
+  // weights): the contact virial ∫ Σ_contacts r_ij · F_ij dt (r_ij = x_i − x_j, F_ij the force of j on i: the
+  // normal force |F_n| r; tangential forces are normal to r_ij) and ∫ Σ_i m_i |v_i|² dt (at the step ends).
+  double virial_integral = 0;
+  double kinetic_integral = 0;
 };
 
 class Dem {
@@ -104,45 +114,77 @@ class Dem {
   // Fraction = open episodes with an overlap / (those + rebounds); NaN before any collision. Pairs that
   // bounce within the tolerance without leaving it count once.
   double adhesive_fraction() const;
-  // Mass of the largest component / total mass, from the last force evaluation.
-  double largest_cluster_mass_fraction() const { return largest_fraction_; }
+  // Mass of the largest component / total mass, from the last force evaluation (computed when asked).
+  double largest_cluster_mass_fraction() const;
+  // largest_cluster_mass_fraction() >= fraction, answered without the components when the contact graph has
+  // too few edges for any component to hold that much mass (the usual case in a gas).
+  bool largest_cluster_reaches(double fraction) const;
 
  private:
+  // The Verlet list: pairs (i < j) within 2 R_max + tolerance + skin at its build, sorted by (i, j), each
+  // with the state of its contact carried from step to step and across rebuilds (no per-contact lookups).
+  enum PairState : std::uint8_t {
+    in_graph = 1,            // r < R_i + R_j + tolerance at the last evaluation
+    overlapping = 2,         // δ > 0 at the last evaluation
+    episode_overlapped = 4,  // the contact episode (in_graph from step to step) has overlapped
+  };
+  struct PairList {
+    std::vector<std::uint32_t> first, second;
+    std::vector<std::uint8_t> state;
+    std::vector<Vector3> history;  // tangential displacement (friction), zero unless overlapping
+    std::size_t size() const { return first.size(); }
+  };
+  // What the pair loop adds up (per range of pairs, so that ranges can be summed in a fixed order).
+  struct ContactTotals {
+    std::uint64_t collisions = 0, rebounds = 0, clamped = 0, graph_edges = 0;
+    double max_overlap = 0, max_friction_ratio = 0, virial = 0;
+  };
+
+  // One contact's forces as a chunk of the pair loop leaves them (added to the particles in pair order).
+  struct ContactForce {
+    std::uint32_t i, j;
+    Vector3 normal_force;  // on j (−it on i)
+    Vector3 tangential, torque_i, torque_j;  // friction: tangential force on i (−it on j), torques
+    double virial;
+  };
+
   void compute_forces();
   void contact_forces();
+  void rebuild_pairs();
+  ContactTotals pair_forces(std::size_t begin, std::size_t end, std::vector<ContactForce>& contacts);
+  // job(k) for k < jobs, on the worker pool when force_threads > 1.
+  void parallel(std::size_t jobs, const std::function<void(std::size_t)>& job);
+  void wall_forces();
   void gravity_forces(std::vector<Vector3>& out);  // adds the gravity forces to `out`
-  void update_episodes();
-  void tangential_force(std::uint32_t i, std::uint32_t j, std::uint64_t key, const Vector3& normal, double overlap, double normal_force,
-                        double normal_stiffness);
+  void tangential_force(std::uint32_t i, std::uint32_t j, Vector3& xi, const Vector3& normal, double overlap, double normal_force,
+                        double normal_stiffness, ContactTotals& totals, ContactForce& out) const;
   template <class Visit> void for_each_near_pair(double range, Visit&& visit) const;
   Vector3 separation(std::size_t i, std::size_t j) const;  // x_j − x_i (minimum image)
+  std::vector<std::uint32_t> component_parents() const;    // union–find of the contact graph, roots = smallest index
 
   Box box_;
+  bool periodic_ = false;
+  Vector3 side_{0, 0, 0}, half_side_{0, 0, 0};
   DemSettings settings_;
   std::vector<Vector3> x_, v_, f_;
   std::vector<Vector3> gravity_;  // gravity forces at the last outer step (impulse splitting)
   std::vector<Vector3> u_;  // velocities the dashpot sees: v(t) at the start, then v(t+dt/2) + dt/2 · F(t)/m
-  std::vector<double> radius_, mass_;
+  std::vector<double> radius_, mass_, inverse_mass_, inverse_inertia_;
+  std::vector<double> heaviest_first_;  // prefix sums of the masses sorted in decreasing order
   double min_radius_ = 0, max_radius_ = 0, softening_ = 0, time_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
   Vector3 wall_force_{0, 0, 0};
   DemCounters counters_;
-  std::vector<std::uint64_t> overlapping_, overlapping_next_;  // sorted pair keys i·N + j of δ > 0
-  std::vector<Vector3> history_, history_next_;                // tangential displacement per key (friction)
   std::vector<Vector3> w_, w_pred_, torque_;                   // angular velocity, its prediction, torque
   std::vector<std::array<double, 4>> q_;                       // orientations
-  struct GraphPair {
-    std::uint64_t key;
-    bool overlapped;  // the pair overlapped at some step of this episode
-  };
-  std::vector<GraphPair> graph_, graph_next_;  // contact-graph pairs, sorted by key
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs_;  // Verlet list
-  std::vector<Vector3> pairs_built_at_;                          // positions at its build
-  std::vector<std::uint32_t> parent_;                          // union–find of the contact graph
-  double largest_fraction_ = 0;
+  PairList pairs_;
+  std::vector<Vector3> pairs_built_at_;  // positions at the list's build
+  std::uint64_t graph_edges_ = 0;        // in_graph pairs at the last evaluation
   bool first_evaluation_ = false;
-  // gravity tiling scratch
-  std::vector<Vector3> tile_forces_;
+  bool moved_beyond_skin_ = false;  // some particle moved more than skin/2 since the list's build (step())
+  bool forces_cleared_ = false;     // step() has zeroed f_ and torque_ for the next evaluation
+  std::vector<std::vector<ContactForce>> contact_buffers_;  // per chunk of the pair loop
+  std::unique_ptr<WorkerPool> pool_;                        // force_threads > 1
 };
 
 }  // namespace aggkit

@@ -11,7 +11,19 @@ namespace aggkit {
 
 namespace {
 
-constexpr std::size_t leaf_size = 8;
+constexpr std::size_t leaf_size = 16;
+constexpr std::uint32_t group_size = 64;  // particles sharing one walk (leaves 16, groups 64: measured best of 4–16 and 16–64, bench/RESULTS.md)
+
+// Interaction lists of one group walk: accepted cells (centre of mass, mass, quadrupole) and the particles
+// of opened leaves, as arrays.
+struct Scratch {
+  std::vector<double> cx, cy, cz, mass, dx, dy, dz, dm;
+  std::array<std::vector<double>, 6> q;
+  void clear() {
+    for (auto* v : {&cx, &cy, &cz, &mass, &dx, &dy, &dz, &dm}) v->clear();
+    for (auto& v : q) v.clear();
+  }
+};
 
 struct Cell {
   Vector3 centre{0, 0, 0};  // centre of mass
@@ -36,11 +48,61 @@ class Tree {
     build(0, std::uint32_t(x.size()), lo, side, 0);
   }
 
-  Vector3 acceleration_on(std::size_t i, double G, double eps2, double theta) const {
-    double a[3] = {0, 0, 0};
-    walk(0, i, G, eps2, theta * theta, a);
-    return {a[0], a[1], a[2]};
+  // The groups of the walk: the cells of at most group_size particles whose parent holds more (a leaf of
+  // the whole tree if it has fewer), in tree order.
+  std::vector<std::int32_t> groups() const {
+    std::vector<std::int32_t> out;
+    collect_groups(0, out);
+    return out;
   }
+
+  // Accelerations of the group's particles (added to a[order position]) from one walk for the whole group
+  // [Barnes1990]: a cell is accepted when l < θ d with d the distance from its centre of mass to the group's
+  // bounding box and the cell does not overlap that box (so it holds none of the group's particles), which
+  // is stricter than each member's own criterion; otherwise opened, and a leaf's particles are summed pair
+  // by pair. The lists are then evaluated for every member with vectorised loops.
+  void group_accelerations(std::int32_t group, double G, double eps2, double theta, Scratch& s, std::vector<Vector3>& a) const {
+    const Cell& g = cells_[std::size_t(group)];
+    Vector3 lo = x_[order_[g.begin]], hi = lo;
+    for (std::uint32_t k = g.begin; k < g.end; ++k)
+      for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], x_[order_[k]][d]), hi[d] = std::max(hi[d], x_[order_[k]][d]);
+    s.clear();
+    gather(0, lo, hi, theta * theta, s);
+    const std::size_t nm = s.mass.size(), nd = s.dm.size();
+    for (std::uint32_t k = g.begin; k < g.end; ++k) {
+      const std::uint32_t i = order_[k];
+      const double xi = x_[i][0], yi = x_[i][1], zi = x_[i][2];
+      double ax = 0, ay = 0, az = 0;
+      const double* cx = s.cx.data(); const double* cy = s.cy.data(); const double* cz = s.cz.data();
+      const double* cm = s.mass.data();
+      const double *q0 = s.q[0].data(), *q1 = s.q[1].data(), *q2 = s.q[2].data(), *q3 = s.q[3].data(), *q4 = s.q[4].data(),
+                   *q5 = s.q[5].data();
+#pragma omp simd reduction(+ : ax, ay, az)
+      for (std::size_t c = 0; c < nm; ++c) {
+        const double dx = xi - cx[c], dy = yi - cy[c], dz = zi - cz[c];
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        const double inv2 = 1 / r2, inv = std::sqrt(inv2), inv3 = inv2 * inv, inv5 = inv3 * inv2, inv7 = inv5 * inv2;
+        const double qx = q0[c] * dx + q3[c] * dy + q4[c] * dz, qy = q3[c] * dx + q1[c] * dy + q5[c] * dz,
+                     qz = q4[c] * dx + q5[c] * dy + q2[c] * dz;
+        const double dqd = dx * qx + dy * qy + dz * qz;
+        const double radial = -cm[c] * inv3 - 2.5 * dqd * inv7;
+        ax += radial * dx + qx * inv5, ay += radial * dy + qy * inv5, az += radial * dz + qz * inv5;
+      }
+      const double* px = s.dx.data(); const double* py = s.dy.data(); const double* pz = s.dz.data();
+      const double* pm = s.dm.data();
+#pragma omp simd reduction(+ : ax, ay, az)
+      for (std::size_t j = 0; j < nd; ++j) {
+        const double ex = px[j] - xi, ey = py[j] - yi, ez = pz[j] - zi;
+        const double s2 = ex * ex + ey * ey + ez * ez;
+        // itself (s = 0) adds nothing; branch-free, so that the loop vectorises
+        const double f = (s2 > 0 ? pm[j] : 0.0) / (s2 > 0 ? std::sqrt(s2) * (s2 + eps2) : 1.0);
+        ax += f * ex, ay += f * ey, az += f * ez;
+      }
+      a[k] = {G * ax, G * ay, G * az};
+    }
+  }
+
+  std::uint32_t particle_at(std::uint32_t k) const { return order_[k]; }
 
  private:
   std::int32_t build(std::uint32_t begin, std::uint32_t end, const Vector3& lo, double side, int depth) {
@@ -92,35 +154,40 @@ class Tree {
     return index;
   }
 
-  void walk(std::int32_t index, std::size_t i, double G, double eps2, double theta2, double* a) const {
+  void collect_groups(std::int32_t index, std::vector<std::int32_t>& out) const {
     const Cell& c = cells_[std::size_t(index)];
-    const double d[3] = {x_[i][0] - c.centre[0], x_[i][1] - c.centre[1], x_[i][2] - c.centre[2]};
-    const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    // Accept when l < θ r; a cell holding i is never accepted (its particles are summed or opened).
-    bool holds_i = true;
-    for (int k = 0; k < 3; ++k) holds_i = holds_i && x_[i][k] >= c.lo[k] && x_[i][k] <= c.lo[k] + c.side;
-    if (!holds_i && c.side * c.side < theta2 * r2) {
-      const double r = std::sqrt(r2), inv2 = 1 / r2, inv3 = inv2 / r, inv5 = inv3 * inv2, inv7 = inv5 * inv2;
-      const double qd[3] = {c.q[0] * d[0] + c.q[3] * d[1] + c.q[4] * d[2], c.q[3] * d[0] + c.q[1] * d[1] + c.q[5] * d[2],
-                            c.q[4] * d[0] + c.q[5] * d[1] + c.q[2] * d[2]};
-      const double dqd = d[0] * qd[0] + d[1] * qd[1] + d[2] * qd[2];
-      for (int k = 0; k < 3; ++k) a[k] += G * (-c.mass * d[k] * inv3 + qd[k] * inv5 - 2.5 * dqd * d[k] * inv7);
+    if (c.leaf || c.end - c.begin <= group_size) {
+      out.push_back(index);
+      return;
+    }
+    for (std::int32_t child : c.child)
+      if (child >= 0) collect_groups(child, out);
+  }
+
+  void gather(std::int32_t index, const Vector3& lo, const Vector3& hi, double theta2, Scratch& s) const {
+    const Cell& c = cells_[std::size_t(index)];
+    double d2 = 0;  // squared distance from the centre of mass to the group's box
+    bool overlaps = true;
+    for (int k = 0; k < 3; ++k) {
+      const double below = lo[k] - c.centre[k], above = c.centre[k] - hi[k];
+      const double gap = std::max({below, above, 0.0});
+      d2 += gap * gap;
+      overlaps = overlaps && c.lo[k] <= hi[k] && c.lo[k] + c.side >= lo[k];
+    }
+    if (!overlaps && c.side * c.side < theta2 * d2) {
+      s.cx.push_back(c.centre[0]), s.cy.push_back(c.centre[1]), s.cz.push_back(c.centre[2]), s.mass.push_back(c.mass);
+      for (int k = 0; k < 6; ++k) s.q[k].push_back(c.q[k]);
       return;
     }
     if (c.leaf) {
       for (std::uint32_t k = c.begin; k < c.end; ++k) {
         const std::uint32_t j = order_[k];
-        if (j == i) continue;
-        const double e[3] = {x_[j][0] - x_[i][0], x_[j][1] - x_[i][1], x_[j][2] - x_[i][2]};
-        const double s2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-        const double s = std::sqrt(s2);
-        const double f = s > 0 ? G * m_[j] / (s * (s2 + eps2)) : 0.0;
-        a[0] += f * e[0], a[1] += f * e[1], a[2] += f * e[2];
+        s.dx.push_back(x_[j][0]), s.dy.push_back(x_[j][1]), s.dz.push_back(x_[j][2]), s.dm.push_back(m_[j]);
       }
       return;
     }
     for (std::int32_t child : c.child)
-      if (child >= 0) walk(child, i, G, eps2, theta2, a);
+      if (child >= 0) gather(child, lo, hi, theta2, s);
   }
 
   const std::vector<Vector3>& x_;
@@ -136,32 +203,28 @@ void tree_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, d
   if (x.size() < 2) return;
   const Tree tree(x, m);
   const double eps2 = softening * softening;
-  auto run = [&](std::size_t i) { force[i] = force[i] + m[i] * tree.acceleration_on(i, G, eps2, theta); };
-  threads = std::max<std::size_t>(1, std::min(threads, x.size() / 256 + 1));
+  const std::vector<std::int32_t> groups = tree.groups();
+  std::vector<Vector3> a(x.size());  // by tree order
+  auto run = [&](std::size_t begin, std::size_t end) {
+    Scratch scratch;
+    for (std::size_t g = begin; g < end; ++g) tree.group_accelerations(groups[g], G, eps2, theta, scratch, a);
+  };
+  threads = std::max<std::size_t>(1, std::min(threads, groups.size() / 16 + 1));
   if (threads == 1) {
-    for (std::size_t i = 0; i < x.size(); ++i) run(i);
-    return;
+    run(0, groups.size());
+  } else {
+    std::atomic<std::size_t> next{0};
+    std::vector<std::thread> pool;
+    for (std::size_t w = 0; w < threads; ++w)
+      pool.emplace_back([&] {
+        for (std::size_t b = next.fetch_add(16); b < groups.size(); b = next.fetch_add(16)) run(b, std::min(groups.size(), b + 16));
+      });
+    for (std::thread& t : pool) t.join();
   }
-  std::atomic<std::size_t> next{0};
-  std::vector<std::thread> pool;
-  for (std::size_t w = 0; w < threads; ++w)
-    pool.emplace_back([&] {
-      for (std::size_t b = next.fetch_add(256); b < x.size(); b = next.fetch_add(256))
-        for (std::size_t i = b; i < std::min(x.size(), b + 256); ++i) run(i);
-    });
-  for (std::thread& t : pool) t.join();
-}
-
-void direct_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, std::vector<Vector3>& force) {
-  const double eps2 = softening * softening;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    for (std::size_t j = i + 1; j < x.size(); ++j) {
-      const Vector3 d = x[j] - x[i];
-      const double r2 = dot(d, d), r = std::sqrt(r2);
-      const double s = r > 0 ? G * m[i] * m[j] / (r * (r2 + eps2)) : 0.0;
-      force[i] = force[i] + s * d;
-      force[j] = force[j] - s * d;
-    }
+  for (std::uint32_t k = 0; k < x.size(); ++k) {
+    const std::uint32_t i = tree.particle_at(k);
+    force[i] = force[i] + m[i] * a[k];
+  }
 }
 
 }  // namespace aggkit

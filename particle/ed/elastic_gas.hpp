@@ -60,6 +60,9 @@ class ElasticGas {
   virtual double kinetic_energy() const = 0;   // Σ ½ |v|² (unit masses)
   virtual Vector3 momentum() const = 0;        // Σ v
   virtual Vector3 wall_impulse() const = 0;    // momentum given to reflecting walls so far
+  // Σ over the collisions so far of r_ij · Δp_i = σ |Δv_n| (unit masses; r_ij = x_i − x_j at contact, Δp_i the
+  // impulse on i): the collisional virial of the hard-sphere pressure [Allen2017, ch. 2].
+  virtual double collision_virial() const = 0;
   // max over all pairs of 1 − |Δx|/2R (0 when none overlaps).
   virtual double largest_overlap() const = 0;
 };

@@ -41,6 +41,7 @@ class ElasticGasIn final : public ElasticGas {
   double kinetic_energy() const override;
   Vector3 momentum() const override;
   Vector3 wall_impulse() const override { return wall_impulse_; }
+  double collision_virial() const override { return virial_; }
   double largest_overlap() const override;
 
  private:
@@ -155,6 +156,7 @@ class ElasticGasIn final : public ElasticGas {
   long double epoch_ = 0;
   std::uint64_t rebase_at_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
+  double virial_ = 0;  // Σ r_ij · Δp_i over collisions
   std::size_t thermal_target_ = 0, thermal_pending_ = 0;
   ElasticGasCounters counters_;
 };
@@ -353,6 +355,7 @@ void ElasticGasIn<D>::collide(std::uint32_t i, std::uint32_t j) {
     a.v[d] += dvn * n[d];
     b.v[d] -= dvn * n[d];
   }
+  virial_ -= r2 * inv * dvn;  // (x_a − x_b) · Δp_a = −|r| n · (Δv·n) n, > 0 for an approaching pair
   ++a.stamp;
   ++b.stamp;
   ++counters_.collisions;

@@ -1,14 +1,16 @@
 // Engine "dem": the 3-D soft-sphere DEM with optional self-gravity of particle/dem/ [Trivino2025] on the
 // scene's [particles] (per-particle radii and masses, open/periodic/reflecting boundaries, cold clouds).
 // Everything an ensemble shares comes from the particle runner; this file is the engine's options and one
-// realization. The runner's `threads` runs realizations at once; `force_threads` runs the gravity of one
-// realization on several threads (results do not depend on it).
+// realization. The runner's `threads` runs realizations at once; `force_threads` runs the integration,
+// contacts and gravity of one realization on several threads (results do not depend on it).
 // Contact law: exactly one of (restitution, contact_time), (stiffness, damping) or
 // (stiffness_normalized, damping) [Trivino2025, eqs. 2, 6, 15], with the corrected calibration
 // k_n = m*(π² + ln² e)/t_c², γ_n = −2 m* ln(e)/t_c, or `calibration = "exact"`: γ_n solved so that the
 // clipped binary collision returns e (particle/dem/contact_law.hpp).
 // Friction (μ > 0): tangential springs with history and rotation (particle/dem/dem.hpp); the walls are
 // frictionless, so friction is refused with reflecting walls.
+// Its states give collision_frequency, virial_pressure and compressibility_factor (validation/observables/):
+// collisions are pairs that start to overlap, the virial ∫ Σ r_ij·F_ij dt over the contacts.
 // final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution,
 // adhesive_fraction (particle/dem/dem.hpp: contact episodes still open at the end over all with an overlap),
 // aggregation_time (NaN when the largest cluster never held the threshold), max_friction_ratio (with
@@ -63,7 +65,7 @@ const OptionTable& dem_options() {
       number_option("contact_tolerance", "0.01", "contact graph: centre distance < R_i + R_j + contact_tolerance · R_min", 0.0, 1.0),
       integer_option("gravity_substeps", "1",
                      "impulse splitting: gravity evaluated every K contact steps, kicks of K dt/2 (r-RESPA)", 1, 100000),
-      integer_option("force_threads", "1", "threads for the gravity of one realization (results do not depend on it)", 1, 4096),
+      integer_option("force_threads", "1", "threads for the integration, contacts and gravity of one realization (results do not depend on it)", 1, 4096),
   };
   return table;
 }
@@ -133,6 +135,10 @@ class DemSimulation final : public ParticleSimulation {
   double kinetic_energy() const override { return dem_.kinetic_energy(); }
   Vector3 momentum() const override { return dem_.momentum(); }
   Vector3 wall_impulse() const override { return dem_.wall_impulse(); }
+  std::optional<CollisionStatistics> collision_statistics() const override {
+    const DemCounters& c = dem_.counters();
+    return CollisionStatistics{dem_.time(), double(c.collisions), c.virial_integral, c.kinetic_integral};
+  }
 
   std::vector<std::pair<std::string, double>> final_values() const override {
     const DemCounters& c = dem_.counters();
@@ -171,7 +177,7 @@ class DemSimulation final : public ParticleSimulation {
  private:
   bool aggregated() const { return settings_.stop_aggregated && !std::isnan(aggregation_time_); }
   void check_aggregated() {
-    if (std::isnan(aggregation_time_) && dem_.largest_cluster_mass_fraction() >= settings_.threshold) aggregation_time_ = dem_.time();
+    if (std::isnan(aggregation_time_) && dem_.largest_cluster_reaches(settings_.threshold)) aggregation_time_ = dem_.time();
   }
   void report(const StatusSink& status) const {
     char line[96];
@@ -323,7 +329,7 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
 
 EngineType dem_engine_type() {
   return particle_engine_type({"dem", "3-D soft-sphere DEM with spring–dashpot contacts and optional self-gravity ([particles])",
-                               dem_options(), setup_dem});
+                               dem_options(), setup_dem, need::particles | need::collisions | need::virial});
 }
 
 }  // namespace aggkit

@@ -5,12 +5,18 @@
 // engine's options and one realization. final.json gains `events` and, with thermalisation, the elastic
 // collisions before sticking (`thermalization_collisions`; run on particle/ed/elastic_gas.hpp, after which
 // the clock restarts at 0).
+// `collisions = "elastic"` runs the hard-sphere gas itself instead (particle/ed/elastic_gas.hpp: no
+// sticking, every collision elastic, each particle its own cluster), with `thermalize` as a warm-up before
+// the clock starts; its states give collision_frequency, virial_pressure and compressibility_factor,
+// accumulated from t = 0 (the hard-sphere reference of soft-sphere DEM). final.json then gains `collisions`.
 #include <algorithm>
 #include <cstdio>
 #include <limits>
 
 #include "analysis/input_error.hpp"
 #include "particle/ed/ed_configuration.hpp"
+#include "particle/common/box_configuration.hpp"
+#include "particle/ed/elastic_gas.hpp"
 #include "validation/io/machine.hpp"
 #include "validation/engines/particle_runner.hpp"
 #include "validation/engines/sticky_spheres.hpp"
@@ -23,8 +29,11 @@ const OptionTable& ed_options() {
   static const OptionTable table{
       cluster_stop_option(),
       integer_option("cells", "0", "wanted number of broad-phase cells (0: about one per particle)", 0, 4294967295.0),
-      integer_option("thermalize", "particles.thermalize or 0", "elastic collisions per particle before sticking", 0,
-                     1e9),
+      integer_option("thermalize", "particles.thermalize or 0",
+                     "elastic collisions per particle before sticking (collisions = \"elastic\": before the clock starts)", 0, 1e9),
+      word_option("collisions", "sticking",
+                  "sticking: aggregation; elastic: a hard-sphere gas (no clusters form; collision and virial observables)",
+                  {"sticking", "elastic"}),
   };
   return table;
 }
@@ -33,6 +42,7 @@ struct EdSettings {
   std::size_t target_clusters = 0;  // 0: stop at time.end
   std::size_t cells = 0;
   std::size_t thermalize = 0;
+  bool elastic = false;
 };
 
 class EdSimulation final : public ParticleSimulation {
@@ -108,6 +118,81 @@ class EdSimulation final : public ParticleSimulation {
   double thermal_collisions_ = 0;
 };
 
+// collisions = "elastic": the hard-sphere gas, measured from the end of its warm-up (thermalize) on.
+class ElasticGasSimulation final : public ParticleSimulation {
+ public:
+  ElasticGasSimulation(const ParticleSystem& system, const ParticleStart& start, const EdSettings& settings)
+      : gas_(make_elastic_gas(system.box, system.mean_radius(), start.positions, start.velocities)),
+        thermalize_(settings.thermalize),
+        mass_(system.mean_mass()),
+        box_(system.box),
+        radius_(system.mean_radius()) {}
+
+  void prepare(const StatusSink& status) override {
+    gas_->thermalize(thermalize_, [&](std::size_t pending) {
+      status("thermalising: " + std::to_string(gas_->particles() - pending) + " of " + std::to_string(gas_->particles()) +
+             " particles have " + std::to_string(thermalize_) + " collisions");
+    });
+    start_time_ = gas_->time();
+    start_collisions_ = gas_->counters().collisions;
+    start_virial_ = gas_->collision_virial();
+    thermal_collisions_ = double(start_collisions_);
+  }
+
+  bool advance(double t, const StatusSink& status) override {
+    gas_->advance(start_time_ + t);  // output times are the progress steps
+    status("t = " + format_value(time()) + ", " + std::to_string(gas_->counters().collisions - start_collisions_) + " collisions");
+    return false;
+  }
+
+  double time() const override { return gas_->time() - start_time_; }
+  ParticleConfiguration configuration() const override {
+    return configuration_in(box_, radius_, gas_->positions());
+  }
+  std::vector<Vector3> velocities() const override { return gas_->velocities(); }
+  std::vector<double> masses() const override { return std::vector<double>(gas_->particles(), mass_); }
+  std::vector<std::uint32_t> cluster_labels() const override {
+    std::vector<std::uint32_t> labels(gas_->particles());
+    for (std::uint32_t i = 0; i < labels.size(); ++i) labels[i] = i;
+    return labels;
+  }
+  std::vector<Vector3> largest_cluster() const override { return {gas_->positions().front()}; }
+  double kinetic_energy() const override { return mass_ * gas_->kinetic_energy(); }
+  Vector3 momentum() const override { return mass_ * gas_->momentum(); }
+  Vector3 wall_impulse() const override { return mass_ * gas_->wall_impulse(); }
+  // Elastic: Σ m |v|² is constant, so its time integral is 2 K t.
+  std::optional<CollisionStatistics> collision_statistics() const override {
+    const double t = time();
+    return CollisionStatistics{t, double(gas_->counters().collisions - start_collisions_),
+                               mass_ * (gas_->collision_virial() - start_virial_), 2 * kinetic_energy() * t};
+  }
+
+  std::vector<std::pair<std::string, double>> final_values() const override {
+    std::vector<std::pair<std::string, double>> values{{"events", double(gas_->counters().events())},
+                                                       {"collisions", double(gas_->counters().collisions - start_collisions_)}};
+    if (thermalize_ > 0) values.emplace_back("thermalization_collisions", thermal_collisions_);
+    return values;
+  }
+  std::vector<std::pair<std::string, std::int64_t>> counters() const override {
+    const ElasticGasCounters& c = gas_->counters();
+    return {{"events", std::int64_t(c.events())},
+            {"elastic_collisions", std::int64_t(c.collisions)},
+            {"cell_crossings", std::int64_t(c.cell_crossings)},
+            {"wall_contacts", std::int64_t(c.wall_contacts)},
+            {"stale_events", std::int64_t(c.stale_events)}};
+  }
+
+
+ private:
+  std::unique_ptr<ElasticGas> gas_;
+  std::size_t thermalize_;
+  double mass_;
+  Box box_;
+  double radius_;
+  double start_time_ = 0, start_virial_ = 0, thermal_collisions_ = 0;
+  std::uint64_t start_collisions_ = 0;
+};
+
 // The forms of [particles] this engine cannot use are refused, naming the key: its clusters are of equal
 // hard spheres of one mass (the momentum-weighted velocity of a merge is then the mean), inside walls or a
 // periodic box, and move ballistically, so they must move at the start.
@@ -145,6 +230,24 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
     given.fail("thermalize", "thermalize given once: [particles] thermalize = " + std::to_string(system.thermalize) +
                                  " is also set (the engine's key is the one to keep)");
   settings.thermalize = std::size_t(given.integer("thermalize", std::int64_t(system.thermalize)));
+  settings.elastic = given.word("collisions", "sticking") == "elastic";
+  if (settings.elastic) {
+    if (settings.target_clusters > 0)
+      given.fail("stop", "no cluster target with collisions = \"elastic\" (no clusters form): leave stop out to run to time.end");
+    if (given.has("cells"))
+      given.fail("cells", "no cells with collisions = \"elastic\" (the hard-sphere gas sizes its own grid): leave cells out");
+    return {[system, settings](std::size_t r) {
+              return std::make_unique<ElasticGasSimulation>(system, system.initial_state(r), settings);
+            },
+            "event-driven elastic hard-sphere gas" +
+                (settings.thermalize > 0 ? ", after " + std::to_string(settings.thermalize) + " collisions per particle" : std::string()) +
+                ", stop at time.end"};
+  }
+  // Sticking collisions leave no pair virial (the clusters are rigid) and count merges, not collisions.
+  if (const auto asked = observable_needing(scene, need::collisions | need::virial))
+    throw InputError(asked->first, "\"" + asked->second + "\"",
+                     "an observable engine " + given.key("collisions").substr(0, given.key("collisions").rfind('.')) +
+                         " (ed) gives only with collisions = \"elastic\"");
   const std::string stop = settings.target_clusters == 0 ? "at time.end"
                                                           : "at " + std::to_string(settings.target_clusters) + " cluster(s)";
   return {[system, settings](std::size_t r) {
@@ -157,7 +260,7 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
 
 EngineType ed_engine_type() {
   return particle_engine_type({"ed", "event-driven ballistic aggregation of hard discs/spheres ([particles])",
-                               ed_options(), setup_ed});
+                               ed_options(), setup_ed, need::particles | need::collisions | need::virial});
 }
 
 }  // namespace aggkit

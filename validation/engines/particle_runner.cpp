@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "analysis/input_error.hpp"
 #include "validation/engines/particle_outputs.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/particle_snapshot.hpp"
@@ -171,6 +172,15 @@ class ParticleEngine final : public Engine {
 
 }  // namespace
 
+std::optional<std::pair<std::string, std::string>> observable_needing(const Scene& scene, unsigned needs) {
+  for (std::size_t i = 0; i < scene.observe.series.size(); ++i)
+    if (scene.observe.series[i].needs() & needs) return std::pair{"observe.series[" + std::to_string(i) + "]", scene.observe.series[i].name()};
+  for (std::size_t i = 0; i < scene.observe.final_state.size(); ++i)
+    if (Observable::from_name(scene.observe.final_state[i])->needs() & needs)
+      return std::pair{"observe.final[" + std::to_string(i) + "]", scene.observe.final_state[i]};
+  return std::nullopt;
+}
+
 EngineType particle_engine_type(ParticleEngineKind kind) {
   OptionTable options = kind.options;
   options.push_back(integer_option("threads", "1", "realizations run at once (0: one per core); results do not depend on it", 0, 4096));
@@ -180,8 +190,14 @@ EngineType particle_engine_type(ParticleEngineKind kind) {
   for (auto& f : profile_files()) files.push_back(f);
   auto setup = kind.setup;
   const std::string name = kind.name;
-  return {kind.name, kind.description, options, need::particles, /*needs_model=*/false, files,
+  return {kind.name, kind.description, options, kind.provides, /*needs_model=*/false, files,
           [setup, name](const EngineOptions& given, const EngineSpec& spec, const Scene& scene) -> std::unique_ptr<Engine> {
+            // The virial theorem's pressure holds for pair forces in a periodic box; walls would add their own
+            // virial (and an excluded layer of one radius), open space has no volume.
+            if (const auto asked = observable_needing(scene, need::virial); asked && scene.particles->box.boundary != Boundary::periodic)
+              throw InputError(asked->first, "\"" + asked->second + "\"",
+                               "an observable of a periodic box (particles.boundary = \"periodic\"): the pressure from the "
+                               "virial theorem needs one");
             const auto threads = std::size_t(given.integer("threads", 1));
             return std::make_unique<ParticleEngine>(name, spec.label, setup(given, scene), threads,
                                                     given.number("max_wall_seconds", 0.0));

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -58,7 +59,15 @@ struct ParticleEngineKind {
     std::string description;
   };
   std::function<Setup(const EngineOptions& options, const Scene& scene)> setup;
+  // What its states give the observables: the configuration, and for engines of colliding particles
+  // need::collisions and need::virial (ParticleSource::collision_statistics). An observable needing the
+  // virial is refused unless the box is periodic.
+  unsigned provides = need::particles;
 };
+
+// The key and name of the first observable of the scene (series, then final) that needs any of `needs`
+// bits; std::nullopt if none does. For engines whose options decide what they can give.
+std::optional<std::pair<std::string, std::string>> observable_needing(const Scene& scene, unsigned needs);
 
 // The engine type of a particle engine: the runner's options and files added to the kind's.
 EngineType particle_engine_type(ParticleEngineKind kind);

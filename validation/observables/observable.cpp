@@ -8,7 +8,8 @@ std::string describe_needs(unsigned needs) {
   static const std::pair<unsigned, const char*> names[] = {
       {need::sizes, "the size distribution"}, {need::leaked_mass, "the leaked mass"},
       {need::positions, "particle positions"}, {need::velocities, "particle velocities"},
-      {need::masses, "particle masses"},       {need::clusters, "cluster labels"}};
+      {need::masses, "particle masses"},       {need::clusters, "cluster labels"},
+      {need::collisions, "collision counts"},  {need::virial, "the pair virial (periodic box)"}};
   std::string text;
   for (const auto& [bit, name] : names)
     if (needs & bit) text += (text.empty() ? "" : ", ") + std::string(name);

@@ -27,6 +27,8 @@ constexpr unsigned positions = 1u << 2;    // particle positions, radii and the 
 constexpr unsigned velocities = 1u << 3;
 constexpr unsigned masses = 1u << 4;
 constexpr unsigned clusters = 1u << 5;     // which cluster each particle belongs to
+constexpr unsigned collisions = 1u << 6;   // pair collisions counted since t = 0 (CollisionStatistics)
+constexpr unsigned virial = 1u << 7;       // the pair virial since t = 0 in a periodic box (CollisionStatistics)
 constexpr unsigned kinetic = sizes | leaked_mass;                              // every kinetic engine
 constexpr unsigned particles = sizes | positions | velocities | masses | clusters;  // every particle engine
 }  // namespace need

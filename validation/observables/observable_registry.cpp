@@ -113,6 +113,22 @@ FractalFit centre_of_mass_dimension(const ParticleConfiguration& c, std::span<co
   return fit;
 }
 
+// A number of the collision statistics and the configuration (volume V, dimension d, count N); NaN for a
+// state without them or before any time has passed.
+std::function<double(const ObservedState&, double)> of_collisions(double (*f)(const CollisionStatistics&, const ParticleConfiguration&)) {
+  return [f](const ObservedState& state, double) {
+    const ParticleView* v = state.particles();
+    if (!v || !v->collision_statistics() || !(v->collision_statistics()->time > 0)) return nan;
+    return f(*v->collision_statistics(), v->configuration());
+  };
+}
+
+double box_volume(const ParticleConfiguration& c) {
+  double volume = 1;
+  for (int d = 0; d < c.dimension; ++d) volume *= c.box[d];
+  return volume;
+}
+
 }  // namespace
 
 const std::vector<ObservableType>& observable_types() {
@@ -180,6 +196,25 @@ const std::vector<ObservableType>& observable_types() {
        "_error, _fit_min, _fit_max [Trivino2025]",
        positions | masses, named("fractal_dimension_com"), false, {},
        [](const ParticleView& v) { return centre_of_mass_dimension(v.configuration(), v.masses()); }, {}},
+      {"collision_frequency",
+       "ν = 2 C/(N t): pair collisions C begun since t = 0 per particle per unit time, each counted for both "
+       "partners (Enskog's ν_E = χ 4nσ²√(πkT/m) for hard spheres [Chapman1970, ch. 16])",
+       need::collisions | positions, named("collision_frequency"), false,
+       of_collisions([](const CollisionStatistics& s, const ParticleConfiguration& c) {
+         return 2 * s.collisions / (double(c.positions.size()) * s.time);
+       }), {}, {}},
+      {"virial_pressure",
+       "P from the virial theorem averaged since t = 0, d P V t = ∫ Σ m|v|² dt + ∫ Σ_pairs r_ij·F_ij dt (hard "
+       "spheres: Σ_collisions r_ij·Δp_i) [Allen2017, ch. 2]; periodic boxes",
+       need::virial | positions, named("virial_pressure"), false,
+       of_collisions([](const CollisionStatistics& s, const ParticleConfiguration& c) {
+         return (s.kinetic + s.virial) / (double(c.dimension) * box_volume(c) * s.time);
+       }), {}, {}},
+      {"compressibility_factor",
+       "Z = P V/(N k T) = 1 + W/∫Σ m|v|² dt with k T = ⟨Σ m|v|²⟩/(d N) (Carnahan–Starling for hard spheres "
+       "[Carnahan1969]); periodic boxes",
+       need::virial | positions, named("compressibility_factor"), false,
+       of_collisions([](const CollisionStatistics& s, const ParticleConfiguration&) { return 1 + s.virial / s.kinetic; }), {}, {}},
       {"pair_distribution",
        "profile r, P: P(r) = (1/N) Σ_{i≠j} 1{|X_i − X_j| <= r} at 90 radii on (2R, 20R] [Degond2024] (final only)",
        positions, named("pair_distribution"), false, {}, {},

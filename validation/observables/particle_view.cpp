@@ -76,5 +76,8 @@ std::span<const Vector3> ParticleView::largest_cluster() const {
 double ParticleView::kinetic_energy() const {
   return cached(energy_, [&] { return source_->kinetic_energy(); });
 }
+const std::optional<CollisionStatistics>& ParticleView::collision_statistics() const {
+  return cached(collisions_, [&] { return source_->collision_statistics(); });
+}
 
 }  // namespace aggkit

@@ -18,6 +18,18 @@
 
 namespace aggkit {
 
+// What an engine of colliding particles has accumulated since its clock started (t = 0, after any
+// preparation such as ED's thermalisation), for the collision frequency and the pressure from the virial
+// theorem [Allen2017, ch. 2]:  d P V t = ∫ Σ_i m_i |v_i|² dt + W.
+struct CollisionStatistics {
+  double time = 0;        // t, the length of the window
+  double collisions = 0;  // pair collisions begun in it
+  // W = ∫ Σ_{pairs} r_ij · F_ij dt (r_ij = x_i − x_j, F_ij the force of j on i; minimum image): for hard
+  // spheres the impulsive limit Σ_collisions r_ij · Δp_i.
+  double virial = 0;
+  double kinetic = 0;     // ∫ Σ_i m_i |v_i|² dt (twice the time integral of the kinetic energy)
+};
+
 class ParticleSource {
  public:
   virtual ~ParticleSource() = default;
@@ -30,6 +42,8 @@ class ParticleSource {
   virtual std::vector<Vector3> largest_cluster() const;
   // Σ ½ m |v|²; by default over the particles. An engine of rigid clusters may sum over clusters instead.
   virtual double kinetic_energy() const;
+  // Engines that give need::collisions (observable.hpp) override this; std::nullopt otherwise.
+  virtual std::optional<CollisionStatistics> collision_statistics() const { return std::nullopt; }
 };
 
 class ParticleView final : public ObservedState {
@@ -51,6 +65,7 @@ class ParticleView final : public ObservedState {
   std::size_t clusters() const { return cluster_sizes().size(); }
   std::span<const Vector3> largest_cluster() const;
   double kinetic_energy() const;
+  const std::optional<CollisionStatistics>& collision_statistics() const;
 
  private:
   const ParticleSource* source_;
@@ -62,6 +77,7 @@ class ParticleView final : public ObservedState {
   mutable std::optional<std::vector<std::size_t>> sizes_;
   mutable std::optional<std::vector<Vector3>> largest_;
   mutable std::optional<double> energy_;
+  mutable std::optional<std::optional<CollisionStatistics>> collisions_;
 };
 
 }  // namespace aggkit
