@@ -138,3 +138,48 @@ reference = "cvode"
     CHECK_FALSE(results[3].tolerance);  // the mean is reported only
   }
 }
+
+TEST_CASE("harness: size distributions are compared by their Euclidean distance against standard errors") {
+  // Reference n = (0.5, 0.25); two realizations (0.52, 0.25) and (0.50, 0.23): mean (0.51, 0.24), E = 0.01√2;
+  // per size the sample variance of the mean is (0.02²/2)/2 = 1e-4, σ = sqrt(2e-4) = 0.01√2, so E = 1 σ;
+  // the single-realization errors are 0.02 each.
+  const Scene scene = parse_scene(R"(
+name = "distributions"
+[model]
+kernel = { name = "constant" }
+size = 2
+[time]
+end = 1.0
+[[engine]]
+name = "cvode"
+[[engine]]
+name = "dsmc"
+runs = 2
+[observe]
+series = ["M0"]
+distributions = [1.0]
+[compare]
+reference = "cvode"
+distribution = { relative = 0.0, stderr = 1.01 }
+)");
+  const auto run = [&](std::string label, std::vector<std::vector<double>> each) {
+    EngineRecord r;
+    r.label = std::move(label);
+    std::vector<Measurement> at_end;
+    for (auto& n : each) at_end.push_back(Measurement{{n[0] + n[1]}, 0.0, n});
+    record_measurements(r, scene, 1.0, at_end);
+    return r;
+  };
+  std::vector<EngineRecord> records{run("cvode", {{0.5, 0.25}}), run("dsmc", {{0.52, 0.25}, {0.50, 0.23}})};
+  auto results = compare_engines(*scene.compare, scene.observe, records);
+  REQUIRE(results.size() == 2);
+  const ComparisonResult& d = results[1];
+  CHECK(d.observable == "distribution");
+  CHECK(d.max_relative_error == Approx(0.01 * std::sqrt(2.0) / std::hypot(0.5, 0.25)));
+  CHECK(d.max_standard_errors == Approx(1.0));
+  CHECK(d.pass);  // 1 σ <= 1.01 σ
+  CHECK_THAT(d.note, Catch::Contains("1.41e-02") && Catch::Contains("single realizations: 1: 2.00e-02"));
+  ComparisonPlan strict = *scene.compare;
+  strict.distribution->standard_errors = 0.99;
+  CHECK_FALSE(compare_engines(strict, scene.observe, records)[1].pass);
+}

@@ -57,7 +57,10 @@ void record_measurements(EngineRecord& record, const Scene& scene, double t, con
     for (const Measurement& m : realizations)
       for (std::size_t k = 0; k < m.distribution.size(); ++k) n[k] += m.distribution[k];
     for (double& x : n) x /= double(runs);
-    record.distributions.push_back({output_time, std::move(n)});
+    std::vector<std::vector<double>> each;
+    if (runs > 1)
+      for (const Measurement& m : realizations) each.push_back(m.distribution);
+    record.distributions.push_back({output_time, std::move(n), std::move(each)});
   }
 }
 

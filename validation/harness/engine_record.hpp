@@ -12,7 +12,8 @@ namespace aggkit {
 
 struct DistributionRecord {
   double t;
-  std::vector<double> n;  // n_1..n_N
+  std::vector<double> n;  // n_1..n_N, the mean over the realizations
+  std::vector<std::vector<double>> realizations;  // each realization's n_1..n_N, with more than one
 };
 
 struct EngineRecord {

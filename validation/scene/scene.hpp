@@ -52,6 +52,12 @@
 //                                                  means over the realizations; σ their standard errors),
 //                                                  e.g. TS against ED, which agree in distribution, or the
 //                                                  oscillation period of DSMC against CVODE
+//   distribution = { relative = 0.01, stderr = 3 }  the size distributions at observe.distributions: at each
+//                                                  such time E = ||n - n_ref||_2 over the sizes, allowed
+//                                                  relative ||n_ref||_2 + stderr sqrt(Σ_k σ_k²), σ_k the
+//                                                  standard error of the engine's mean n_k over its
+//                                                  realizations; the note gives E per time and the mean
+//                                                  single-realization error ([Kalinov2022, Table 1])
 //
 // Unknown keys anywhere are errors.
 #include <filesystem>
@@ -103,6 +109,7 @@ struct ComparisonPlan {
   std::string reference;  // an engine label
   std::vector<Tolerance> tolerances;        // series observables
   std::vector<Tolerance> final_tolerances;  // observe.final values
+  std::optional<Tolerance> distribution = std::nullopt;  // compare.distribution: the size distributions (observable "distribution")
   const Tolerance* tolerance_for(std::string_view observable) const;  // nullptr: reported only
   const Tolerance* final_tolerance_for(std::string_view observable) const;
 };

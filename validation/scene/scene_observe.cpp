@@ -70,6 +70,20 @@ void read_window(const SceneTable& observe, const Scene& scene, Observation& obs
                                   "observe.final (time.every)");
 }
 
+// The tolerance `name` of `table`: a number r, or { relative = r, stderr = k }.
+Tolerance read_tolerance(const SceneTable& table, const std::string& name) {
+  const toml::node* value = table.find(name);
+  if (value && value->is_table()) {
+    const SceneTable form = table.table(name);
+    form.allow_only({"relative", "stderr"});
+    if (!form.contains("relative") && !form.contains("stderr"))
+      throw InputError(table.key(name), scene_text(*value), "a number or { relative = r, stderr = k }");
+    return {name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
+            form.optional_number("stderr", Bound::non_negative)};
+  }
+  return {name, table.number(name, Bound::non_negative), std::nullopt};
+}
+
 // A table of tolerances { name = r } or { name = { relative = r, stderr = k } } for the names in `allowed`.
 std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vector<std::string>& allowed,
                                        const std::string& where) {
@@ -79,16 +93,7 @@ std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vecto
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
       throw InputError(table.key(name), scene_text(value),
                        "tolerances are given for observables in " + where + ": " + (allowed.empty() ? "none" : join(allowed)));
-    if (value.is_table()) {
-      const SceneTable form = table.table(name);
-      form.allow_only({"relative", "stderr"});
-      if (!form.contains("relative") && !form.contains("stderr"))
-        throw InputError(table.key(name), scene_text(value), "a number or { relative = r, stderr = k }");
-      tolerances.push_back({name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
-                            form.optional_number("stderr", Bound::non_negative)});
-    } else {
-      tolerances.push_back({name, table.number(name, Bound::non_negative), std::nullopt});
-    }
+    tolerances.push_back(read_tolerance(table, name));
   }
   return tolerances;
 }
@@ -136,7 +141,7 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
 }
 
 ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
-  compare.allow_only({"reference", "tolerance", "final"});
+  compare.allow_only({"reference", "tolerance", "final", "distribution"});
   ComparisonPlan plan;
   plan.reference = compare.string("reference");
   std::vector<std::string> labels;
@@ -149,6 +154,11 @@ ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
     std::vector<std::string> series;
     for (const auto& o : scene.observe.series) series.push_back(o.name());
     plan.tolerances = read_tolerances(*tolerance, series, "observe.series");
+  }
+  if (compare.contains("distribution")) {
+    if (scene.observe.distribution_times.empty())
+      compare.fail("distribution", "a tolerance for the size distributions of observe.distributions (none are observed)");
+    plan.distribution = read_tolerance(compare, "distribution");
   }
   if (const auto final = compare.optional_table("final")) {
     std::vector<std::string> scalars;  // profiles have no single number to compare
