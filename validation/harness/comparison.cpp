@@ -133,6 +133,8 @@ ComparisonResult compare_distributions(const EngineRecord& engine, const EngineR
     if (sigma > 0) result.max_standard_errors = std::max(std::isnan(result.max_standard_errors) ? 0.0 : result.max_standard_errors, error / sigma);
     const double allowed = tolerance.relative_error * norm + tolerance.standard_errors.value_or(0.0) * sigma;
     if (!(error <= allowed)) result.pass = false;
+    const double used = error == 0.0 ? 0.0 : error / allowed;
+    result.tolerance_used = d == 0 ? used : std::max(result.tolerance_used, used);
     const double relative = norm > 0 ? error / norm : error;
     if (!(relative <= result.max_relative_error)) {
       result.max_relative_error = relative;
