@@ -170,6 +170,17 @@ OscillationClassification classify_oscillation(std::span<const double> t_all, st
   c.amplitude = mean_of(std::span<const double>(amplitudes).last(last));
   c.relative_amplitude = c.mean != 0 ? c.amplitude / std::abs(c.mean) : OscillationClassification::nan;
   c.period = mean_of(std::span<const double>(periods).last(std::min<std::size_t>(periods.size(), 4)));
+  c.mean_period = period_mean;
+  c.mean_amplitude = mean_of(amplitudes);
+  {
+    const std::size_t last_same = points.size() - 1 - (points.size() - 1) % 2;  // same kind as points[0]
+    double sum = 0, squares = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < t.size(); ++i)
+      if (t[i] >= points.front().t && t[i] < points[last_same].t) sum += x[i], squares += x[i] * x[i], ++count;
+    const double m = sum / double(count);
+    c.rms_amplitude = std::sqrt(2.0 * std::max(0.0, squares / double(count) - m * m));
+  }
   if (amplitudes.size() >= 4) {
     const std::size_t half = amplitudes.size() / 2;
     const double a1 = mean_of(std::span<const double>(amplitudes).first(half));

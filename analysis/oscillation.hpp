@@ -63,6 +63,14 @@ struct OscillationClassification {
   double amplitude = nan;           // half peak-to-peak: over the last cycles (oscillating) or the tail
   double relative_amplitude = nan;  // amplitude / |mean|
   double period = nan;              // over the last cycles; NaN without cycles
+  // Over every cycle of the tail (a noisy series, e.g. one DSMC run: the more cycles, the smaller the error):
+  // the mean spacing of turning points of the same kind, and the mean half difference of successive ones.
+  double mean_period = nan;
+  double mean_amplitude = nan;
+  // √2 × the standard deviation of x over whole cycles (first to last turning point of the first one's kind):
+  // the amplitude of a sine of the same variance. Noise of variance σ² raises it only by ~σ²/(2A), while
+  // it raises every sampled extreme, and with it the half peak-to-peak amplitude, by about σ.
+  double rms_amplitude = nan;
   double decay_rate = nan;          // γ of the envelope e^{-γ t} (> 0 decays); NaN for steady
   double decay_rate_error = nan;    // its standard error from the fit
   double amplitude_change = nan;    // relative, between the first and second half of the tail's cycles

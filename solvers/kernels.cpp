@@ -84,6 +84,13 @@ Kernel Kernel::ballistic() {
   });
 }
 
+Kernel Kernel::ballistic2d() {
+  // No exact factorisation (the square root couples i and j): approximated like the 3-D ballistic kernel.
+  return Kernel("ballistic2d", {}, [](double i, double j) {
+    return (std::sqrt(i) + std::sqrt(j)) * std::sqrt(1.0 / i + 1.0 / j);
+  });
+}
+
 Kernel Kernel::brownian(double a) {
   require_finite("kernel.a", a, "a finite exponent in [0, 1]");
   if (a < 0.0 || a > 1.0) throw InputError("kernel.a", format_value(a), "must lie in [0, 1]");
@@ -97,7 +104,7 @@ Kernel Kernel::brownian(double a) {
 Kernel Kernel::user(std::string name, Function f) { return Kernel(std::move(name), {}, std::move(f)); }
 
 std::vector<std::string> Kernel::names() {
-  return {"constant", "sum", "product", "linear", "genproduct", "ballistic", "brownian"};
+  return {"constant", "sum", "product", "linear", "genproduct", "ballistic", "brownian", "ballistic2d"};
 }
 
 Kernel Kernel::from_name(const std::string& name, const std::map<std::string, double>& parameters) {
@@ -119,6 +126,7 @@ Kernel Kernel::from_name(const std::string& name, const std::map<std::string, do
          return generalized_product(p.at("mu"));
        }}},
       {"ballistic", {{}, [](auto&) { return ballistic(); }}},
+      {"ballistic2d", {{}, [](auto&) { return ballistic2d(); }}},
       {"brownian", {{"a"}, [&](auto& p) {
          if (!p.count("a")) throw InputError("kernel.a", "(missing)", "brownian needs a in [0, 1]");
          return brownian(p.at("a"));

@@ -1,7 +1,9 @@
 #pragma once
 // Aggregation kernels K_ij (collision rate of sizes i and j) and their separable (low-rank) forms.
 // Ballistic kernel K_ij = (i^{1/3}+j^{1/3})^2 sqrt(1/i+1/j) [Kalinov2022, eq. 2]; brownian kernel
-// (i/j)^a + (j/i)^a of the oscillation regimes [Kalinov2022, Sec. 5.2].
+// (i/j)^a + (j/i)^a of the oscillation regimes [Kalinov2022, Sec. 5.2]; 2-D ballistic kernel
+// (i^{1/2}+j^{1/2}) sqrt(1/i+1/j) of compact discs [Carnevale1990; BrilliantovPoschel2004] (derivation at
+// Kernel::ballistic2d).
 #include <cstddef>
 #include <functional>
 #include <map>
@@ -33,6 +35,15 @@ class Kernel {
   static Kernel generalized_product(double mu);      // K = (i j)^mu
   static Kernel ballistic();                         // K = (i^{1/3}+j^{1/3})^2 sqrt(1/i + 1/j)
   static Kernel brownian(double a);                  // K = (i/j)^a + (j/i)^a, 0 <= a <= 1
+  // K = (i^{1/2}+j^{1/2}) sqrt(1/i + 1/j): ballistic aggregation of compact discs in 2-D. Clusters of k
+  // monomers (mass m_k = k m, radius R_k = R k^{1/2}, area ∝ mass) with Maxwellian velocities at one
+  // temperature T collide, per unit area and time, at n_i n_j · 2(R_i + R_j) · <|v_i − v_j|> (the sweep
+  // width of a disc pair is twice the contact distance); v_i − v_j is a 2-D Gaussian of variance T/μ_ij per
+  // component (μ_ij = m_i m_j/(m_i + m_j)), whose mean length is sqrt(π T / (2 μ_ij)) (Rayleigh). So
+  // K_ij^phys = R sqrt(2π T/m) (i^{1/2}+j^{1/2}) sqrt(1/i+1/j) = K0 · K_ij, and the kinetic time of a unit
+  // monomer density is τ = n_1(0) K0 t [Carnevale1990; TrizacHansen1996; BrilliantovPoschel2004, ch. 3 (the
+  // 2-D collision frequency 2σ n sqrt(πT/m) of equal discs of diameter σ is K_11 n)].
+  static Kernel ballistic2d();
   // A user kernel (symmetric, positive); it has no exact factorisation and is approximated like ballistic.
   static Kernel user(std::string name, Function k);
 

@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <random>
+#include <utility>
 
 #include "analysis/input_error.hpp"
 #include "solvers/kernels.hpp"
@@ -87,4 +89,40 @@ TEST_CASE("bad kernel input names the key", "[kernels][input]") {
   CHECK_THROWS_WITH(Kernel::from_name("constant", {{"a", 1.0}}), Catch::Contains("kernel.a"));
   CHECK_THROWS_AS(Kernel::from_name("linear", {{"A", -1.0}}), InputError);
   CHECK(Kernel::from_name("brownian", {{"a", 0.0}})(2, 3) == 2.0);  // a = 0 is valid: K = 2
+}
+
+TEST_CASE("ballistic2d: the kinetic-theory rate of Maxwellian discs, by Monte Carlo and in its limits", "[kernels]") {
+  const Kernel kernel = Kernel::ballistic2d();
+  CHECK(Kernel::from_name("ballistic2d", {})(3, 5) == kernel(3, 5));
+  // Limits: K_11 = 2√2; degree 0 (K_{si,sj} = K_ij: the 2-D compact kernel is scale invariant, so the
+  // cluster density decays as 1/t [Carnevale1990]); a monomer against a large cluster, K_1j → sqrt(j).
+  CHECK(kernel(1, 1) == Approx(2.0 * std::sqrt(2.0)));
+  CHECK(kernel(7, 300) == Approx(kernel(70, 3000)).epsilon(1e-12));
+  CHECK(kernel(1, 1000000) / std::sqrt(1e6) == Approx(1.0).epsilon(2e-3));  // (1 + 1/√j) sqrt(1 + 1/j)
+
+  // The physical rate 2(R_i + R_j) <|v_i - v_j|> of discs of radius R√k and mass m k with 2-D Maxwellian
+  // velocities at temperature T, averaged over 10^6 sampled pairs, equals K0 K_ij with K0 = R sqrt(2πT/m).
+  // The sampled mean speed has relative sd sqrt((4 - π)/π)/sqrt(10^6) = 5e-4: 3e-3 is 6 sd.
+  const double R = 0.5, T = 0.7, m = 1.3, K0 = R * std::sqrt(2 * std::acos(-1.0) * T / m);
+  std::mt19937_64 random(42);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (const auto& [i, j] : {std::pair{1, 1}, std::pair{1, 2}, std::pair{3, 40}, std::pair{100, 100}}) {
+    const double si = std::sqrt(T / (m * i)), sj = std::sqrt(T / (m * j));  // velocity sd per component
+    double sum = 0;
+    const int samples = 1000000;
+    for (int s = 0; s < samples; ++s) {
+      const double gx = si * gauss(random) - sj * gauss(random), gy = si * gauss(random) - sj * gauss(random);
+      sum += std::hypot(gx, gy);
+    }
+    const double rate = 2 * R * (std::sqrt(double(i)) + std::sqrt(double(j))) * sum / samples;
+    INFO("i = " << i << ", j = " << j);
+    CHECK(rate == Approx(K0 * kernel(i, j)).epsilon(3e-3));
+  }
+  // K_11 n K0 is the collision frequency of a hard-disc gas, 2σ n sqrt(πT/m) with σ = 2R [BrilliantovPoschel2004].
+  CHECK(K0 * kernel(1, 1) == Approx(2 * (2 * R) * std::sqrt(std::acos(-1.0) * T / m)));
+
+  // No exact factorisation: the low-rank approximation meets its tolerance on every entry.
+  const SeparableForm form = kernel.separable_form(400, 1e-10);
+  CHECK_FALSE(form.exact);
+  CHECK(max_relative_error_all_entries(kernel, form, 400) <= 1e-10);
 }

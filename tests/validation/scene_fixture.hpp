@@ -126,6 +126,12 @@ inline std::vector<BadScene> bad_scenes() {
       bad("observable twice", [](SceneText& s) { s.observe = "series = [\"M0\", \"M0\"]\n"; }, "observe.series[1]", "M0"),
       bad("empty series", [](SceneText& s) { s.observe = "series = []\n"; s.compare = ""; }, "observe.series", "[]"),
       bad("distribution at no output time", [](SceneText& s) { s.observe += "distributions = [0.75]\n"; }, "observe.distributions[0]", "0.75"),
+      bad("series measure of an unobserved series", [](SceneText& s) { s.time = "end = 40.0\nevery = 1.0\n"; s.observe += "final = [\"oscillation_period:M3\"]\n"; }, "observe.final[0]", "oscillation_period:M3"),
+      bad("final-configuration observable without particles", [](SceneText& s) { s.observe += "final = [\"contacts\"]\n"; }, "observe.final[0]", "contacts"),
+      bad("series measure over too few output times", [](SceneText& s) { s.observe += "final = [\"oscillation_period:M0\"]\n"; }, "observe.final", "2 output times"),
+      bad("series measure over unevenly spaced times", [](SceneText& s) { s.time = "end = 40.0\noutputs = [" + [] { std::string t; for (int i = 1; i <= 19; ++i) t += std::to_string(i) + ".0, "; return t; }() + "30.0]\n"; s.observe += "final = [\"oscillation_period:M0\"]\nwindow = [0.0, 40.0]\n"; }, "observe.window", "[0, 40]"),
+      bad("distribution tolerance without distributions", [](SceneText& s) { s.compare += "distribution = 0.01\n"; }, "compare.distribution", "none are observed"),
+      bad("window beyond the end", [](SceneText& s) { s.observe += "window = [1.0, 3.0]\n"; }, "observe.window", "[1, 3]"),
       // [compare]
       bad("unknown reference", [](SceneText& s) { s.compare = "reference = \"dsmc\"\n"; }, "compare.reference", "dsmc"),
       bad("negative tolerance", [](SceneText& s) { s.compare = "reference = \"exact\"\ntolerance = { M0 = -0.1 }\n"; }, "compare.tolerance.M0", "-0.1"),

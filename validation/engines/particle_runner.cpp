@@ -145,6 +145,7 @@ class ParticleEngine final : public Engine {
     const ParticleView final(*simulation);
     for (const std::string& name : scene.observe.final_state) {
       const Observable observable = *Observable::from_name(name);
+      if (observable.is_series_measure()) continue;  // the harness takes it from the series
       if (observable.is_profile()) result.profiles.emplace_back(name, observable.profile(final));
       else for (auto& entry : observable.final_values(final)) result.finals.push_back(std::move(entry));
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "analysis/moments.hpp"
@@ -12,6 +13,12 @@ namespace aggkit {
 namespace {
 
 constexpr double not_a_number = std::numeric_limits<double>::quiet_NaN();
+
+std::string three_digits(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2e", x);
+  return text;
+}
 
 double standard_error(const EngineRecord& record, std::size_t i, std::size_t j) {
   return record.standard_errors.empty() ? 0.0 : record.standard_errors[i][j];
@@ -89,6 +96,64 @@ ComparisonResult compare_final(const EngineRecord& engine, const EngineRecord& r
   return result;
 }
 
+// The size distributions at the distribution times (compare.distribution): E = ||n - n_ref||_2 over the
+// sizes of either, σ² = Σ_k σ_k² from the engine's realizations (σ_k² their sample variance of n_k over R),
+// and the mean single-realization error, the figure of [Kalinov2022, Table 1].
+ComparisonResult compare_distributions(const EngineRecord& engine, const EngineRecord& reference, const Tolerance& tolerance) {
+  ComparisonResult result;
+  result.engine = engine.label;
+  result.reference = reference.label;
+  result.observable = "distribution";
+  result.tolerance = tolerance.relative_error;
+  result.stderr_multiple = tolerance.standard_errors;
+  result.max_relative_error = -1.0;
+  result.max_standard_errors = not_a_number;
+  const auto distance = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0;
+    for (std::size_t k = 0; k < std::max(a.size(), b.size()); ++k) {
+      const double d = (k < a.size() ? a[k] : 0.0) - (k < b.size() ? b[k] : 0.0);
+      sum += d * d;
+    }
+    return std::sqrt(sum);
+  };
+  std::string errors, single;
+  for (std::size_t d = 0; d < engine.distributions.size() && d < reference.distributions.size(); ++d) {
+    const DistributionRecord& x = engine.distributions[d];
+    const DistributionRecord& ref = reference.distributions[d];
+    const double error = distance(x.n, ref.n), norm = distance(ref.n, {});
+    double variance = 0, per_run = 0;
+    const std::size_t runs = x.realizations.size();
+    for (std::size_t k = 0; k < x.n.size() && runs > 1; ++k) {
+      double squares = 0;
+      for (const auto& r : x.realizations) squares += (r[k] - x.n[k]) * (r[k] - x.n[k]);
+      variance += squares / double(runs - 1) / double(runs);
+    }
+    for (const auto& r : x.realizations) per_run += distance(r, ref.n) / double(runs);
+    const double sigma = std::sqrt(variance);
+    if (sigma > 0) result.max_standard_errors = std::max(std::isnan(result.max_standard_errors) ? 0.0 : result.max_standard_errors, error / sigma);
+    const double allowed = tolerance.relative_error * norm + tolerance.standard_errors.value_or(0.0) * sigma;
+    if (!(error <= allowed)) result.pass = false;
+    const double used = error == 0.0 ? 0.0 : error / allowed;
+    result.tolerance_used = d == 0 ? used : std::max(result.tolerance_used, used);
+    const double relative = norm > 0 ? error / norm : error;
+    if (!(relative <= result.max_relative_error)) {
+      result.max_relative_error = relative;
+      result.time = x.t;
+    }
+    errors += (errors.empty() ? "" : ", ") + shortest_text(x.t) + ": " + three_digits(error);
+    if (runs > 1) single += (single.empty() ? "" : ", ") + shortest_text(x.t) + ": " + three_digits(per_run);
+  }
+  if (result.max_relative_error < 0) {
+    result.max_relative_error = result.time = not_a_number;
+    result.pass = false;
+    result.note = "no distributions to compare";
+    return result;
+  }
+  result.note = "||n - n_ref||_2 at t = " + errors;
+  if (!single.empty()) result.note += "; mean of single realizations: " + single;
+  return result;
+}
+
 }  // namespace
 
 std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const Observation& observe,
@@ -121,6 +186,8 @@ std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const 
       if (result.tolerance && !(result.max_relative_error >= 0.0)) result.pass = false;
       results.push_back(std::move(result));
     }
+    if (plan.distribution && reference && record.completed() && reference->completed())
+      results.push_back(compare_distributions(record, *reference, *plan.distribution));
     if (!reference || !record.completed() || !reference->completed() || record.finals.empty() || reference->finals.empty())
       continue;
     for (const std::string& name : observe.final_state)

@@ -12,7 +12,8 @@ namespace aggkit {
 
 struct DistributionRecord {
   double t;
-  std::vector<double> n;  // n_1..n_N
+  std::vector<double> n;  // n_1..n_N, the mean over the realizations
+  std::vector<std::vector<double>> realizations;  // each realization's n_1..n_N, with more than one
 };
 
 struct EngineRecord {
@@ -25,7 +26,10 @@ struct EngineRecord {
   // one realisation); empty otherwise.
   std::vector<std::vector<double>> standard_errors;
   std::vector<DistributionRecord> distributions;
-  std::vector<FinalStatistic> finals;         // a particle engine's final-state values (final.json)
+  // The series of each realization, realization_values[r][i][j] as values[i][j]; kept only when observe.final
+  // has series measures, which are taken of them.
+  std::vector<std::vector<std::vector<double>>> realization_values;
+  std::vector<FinalStatistic> finals;         // final.json of a particle engine, then the series measures
   EngineStatistics statistics;
   double wall_seconds = 0.0;
   double final_mass_leak = std::numeric_limits<double>::quiet_NaN();
@@ -42,5 +46,9 @@ Measurement measure_state(const Scene& scene, double t, const ObservedState& sta
 // observable (the sample standard deviation over the realizations divided by sqrt(realizations)); keeps the
 // mean distribution at a distribution time.
 void record_measurements(EngineRecord& record, const Scene& scene, double t, const std::vector<Measurement>& realizations);
+
+// Appends to record.finals each series measure of observe.final (oscillation_period:M0, ...): taken of each
+// realization's series over observe.window, their mean and standard error (0 for one realization).
+void record_series_measures(EngineRecord& record, const Scene& scene);
 
 }  // namespace aggkit

@@ -39,6 +39,7 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
     if (record.times.size() != scene.time.outputs.size())
       throw std::runtime_error("the engine reported " + std::to_string(record.times.size()) + " of " +
                                std::to_string(scene.time.outputs.size()) + " output times");
+    record_series_measures(record, scene);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {

@@ -51,6 +51,7 @@ void print_report(std::ostream& out, const Scene& scene, const RunResult& result
       out << format("  %-16s %-12s %14s %12s %12s  %s\n", c.engine.c_str(), name.c_str(),
                     scientific(c.max_relative_error).c_str(), (c.final_state ? std::string("end") : shortest_text(c.time)).c_str(), tolerance.c_str(),
                     outcome.c_str());
+      if (!c.note.empty()) out << "      " << c.note << "\n";
     }
   }
   if (result.plot.status == PlotOutcome::Status::failed) out << "\nplot failed: " << result.plot.message << "\n";

@@ -72,6 +72,14 @@ Json engine_json(const EngineRecord& record, const OutputFolder& folder) {
       engine["files"]["distribution"] = relative(folder.distribution_file(record.label), folder);
   }
   engine["statistics"] = statistics;
+  if (!record.finals.empty()) {  // final.json of a particle engine and the series measures
+    Json finals = Json::object();
+    for (const auto& f : record.finals) {
+      finals[f.name] = number(f.mean);
+      finals[f.name + "_stderr"] = number(f.standard_error);
+    }
+    engine["final"] = finals;
+  }
   return engine;
 }
 

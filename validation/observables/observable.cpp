@@ -42,6 +42,11 @@ std::vector<std::pair<std::string, double>> Observable::final_values(const Obser
           {name_ + "_fit_max", f.fit_max}};
 }
 
+std::string Observable::source() const {
+  if (!is_series_measure()) return {};
+  return name_.substr(name_.find(':') + 1);
+}
+
 Profile Observable::profile(const ParticleView& view) const { return type_->profile(view); }
 
 }  // namespace aggkit

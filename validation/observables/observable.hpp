@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -48,10 +49,13 @@ struct ObservableType {
   std::function<std::optional<double>(std::string_view name)> match;
   bool size_parameter = false;  // the parameter is a cluster size k (at most the largest size of the scene)
   // Exactly one of these is set: a number; a fitted exponent (final.json gets <name>, <name>_error,
-  // <name>_fit_min, <name>_fit_max; a series gets the exponent); a profile (final only).
+  // <name>_fit_min, <name>_fit_max; a series gets the exponent); a profile (final only); a measure of a
+  // whole series (final only, any engine: the form is "<measure>:<series>", e.g. oscillation_period:M0,
+  // taken on each realization's series over observe.window, x(t) at uniformly spaced t).
   std::function<double(const ObservedState&, double parameter)> scalar;
   std::function<FractalFit(const ParticleView&)> fit;
   std::function<Profile(const ParticleView&)> profile;
+  std::function<double(std::span<const double> t, std::span<const double> x)> of_series = {};
 };
 
 // Every observable kind, in the order --help lists them.
@@ -68,6 +72,11 @@ class Observable {
   double parameter() const { return parameter_; }
   unsigned needs() const { return type_->needs; }
   bool is_profile() const { return bool(type_->profile); }
+  bool is_series_measure() const { return bool(type_->of_series); }
+  // The series a series measure is taken of: "M0" of "oscillation_period:M0"; empty for other observables.
+  std::string source() const;
+  // A series measure of x(t) (t uniformly spaced); NaN where it is undefined (no oscillation).
+  double measure(std::span<const double> t, std::span<const double> x) const { return type_->of_series(t, x); }
 
   // The number for a series (a fit's exponent); NaN if the state lacks what it needs.
   double value(const ObservedState& state) const;

@@ -13,7 +13,7 @@ std::vector<std::string> KernelEntry::parameter_names() const {
   return names;
 }
 
-// Formulas as in the README's tour; ballistic kernel from [Kalinov2022].
+// Formulas as in the README's tour; ballistic kernel from [Kalinov2022], ballistic2d from [Carnevale1990].
 const std::vector<KernelEntry>& kernel_catalogue() {
   static const std::vector<KernelEntry> catalogue{
       {"constant", "K_ij = 1", {}},
@@ -23,6 +23,7 @@ const std::vector<KernelEntry>& kernel_catalogue() {
       {"genproduct", "K_ij = (i j)^mu", {{"mu", "0 <= mu <= 1"}}},
       {"ballistic", "K_ij = (i^(1/3) + j^(1/3))^2 sqrt(1/i + 1/j)", {}},
       {"brownian", "K_ij = (i/j)^a + (j/i)^a", {{"a", "0 <= a <= 1"}}},
+      {"ballistic2d", "K_ij = (i^(1/2) + j^(1/2)) sqrt(1/i + 1/j)  (2-D discs)", {}},
   };
   return catalogue;
 }

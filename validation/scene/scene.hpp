@@ -30,7 +30,14 @@
 //   distributions = [1.0, 100.0]                   optional; each one of the output times
 //   final = ["contacts", "fractal_dimension_box"]  particle engines: observables of the final configuration,
 //                                                  written to <engine>/final.json (profiles such as
-//                                                  pair_distribution to <engine>/<name>.csv)
+//                                                  pair_distribution to <engine>/<name>.csv);
+//                                                  any engine: measures of a series of observe.series,
+//                                                  "oscillation_period:M0", taken on each realization's
+//                                                  series over observe.window (mean and standard error over
+//                                                  the realizations; summary.json engines.<label>.final)
+//   window = [1500.0, 3000.0]                      the time window of the series measures: output times in
+//                                                  it uniformly spaced, at least 16 (default: the last half
+//                                                  of the run, [end/2, end])
 //   snapshots = true                               particle engines: the final configuration as
 //                                                  <engine>/final.vtu and <engine>/final.png (default false)
 //   [compare]                                      optional
@@ -41,9 +48,16 @@
 //                                                  |x - x_ref| <= relative |x_ref| + stderr σ, σ the combined
 //                                                  standard error of ensemble engines (dsmc with runs > 1,
 //                                                  particle engines with realizations > 1)
-//   final = { contacts = { relative = 0.05, stderr = 3 } }  particle engines: the same forms for values of
-//                                                  observe.final (final.json means; σ their standard errors),
-//                                                  e.g. TS against ED, which agree in distribution
+//   final = { contacts = { relative = 0.05, stderr = 3 } }  the same forms for values of observe.final (the
+//                                                  means over the realizations; σ their standard errors),
+//                                                  e.g. TS against ED, which agree in distribution, or the
+//                                                  oscillation period of DSMC against CVODE
+//   distribution = { relative = 0.01, stderr = 3 }  the size distributions at observe.distributions: at each
+//                                                  such time E = ||n - n_ref||_2 over the sizes, allowed
+//                                                  relative ||n_ref||_2 + stderr sqrt(Σ_k σ_k²), σ_k the
+//                                                  standard error of the engine's mean n_k over its
+//                                                  realizations; the note gives E per time and the mean
+//                                                  single-realization error ([Kalinov2022, Table 1])
 //
 // Unknown keys anywhere are errors.
 #include <filesystem>
@@ -77,7 +91,10 @@ struct Observation {
   std::vector<Observable> series;
   std::vector<double> distribution_times;  // each one of TimeGrid::outputs
   std::vector<std::string> final_state;    // names of final-configuration observables (particle engines)
+                                           // and series measures (any engine, e.g. oscillation_period:M0)
   bool snapshots = false;                  // final configuration as .vtu and .png (particle engines)
+  double window_start = 0, window_end = 0;  // observe.window: where the series measures are taken
+  bool has_series_measures() const;
 };
 
 struct Tolerance {
@@ -92,6 +109,7 @@ struct ComparisonPlan {
   std::string reference;  // an engine label
   std::vector<Tolerance> tolerances;        // series observables
   std::vector<Tolerance> final_tolerances;  // observe.final values
+  std::optional<Tolerance> distribution = std::nullopt;  // compare.distribution: the size distributions (observable "distribution")
   const Tolerance* tolerance_for(std::string_view observable) const;  // nullptr: reported only
   const Tolerance* final_tolerance_for(std::string_view observable) const;
 };

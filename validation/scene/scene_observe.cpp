@@ -1,23 +1,87 @@
 // [observe] and [compare]: what is recorded and how engines are compared.
 #include <algorithm>
+#include <cmath>
 
 #include "validation/scene/scene_sections.hpp"
 
 namespace aggkit {
 
+bool Observation::has_series_measures() const {
+  for (const auto& name : final_state)
+    if (Observable::from_name(name)->is_series_measure()) return true;
+  return false;
+}
+
 namespace {
 
-// observe.final: observables of the final configuration, each once; only with [particles].
-std::vector<std::string> read_final_state(const SceneTable& observe, const Scene& scene) {
+// observe.final: observables of the final configuration (only with [particles]) and measures of a series
+// of observe.series (any scene), each once.
+std::vector<std::string> read_final_state(const SceneTable& observe, const Scene& scene, const Observation& observation) {
   const std::vector<std::string> names = observe.strings("final");
-  if (!scene.particles) observe.fail("final", "no final-state observables: they need a [particles] section");
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string key = observe.key("final") + "[" + std::to_string(i) + "]";
-    if (!Observable::from_name(names[i])) throw InputError(key, "\"" + names[i] + "\"", Observable::forms());
+    const auto observable = Observable::from_name(names[i]);
+    if (!observable) throw InputError(key, "\"" + names[i] + "\"", Observable::forms());
     if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i)
       throw InputError(key, "\"" + names[i] + "\"", "each observable once");
+    if (observable->is_series_measure()) {
+      const std::string source = observable->source();
+      bool observed = false;
+      for (const auto& o : observation.series) observed = observed || o.name() == source;
+      if (!observed)
+        throw InputError(key, "\"" + names[i] + "\"", "a measure of a series of observe.series (\"" + source + "\" is not one)");
+    } else if (!scene.particles) {
+      throw InputError(key, "\"" + names[i] + "\"",
+                       "a measure of a series (oscillation_period:<series>, ...): observables of the final "
+                       "configuration need a [particles] section");
+    }
   }
   return names;
+}
+
+// observe.window: [start, end] inside the run, with at least 16 uniformly spaced output times (the series
+// measures need them); default the last half of the run.
+void read_window(const SceneTable& observe, const Scene& scene, Observation& observation) {
+  const double end = scene.time.end;
+  observation.window_start = 0.5 * end;
+  observation.window_end = end;
+  if (observe.contains("window")) {
+    const std::vector<double> w = observe.numbers("window", Bound::finite);
+    const std::string text = "[" + (w.empty() ? std::string() : shortest_text(w.front())) + (w.size() > 1 ? ", " + shortest_text(w[1]) : "") + "]";
+    if (w.size() != 2 || !(w[0] >= 0 && w[0] < w[1] && w[1] <= end * (1 + 1e-12)))
+      throw InputError(observe.key("window"), text, "[start, end] with 0 <= start < end <= time.end = " + shortest_text(end));
+    observation.window_start = w[0];
+    observation.window_end = w[1];
+  }
+  if (!observation.has_series_measures()) return;
+  std::vector<double> times;
+  for (double t : scene.time.outputs)
+    if (t >= observation.window_start - 1e-9 * end && t <= observation.window_end + 1e-9 * end) times.push_back(t);
+  const std::string what = "a window [" + shortest_text(observation.window_start) + ", " +
+                           shortest_text(observation.window_end) + "]";
+  const std::string key = observe.contains("window") ? observe.key("window") : observe.key("final");
+  if (times.size() < 16)
+    throw InputError(key, what + " with " + std::to_string(times.size()) + " output times",
+                     "at least 16 output times for the series measures of observe.final (time.every)");
+  const double dt = (times.back() - times.front()) / double(times.size() - 1);
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (std::abs(times[i] - times[i - 1] - dt) > 1e-6 * dt)
+      throw InputError(key, what, "uniformly spaced output times in the window for the series measures of "
+                                  "observe.final (time.every)");
+}
+
+// The tolerance `name` of `table`: a number r, or { relative = r, stderr = k }.
+Tolerance read_tolerance(const SceneTable& table, const std::string& name) {
+  const toml::node* value = table.find(name);
+  if (value && value->is_table()) {
+    const SceneTable form = table.table(name);
+    form.allow_only({"relative", "stderr"});
+    if (!form.contains("relative") && !form.contains("stderr"))
+      throw InputError(table.key(name), scene_text(*value), "a number or { relative = r, stderr = k }");
+    return {name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
+            form.optional_number("stderr", Bound::non_negative)};
+  }
+  return {name, table.number(name, Bound::non_negative), std::nullopt};
 }
 
 // A table of tolerances { name = r } or { name = { relative = r, stderr = k } } for the names in `allowed`.
@@ -29,16 +93,7 @@ std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vecto
     if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
       throw InputError(table.key(name), scene_text(value),
                        "tolerances are given for observables in " + where + ": " + (allowed.empty() ? "none" : join(allowed)));
-    if (value.is_table()) {
-      const SceneTable form = table.table(name);
-      form.allow_only({"relative", "stderr"});
-      if (!form.contains("relative") && !form.contains("stderr"))
-        throw InputError(table.key(name), scene_text(value), "a number or { relative = r, stderr = k }");
-      tolerances.push_back({name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
-                            form.optional_number("stderr", Bound::non_negative)});
-    } else {
-      tolerances.push_back({name, table.number(name, Bound::non_negative), std::nullopt});
-    }
+    tolerances.push_back(read_tolerance(table, name));
   }
   return tolerances;
 }
@@ -46,7 +101,7 @@ std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vecto
 }  // namespace
 
 Observation read_observation(const SceneTable& observe, const Scene& scene) {
-  observe.allow_only({"series", "distributions", "final", "snapshots"});
+  observe.allow_only({"series", "distributions", "final", "snapshots", "window"});
   Observation observation;
   const std::vector<std::string> names = observe.strings("series");
   if (names.empty()) observe.fail("series", "at least one observable: " + std::string(Observable::forms()));
@@ -78,14 +133,15 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
     }
     std::sort(observation.distribution_times.begin(), observation.distribution_times.end());
   }
-  if (observe.contains("final")) observation.final_state = read_final_state(observe, scene);
+  if (observe.contains("final")) observation.final_state = read_final_state(observe, scene, observation);
+  read_window(observe, scene, observation);
   observation.snapshots = observe.optional_boolean("snapshots").value_or(false);
   if (observation.snapshots && !scene.particles) observe.fail("snapshots", "false: snapshots need a [particles] section");
   return observation;
 }
 
 ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
-  compare.allow_only({"reference", "tolerance", "final"});
+  compare.allow_only({"reference", "tolerance", "final", "distribution"});
   ComparisonPlan plan;
   plan.reference = compare.string("reference");
   std::vector<std::string> labels;
@@ -98,6 +154,11 @@ ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
     std::vector<std::string> series;
     for (const auto& o : scene.observe.series) series.push_back(o.name());
     plan.tolerances = read_tolerances(*tolerance, series, "observe.series");
+  }
+  if (compare.contains("distribution")) {
+    if (scene.observe.distribution_times.empty())
+      compare.fail("distribution", "a tolerance for the size distributions of observe.distributions (none are observed)");
+    plan.distribution = read_tolerance(compare, "distribution");
   }
   if (const auto final = compare.optional_table("final")) {
     std::vector<std::string> scalars;  // profiles have no single number to compare
