@@ -131,6 +131,11 @@ class DemSimulation final : public ParticleSimulation {
     return out;
   }
   double kinetic_energy() const override { return dem_.kinetic_energy(); }
+  std::vector<double> radii() const override { return dem_.radii(); }
+  // Rotation is integrated only with friction: without it the snapshot has no angular_velocity array.
+  std::vector<Vector3> angular_velocities() const override {
+    return settings_.dem.friction > 0 ? dem_.angular_velocities() : std::vector<Vector3>{};
+  }
   Vector3 momentum() const override { return dem_.momentum(); }
   Vector3 wall_impulse() const override { return dem_.wall_impulse(); }
 
