@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "analysis/input_error.hpp"
@@ -155,4 +156,20 @@ TEST_CASE("sweep tables: sweep.csv rows and sweep_mean.csv means and standard er
   CHECK_FALSE(parse_record_file(text.substr(0, text.size() / 2), 0, 1, plan.point(0)));
   CHECK(csv_cell("a,b") == "\"a,b\"");
   CHECK(csv_cell("say \"x\"") == "\"say \"\"x\"\"\"");
+}
+
+TEST_CASE("sweep plan: the shipped campaign is the published 245 runs over γ_n and k̃_n, and runs its base point") {
+  const SweepPlan plan = load_sweep_plan(std::filesystem::path(AGGKIT_SOURCE_DIR) / "validation/scenes/dem-gravitational-campaign.toml");
+  REQUIRE(plan.axes.size() == 2);
+  CHECK(plan.axes[0].key == "engine.damping");
+  CHECK(plan.axes[1].key == "engine.stiffness_normalized");
+  CHECK(plan.axes[0].values.front().get<double>() == 10.0);
+  CHECK(plan.axes[0].values.back().get<double>() == 1e5);
+  CHECK(plan.axes[1].values.front().get<double>() == 1e5);
+  CHECK(plan.axes[1].values.back().get<double>() == 1e8);
+  CHECK(plan.point_count() * plan.realizations == 245);  // [Trivino2025, Sec. II.4]
+  CHECK(plan.scene.tier == SceneTier::full);
+  CHECK(plan.scene.particles->count == 650);
+  CHECK(plan.scene.engines[0].options["damping"].get<double>() == 500.0);  // `aggkit run`: the base point
+  CHECK(plan.maps == std::vector<std::string>{"components_fraction", "aggregation_time_ff", "fractal_dimension_com"});
 }

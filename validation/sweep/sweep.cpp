@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <streambuf>
 
 #include "validation/harness/harness.hpp"
 #include "validation/io/atomic_file.hpp"
@@ -18,6 +20,30 @@
 namespace aggkit {
 
 namespace {
+
+// A stream that writes each line to `out` behind a prefix: the harness's progress lines of a run, marked with
+// the rank and the point ("aggkit sweep: [rank 1] point 3, realization 0: aggkit: engine 1/1 dem: t = 4 / 20").
+class PrefixedLines : public std::streambuf {
+ public:
+  PrefixedLines(std::ostream& out, std::string prefix) : out_(out), prefix_(std::move(prefix)) {}
+
+ protected:
+  int overflow(int c) override {
+    if (c == traits_type::eof()) return traits_type::not_eof(c);
+    line_ += char(c);
+    if (c == '\n') sync();
+    return c;
+  }
+  int sync() override {
+    if (!line_.empty()) out_ << prefix_ << line_ << std::flush;
+    line_.clear();
+    return 0;
+  }
+
+ private:
+  std::ostream& out_;
+  std::string prefix_, line_;
+};
 
 std::string run_name(std::size_t point, std::size_t realization) {
   return "point" + std::to_string(point) + "_r" + std::to_string(realization);
@@ -117,9 +143,15 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& options) {
       run.plot = false;
       run.force = true;  // the sweep's own folder, perhaps left half-written by a killed run
       run.report = nullptr;
-      run.progress = options.progress;
+      std::optional<PrefixedLines> lines;
+      std::optional<std::ostream> prefixed;
+      if (options.progress) {
+        lines.emplace(*options.progress, "aggkit sweep: [rank " + std::to_string(world.rank) + "] " + run_name(p, r) + ": ");
+        prefixed.emplace(&*lines);
+      }
+      run.progress = prefixed ? &*prefixed : nullptr;
       run.progress_interval = std::chrono::seconds(60);
-      run.warnings = options.progress;
+      run.warnings = run.progress;
       const RunResult result = run_scene(scene, run);
       for (const auto& record : result.records)
         if (!record.completed()) throw std::runtime_error("engine " + record.label + " failed: " + *record.failure);
