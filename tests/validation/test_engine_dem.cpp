@@ -263,7 +263,7 @@ TEST_CASE("dem: a cloud with friction collapses, the Coulomb limit holds, the sn
 TEST_CASE("dem: the snapshot of a frictionless polydisperse cloud has each particle's radius and no angular velocity",
           "[dem][harness]") {
   const auto out = aggkit::testing::scratch_folder("dem-snapshot");
-  std::string text = dem_scene("restitution = 0.3\ncontact_time = 0.05\n", "", "0.5") + "snapshots = true\n";
+  std::string text = dem_scene("restitution = 0.3\ncontact_time = 0.05\n", "", "3.0") + "snapshots = true\n";
   text.replace(text.find("radius = 1.0"), 12, "radius = { distribution = \"normal\", mean = 1.0, sd = 0.2, min = 0.5, max = 1.5 }");
   run_scene(aggkit::testing::parse_checked(text), aggkit::testing::quiet_run(out));
   const auto vtu = out / "dem" / "final.vtu";
