@@ -27,24 +27,27 @@ def ordered(values):
     return distinct
 
 
+class KeyAction(argparse.Action):
+    """--key K and --log-key K, in the order given (the sweep's key order); --log-key draws K on a log axis."""
+
+    def __call__(self, parser, namespace, value, option_string=None):
+        keys = getattr(namespace, "keys", None) or []
+        keys.append((value, option_string == "--log-key"))
+        setattr(namespace, "keys", keys)
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--mean", required=True)
     parser.add_argument("--column", required=True)
     parser.add_argument("--output", required=True)
     parser.add_argument("--title", default="sweep")
-    parser.add_argument("--key", action="append", default=[], dest="keys_linear")
-    parser.add_argument("--log-key", action="append", default=[], dest="keys_log")
-    args, _ = parser.parse_known_args()
-    # The keys in the order given (--key and --log-key interleaved).
-    import sys
-    keys, log = [], set()
-    argv = sys.argv[1:]
-    for i, a in enumerate(argv[:-1]):
-        if a in ("--key", "--log-key"):
-            keys.append(argv[i + 1])
-            if a == "--log-key":
-                log.add(argv[i + 1])
+    parser.add_argument("--key", "--log-key", action=KeyAction, dest="keys", default=[])
+    args = parser.parse_args()
+    keys = [k for k, _ in args.keys]
+    log = {k for k, is_log in args.keys if is_log}
+    if not keys:
+        raise SystemExit("at least one --key")
 
     with open(args.mean, newline="") as f:
         rows = list(csv.DictReader(f))
