@@ -3,6 +3,7 @@
 // by GSL nonlinear least squares (analysis/logistic_fit.hpp). Prints the plateaus and the midpoint
 // γ_50 = 10^m with its error, and γ_50 read in the candidate units of the paper's unstated γ_n (k̃_n given):
 //   bench_dem_campaign_fit sweep.csv [x column (engine.damping)] [y column (components_fraction)] [k̃_n (1e6)]
+// Figures (bench/figures.hpp): gamma_50, its one-sigma range in log10, the plateaus, case "k_n=<k̃_n>".
 // Units G = m = R = 1: γ_n in √(G m³/R³); m/t_c with t_c = π √(m_eff/k_n), m_eff = m/2 [Trivino2025, eq. 8];
 // √(k_n m); per reduced mass (γ_n/m*, the convention of LAMMPS' gran/hooke).
 #include <cmath>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "analysis/logistic_fit.hpp"
+#include "bench/figures.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 2) {
@@ -49,6 +51,8 @@ int main(int argc, char** argv) {
     y.push_back(std::stod(cells[std::size_t(yi)]));
   }
   const aggkit::LogisticFit fit = aggkit::fit_logistic(x, y);
+  const aggkit::bench::Figures figures("dem_campaign_fit", argc, argv);
+  const std::string case_name = "k_n=" + aggkit::bench::Figures::text(k) + " y=" + y_name;
   std::printf("logistic fit of %s against log10 %s over %zu runs: %s\n", y_name.c_str(), x_name.c_str(), x.size(),
               fit.converged ? "converged" : "NOT converged");
   std::printf("  high plateau %.4f ± %.4f, low plateau %.4f ± %.4f, width %.3f ± %.3f decades, rms residual %.3g\n", fit.high,
@@ -58,6 +62,10 @@ int main(int argc, char** argv) {
   const double low = std::pow(10.0, fit.midpoint - fit.midpoint_error), high = std::pow(10.0, fit.midpoint + fit.midpoint_error);
   std::printf("  midpoint log10 γ = %.3f ± %.3f: γ_50 = %.4g (one-sigma range %.4g – %.4g) in units √(G m³/R³)\n", fit.midpoint,
               fit.midpoint_error, g50, low, high);
+  figures.add(case_name, "gamma_50", g50, "sqrt(G m^3/R^3)");
+  figures.add(case_name, "log10_gamma_50_error", fit.midpoint_error, "1");
+  figures.add(case_name, "high_plateau", fit.high, "1");
+  figures.add(case_name, "low_plateau", fit.low, "1");
   const double m_eff = 0.5, t_c = M_PI * std::sqrt(m_eff / k);
   const double zeta = g50 / (2 * std::sqrt(k * m_eff));
   std::printf("  at k̃_n = %g: damping ratio ζ_50 = %.4f, formula restitution e = %.3f\n", k, zeta,
