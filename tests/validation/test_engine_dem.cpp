@@ -240,6 +240,23 @@ std::vector<double> vtu_array(const std::filesystem::path& vtu, const std::strin
   return values;
 }
 
+TEST_CASE("dem: the default step resolves the dashpot's time when the contact is overdamped", "[dem]") {
+  // k̃_n = 10^6, m_eff = m/2: t_c = π √(0.5/10^6) = 2.22e-3; γ_n = 500 (ζ = 0.35): dt = t_c/50;
+  // γ_n = 2·10^4 (ζ = 14): dt = m_eff/(5 γ_n) = 5e-6, below t_c/50 = 4.44e-5.
+  const auto dt_of = [](const std::string& damping) {
+    const Scene scene = aggkit::testing::parse_checked(
+        dem_scene("stiffness_normalized = 1e6\ndamping = " + damping + "\ngravity = { G = 1.0 }\n"));
+    return build_engine(scene, 0)->describe();
+  };
+  CHECK_THAT(dt_of("500.0"), Catch::Contains("dt " + format_value(M_PI * std::sqrt(0.5e-6) / 50)));
+  CHECK_THAT(dt_of("2e4"), Catch::Contains("dt " + format_value(0.5 / 2e4 / 5)));
+  CHECK_THAT(dt_of("2e4"), !Catch::Contains("WARNING"));
+  // A step given above it is warned about.
+  const Scene coarse = aggkit::testing::parse_checked(
+      dem_scene("stiffness_normalized = 1e6\ndamping = 2e4\ngravity = { G = 1.0 }\ndt = 4e-5\n"));
+  CHECK_THAT(build_engine(coarse, 0)->describe(), Catch::Contains("WARNING dt > m_eff/(5 γ_n)"));
+}
+
 TEST_CASE("dem: a cloud with friction collapses, the Coulomb limit holds, the snapshot has angular velocities",
           "[dem][harness][friction]") {
   const auto out = aggkit::testing::scratch_folder("dem-friction");
