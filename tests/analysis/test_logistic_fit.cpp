@@ -64,7 +64,7 @@ TEST_CASE("logistic fit: the midpoint's standard error is calibrated on noisy da
   CHECK(coverage < 0.80);
 }
 
-TEST_CASE("logistic fit: too few or non-finite points give no fit; mismatched lengths are bad input") {
+TEST_CASE("logistic fit: too few or non-finite points give no fit, mismatched lengths are bad input") {
   const std::vector<double> x{1, 2, 3, 4}, y{1, 1, 0, 0};
   CHECK_FALSE(fit_logistic(x, y).converged);
   const std::vector<double> x5{1, 2, 3, 4, 5}, y5{1, 1, NAN, 0, 0};

@@ -124,7 +124,7 @@ std::map<std::string, std::string> point_files(const fs::path& out) {
 
 }  // namespace
 
-TEST_CASE("sweep cli: the product of the keys, one row per run with its final values, and the same CSV under mpirun -np 2") {
+TEST_CASE("sweep cli: the product of the keys, one row per run with its final values, and the same CSV under mpirun -np 2", "[mpi]") {
   const auto folder = aggkit::testing::scratch_folder("sweep-cli-kinetic");
   const auto scene = aggkit::testing::write_text(folder / "sweep.toml", kinetic_sweep);
   const Outcome single = run(sweep_command("", scene, folder / "single"), folder);
@@ -204,7 +204,7 @@ TEST_CASE("sweep cli: realizations differ, and sweep_mean.csv holds their means 
   CHECK(std::stod(final_json.substr(at + 17)) == Approx(std::stod(rows[1].at("kinetic_energy"))).epsilon(1e-12));
 }
 
-TEST_CASE("sweep cli: an interrupted sweep resumes without rerunning its finished runs; heat maps") {
+TEST_CASE("sweep cli: an interrupted sweep resumes without rerunning its finished runs, heat maps") {
   const auto folder = aggkit::testing::scratch_folder("sweep-cli-resume");
   const auto scene = aggkit::testing::write_text(folder / "sweep.toml", kinetic_sweep);
   const auto out = folder / "out";

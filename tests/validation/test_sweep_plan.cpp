@@ -65,7 +65,7 @@ TEST_CASE("sweep plan: the product of the keys, the first written slowest, each 
   CHECK(plan.maps == std::vector<std::string>{"M0", "M2"});
 }
 
-TEST_CASE("sweep plan: realization r raises every seed by r; an integer key gets integers from a range") {
+TEST_CASE("sweep plan: realization r raises every seed by r, an integer key gets integers from a range") {
   const SweepPlan plan = parse_sweep_plan(particles("\"particles.count\" = { from = 10, to = 30, count = 3 }\nrealizations = 3\n"));
   REQUIRE(plan.point_count() == 3);
   CHECK(plan.realizations == 3);
