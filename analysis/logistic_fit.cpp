@@ -110,7 +110,12 @@ LogisticFit fit_logistic(std::span<const double> x, std::span<const double> y) {
     *errors[k] = std::sqrt(scale * gsl_matrix_get(covariance, k, k));
   }
   fit.residual_sum_of_squares = chi2;
-  fit.converged = status == GSL_SUCCESS;
+  // A step that falls between two abscissae leaves the width and midpoint undetermined (JᵀJ singular): the
+  // errors then blow up, and the fit is reported as not converged.
+  bool determined = true;
+  for (double* e : errors) determined = determined && std::isfinite(*e);
+  determined = determined && fit.midpoint_error < *x_max - *x_min;
+  fit.converged = status == GSL_SUCCESS && determined;
   gsl_matrix_free(covariance);
   gsl_multifit_nlinear_free(work);
   return fit;

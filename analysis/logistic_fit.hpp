@@ -18,7 +18,9 @@ struct LogisticFit {
   double high_error = nan, low_error = nan, midpoint_error = nan, width_error = nan;
   double residual_sum_of_squares = nan;
   std::size_t points = 0;
-  bool converged = false;  // the solver met its tolerances
+  // The solver met its tolerances and the parameters are determined: finite errors, the midpoint's below the
+  // range of x (a step falling between two abscissae has a singular JᵀJ: its midpoint is only bracketed).
+  bool converged = false;
   double operator()(double x) const;
 };
 

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   const aggkit::bench::Figures figures("dem_campaign_fit", argc, argv);
   const std::string case_name = "k_n=" + aggkit::bench::Figures::text(k) + " y=" + y_name;
   std::printf("logistic fit of %s against log10 %s over %zu runs: %s\n", y_name.c_str(), x_name.c_str(), x.size(),
-              fit.converged ? "converged" : "NOT converged");
+              fit.converged ? "converged" : "NOT determined (the step falls between grid values: only bracketed)");
   std::printf("  high plateau %.4f ± %.4f, low plateau %.4f ± %.4f, width %.3f ± %.3f decades, rms residual %.3g\n", fit.high,
               fit.high_error, fit.low, fit.low_error, fit.width, fit.width_error,
               std::sqrt(fit.residual_sum_of_squares / double(x.size())));

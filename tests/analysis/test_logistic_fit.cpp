@@ -70,4 +70,9 @@ TEST_CASE("logistic fit: too few or non-finite points give no fit, mismatched le
   const std::vector<double> x5{1, 2, 3, 4, 5}, y5{1, 1, NAN, 0, 0};
   CHECK_FALSE(fit_logistic(x5, y5).converged);
   CHECK_THROWS_AS(fit_logistic(x5, y), InputError);
+  // A step between two abscissae (plateaus on either side, nothing in between): the midpoint is undetermined.
+  const std::vector<double> xs{1, 1, 1.2, 1.2, 1.3, 1.3, 1.7, 1.7, 2.3, 2.3}, ys{0.95, 0.94, 0.92, 0.93, 0.76, 0.74, 0.1, 0.1, 0.09, 0.1};
+  const LogisticFit step = fit_logistic(xs, ys);
+  INFO("midpoint " << step.midpoint << " ± " << step.midpoint_error << ", width " << step.width);
+  CHECK_FALSE(step.converged);
 }
