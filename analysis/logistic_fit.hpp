@@ -19,7 +19,9 @@ struct LogisticFit {
   double residual_sum_of_squares = nan;
   std::size_t points = 0;
   // The solver met its tolerances and the parameters are determined: finite errors, the midpoint's below the
-  // range of x (a step falling between two abscissae has a singular JᵀJ: its midpoint is only bracketed).
+  // range of x. A step falling between two abscissae often leaves JᵀJ singular (then this is false); when it
+  // does not, the small error of its midpoint is still only where the data have no points: check that some
+  // points lie inside midpoint ± 2 |width|.
   bool converged = false;
   double operator()(double x) const;
 };
