@@ -2,6 +2,7 @@
 //   aggkit run SCENE --out DIR [--quiet] [--no-plot] [-- PETSC_OPTIONS]
 //   [mpirun -np K] aggkit scan SCENE --out DIR [--quiet] [--no-plot]
 //   aggkit validate [--tier fast|full] [--out DIR] [--jobs K] [--quiet] [--no-plot] [--rerun] [SCENE ...]
+//   [mpirun -np K] aggkit sweep SCENE --out DIR [--quiet] [--no-plot]
 //   aggkit kernels
 //   aggkit --version
 // Exit status: 0 pass; 1 a comparison failed (or an engine failed); 2 bad input (bad scene or command
@@ -26,6 +27,7 @@
 #include "validation/scan/scan_mpi.hpp"
 #include "validation/scene/scene.hpp"
 #include "validation/validate/validate.hpp"
+#include "validation/sweep/sweep.hpp"
 #include "validation/io/text.hpp"
 #include "validation/io/version.hpp"
 
@@ -117,6 +119,17 @@ int validate(const ValidateArguments& arguments) {
   return aggkit::run_validation(options).exit_code;
 }
 
+// The sweep, like the scan, runs under MPI (a singleton job without mpirun).
+int sweep(const RunArguments& arguments, int* argc, char*** argv) {
+  aggkit::MpiSession mpi(argc, argv);
+  const aggkit::SweepPlan plan = aggkit::load_sweep_plan(arguments.scene);
+  aggkit::SweepOptions options;
+  options.out = arguments.out;
+  options.plot = !arguments.no_plot;
+  options.progress = arguments.quiet ? nullptr : &std::cerr;
+  return aggkit::run_sweep(plan, options).exit_code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -171,6 +184,23 @@ int main(int argc, char** argv) {
       "tolerance and share of the tolerance used, wall time); writes DIR/validation.json and DIR/report.html.\n"
       "Not under mpirun: --jobs K runs K scenes at once.\n"
       "Exit status 0: every scene passes; 1: a scene failed; 2: bad input (option, scene, output folder).");
+  RunArguments sweep_arguments;
+  CLI::App* sweep_command = app.add_subcommand(
+      "sweep", "run a scene over the product of the values of scene keys in its [sweep]; MPI: mpirun -np K");
+  sweep_command->add_option("scene", sweep_arguments.scene, "scene with a [sweep] section (see validation/sweep/sweep_plan.hpp)")
+      ->required();
+  sweep_command->add_option("--out,-o", sweep_arguments.out, "output folder (created if needed; a rerun resumes)")
+      ->required();
+  sweep_command->add_flag("--quiet,-q", sweep_arguments.quiet, "no progress lines on stderr");
+  sweep_command->add_flag("--no-plot", sweep_arguments.no_plot, "do not draw the maps");
+  sweep_command->footer(
+      "[sweep] \"engine.damping\" = { from = 10, to = 1e5, count = 7, spacing = \"log\" } (or a list of values), any\n"
+      "scene key, quoted; engine.X: the only engine, engine[i].X: by index, engine[label].X: by label;\n"
+      "realizations = R (every seed + r for realization r); maps = [columns] (default observe.final).\n"
+      "Writes DIR/sweep.csv (a row per point and realization: the swept values and the final values),\n"
+      "DIR/sweep_mean.csv (per point: <column>, <column>_stderr, <column>_n), DIR/timing.csv,\n"
+      "DIR/map_<column>.png, DIR/runs/ (each run's outputs) and DIR/points/ (finished runs: an interrupted sweep\n"
+      "resumes). Exit status 0: every run finished; 1: some runs failed; 2: bad input (a key the scene refuses).");
   CLI::App* kernels_command = app.add_subcommand("kernels", "list the kernels and their parameters");
 
   // Everything after `--` is for PETSc (aggkit run ... -- -snes_monitor), not for the command line parser.
@@ -203,6 +233,7 @@ int main(int argc, char** argv) {
     }
     if (*scan_command) return scan(scan_arguments, &argc, &argv);
     if (*validate_command) return validate(validate_arguments);
+    if (*sweep_command) return sweep(sweep_arguments, &argc, &argv);
     return run(arguments);
   } catch (const aggkit::InputError& e) {
     std::cerr << "aggkit: error: " << e.what() << "\n";

@@ -3,8 +3,10 @@
 // results whatever the thread counts, and bad input refused naming the key.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -226,16 +228,68 @@ TEST_CASE("dem: elastic gases in periodic and reflecting boxes keep energy and m
   }
 }
 
-TEST_CASE("dem: a cloud with friction collapses, the Coulomb limit holds", "[dem][harness][friction]") {
+// The values of one DataArray of a .vtu file (ASCII), or empty if it has none of that name.
+std::vector<double> vtu_array(const std::filesystem::path& vtu, const std::string& name) {
+  const std::string text = aggkit::testing::read_text(vtu);
+  const std::size_t at = text.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) return {};
+  const std::size_t begin = text.find('>', at) + 1, end = text.find("</DataArray>", begin);
+  std::istringstream in(text.substr(begin, end - begin));
+  std::vector<double> values;
+  for (double v; in >> v;) values.push_back(v);
+  return values;
+}
+
+TEST_CASE("dem: the default step resolves the dashpot's time when the contact is overdamped", "[dem]") {
+  // k̃_n = 10^6, m_eff = m/2: t_c = π √(0.5/10^6) = 2.22e-3; γ_n = 500 (ζ = 0.35): dt = t_c/50;
+  // γ_n = 2·10^4 (ζ = 14): dt = m_eff/(5 γ_n) = 5e-6, below t_c/50 = 4.44e-5.
+  const auto dt_of = [](const std::string& damping) {
+    const Scene scene = aggkit::testing::parse_checked(
+        dem_scene("stiffness_normalized = 1e6\ndamping = " + damping + "\ngravity = { G = 1.0 }\n"));
+    return build_engine(scene, 0)->describe();
+  };
+  CHECK_THAT(dt_of("500.0"), Catch::Contains("dt " + format_value(M_PI * std::sqrt(0.5e-6) / 50)));
+  CHECK_THAT(dt_of("2e4"), Catch::Contains("dt " + format_value(0.5 / 2e4 / 5)));
+  CHECK_THAT(dt_of("2e4"), !Catch::Contains("WARNING"));
+  // A step given above it is warned about.
+  const Scene coarse = aggkit::testing::parse_checked(
+      dem_scene("stiffness_normalized = 1e6\ndamping = 2e4\ngravity = { G = 1.0 }\ndt = 4e-5\n"));
+  CHECK_THAT(build_engine(coarse, 0)->describe(), Catch::Contains("WARNING dt > m_eff/(5 γ_n)"));
+}
+
+TEST_CASE("dem: a cloud with friction collapses, the Coulomb limit holds, the snapshot has angular velocities",
+          "[dem][harness][friction]") {
   const auto out = aggkit::testing::scratch_folder("dem-friction");
   run_scene(aggkit::testing::parse_checked(
-                dem_scene("restitution = 0.3\ncontact_time = 0.05\nfriction = 0.5\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n")),
+                dem_scene("restitution = 0.3\ncontact_time = 0.05\nfriction = 0.5\ngravity = { G = 1.0 }\nstop = \"aggregated\"\n") +
+                "snapshots = true\n"),
             aggkit::testing::quiet_run(out));
   const auto final = final_json(out);
   CHECK(final["aggregation_time"].get<double>() < 40.0);
   CHECK(final["max_friction_ratio"].get<double>() <= 1 + 1e-12);
   CHECK(final["max_friction_ratio"].get<double>() > 0.99);  // some contacts slid
   CHECK(final["momentum_drift"].get<double>() < 1e-12);
+  // Friction turns the spheres: 3 components per particle, not all zero.
+  const std::vector<double> omega = vtu_array(out / "dem" / "final.vtu", "angular_velocity");
+  REQUIRE(omega.size() == 3 * 100);
+  double largest = 0;
+  for (double w : omega) largest = std::max(largest, std::abs(w));
+  CHECK(largest > 0);
+}
+
+TEST_CASE("dem: the snapshot of a frictionless polydisperse cloud has each particle's radius and no angular velocity",
+          "[dem][harness]") {
+  const auto out = aggkit::testing::scratch_folder("dem-snapshot");
+  std::string text = dem_scene("restitution = 0.3\ncontact_time = 0.05\n", "", "3.0") + "snapshots = true\n";
+  text.replace(text.find("radius = 1.0"), 12, "radius = { distribution = \"normal\", mean = 1.0, sd = 0.2, min = 0.5, max = 1.5 }");
+  run_scene(aggkit::testing::parse_checked(text), aggkit::testing::quiet_run(out));
+  const auto vtu = out / "dem" / "final.vtu";
+  CHECK(vtu_array(vtu, "angular_velocity").empty());  // rotation is not integrated without friction
+  const std::vector<double> radii = vtu_array(vtu, "radius");
+  REQUIRE(radii.size() == 100);
+  CHECK(*std::min_element(radii.begin(), radii.end()) >= 0.5);
+  CHECK(*std::max_element(radii.begin(), radii.end()) <= 1.5);
+  CHECK(*std::min_element(radii.begin(), radii.end()) < *std::max_element(radii.begin(), radii.end()));
 }
 
 TEST_CASE("dem: tree gravity collapses the cloud as the direct sum does", "[dem][harness][tree]") {

@@ -8,6 +8,7 @@
 #include "tests/validation/scene_fixture.hpp"
 #include "validation/scene/kernel_catalogue.hpp"
 #include "validation/scan/scan_plan.hpp"
+#include "validation/sweep/sweep_plan.hpp"
 #include "validation/scene/scene.hpp"
 
 using namespace aggkit;
@@ -86,6 +87,8 @@ TEST_CASE("scene: every shipped scene parses") {
     // Scan scenes (a [scan] section; validation/scan/scan_plan.hpp) are read by the scan's parser.
     if (aggkit::testing::read_text(entry.path()).find("\n[scan]") != std::string::npos)
       CHECK_NOTHROW(load_scan_plan(entry.path()));
+    else if (aggkit::testing::read_text(entry.path()).find("\n[sweep]") != std::string::npos)
+      CHECK_NOTHROW(load_sweep_plan(entry.path()));  // every point read and built, as `aggkit sweep` does
     else
       CHECK_NOTHROW(build_engines(load_scene(entry.path())));  // engine options and observables checked too
     ++scenes;

@@ -54,7 +54,8 @@ const OptionTable& dem_options() {
                     "reflecting walls)",
                     0.0, std::numeric_limits<double>::infinity()),
       number_option("tangential_stiffness_ratio", "2/7", "k_t / k_n of the tangential spring (with friction)", 0.0, 1e3, true),
-      number_option("dt", "t_c/50", "time step (refused above t_c/2, warned above t_c/20 [Trivino2025, eq. 8])", 0.0,
+      number_option("dt", "min(t_c/50, m_eff/(5 γ_n))",
+                    "time step (refused above t_c/2, warned above t_c/20 [Trivino2025, eq. 8] and above m_eff/(5 γ_n))", 0.0,
                     std::numeric_limits<double>::infinity(), true),
       custom_option("gravity", "off", "self-gravity G m_i m_j/(r² + ε²) along each pair [Trivino2025, eq. 1]",
                     "{ G = number > 0, softening = number >= 0 (default 1e-3 R_min), method = \"direct\" | \"tree\", "
@@ -133,6 +134,11 @@ class DemSimulation final : public ParticleSimulation {
     return out;
   }
   double kinetic_energy() const override { return dem_.kinetic_energy(); }
+  std::vector<double> radii() const override { return dem_.radii(); }
+  // Rotation is integrated only with friction: without it the snapshot has no angular_velocity array.
+  std::vector<Vector3> angular_velocities() const override {
+    return settings_.dem.friction > 0 ? dem_.angular_velocities() : std::vector<Vector3>{};
+  }
   Vector3 momentum() const override { return dem_.momentum(); }
   Vector3 wall_impulse() const override { return dem_.wall_impulse(); }
   std::optional<CollisionStatistics> collision_statistics() const override {
@@ -296,13 +302,25 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
     settings.realised_restitution = clipped_collision(dem.damping / (2 * std::sqrt(dem.stiffness * reduced))).restitution;
     settings.elastic = dem.damping == 0;
   }
-  dem.dt = given.has("dt") ? given.number("dt", 0.0) : contact_time / 50;
+  // The dashpot's own time m_eff/γ_n (fastest for the lightest pair): the explicit dashpot relaxes a contact's
+  // normal velocity by a factor 1 − γ_n dt/m* per step, which overshoots and reverses it once γ_n dt/m* > 1 —
+  // an overdamped collision then rebounds instead of sticking (measured: γ_n = 2·10^4 at k̃_n = 10^6 with
+  // dt = t_c/50 left the whole cloud unaggregated). The default step resolves it with 5 steps: it is below
+  // t_c/50 only when ζ > 50/(10π) ≈ 1.6.
+  const double damping_rate = by_restitution ? dem.damping_per_mass : dem.damping / reference_reduced;  // 1/time
+  const double damping_time = damping_rate > 0 ? 1 / damping_rate : std::numeric_limits<double>::infinity();
+  dem.dt = given.has("dt") ? given.number("dt", 0.0) : std::min(contact_time / 50, damping_time / 5);
   if (dem.dt > contact_time / 2)
     given.fail("dt", "dt <= t_c/2 = " + format_value(contact_time / 2) + " (a contact must span several steps)");
   std::string warning;
   if (dem.dt > contact_time / 20) {
     warning = "; WARNING dt > t_c/20 = " + format_value(contact_time / 20) + " [Trivino2025, eq. 8]";
     std::cerr << "warning: engine dem: dt = " << format_value(dem.dt) << " > t_c/20 = " << format_value(contact_time / 20) << '\n';
+  }
+  if (dem.dt > damping_time / 5) {
+    warning += "; WARNING dt > m_eff/(5 γ_n) = " + format_value(damping_time / 5) + " (the dashpot is under-resolved)";
+    std::cerr << "warning: engine dem: dt = " << format_value(dem.dt) << " > m_eff/(5 γ_n) = " << format_value(damping_time / 5)
+              << ": an overdamped contact may rebound\n";
   }
   dem.contact_tolerance = given.number("contact_tolerance", dem.contact_tolerance);
   dem.force_threads = std::size_t(given.integer("force_threads", 1));

@@ -157,7 +157,8 @@ class ParticleEngine final : public Engine {
     result.counters = simulation->counters();
     if (r == 0 && observer.final_configuration) observer.final_configuration(final);
     if (r == 0 && scene.observe.snapshots) {
-      write_vtu_snapshot(observer.folder / "final.vtu", final.configuration(), final.cluster_labels(), final.velocities());
+      write_vtu_snapshot(observer.folder / "final.vtu", final.configuration(), final.cluster_labels(), final.velocities(),
+                         simulation->radii(), simulation->angular_velocities());
       std::string error;
       result.picture = write_cluster_picture(observer.folder / "final.png", final.configuration(), final.cluster_labels(), &error)
                            ? "final.png"

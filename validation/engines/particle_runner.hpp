@@ -12,7 +12,8 @@
 //     wall_seconds, momentum_drift = |P(end) + J_walls − P(0)| / Σ m |v(0)| (absolute when everything
 //     starts at rest; P(0) after prepare()), stop_time, each as a mean with <key>_stderr;
 //     <label>/<profile>.csv for profiles (particle_outputs.hpp);
-//   * with observe.snapshots, the first realization's final configuration as final.vtu and final.png;
+//   * with observe.snapshots, the first realization's final configuration as final.vtu (cluster, radius,
+//     velocity, and angular_velocity where the engine integrates rotation) and final.png;
 //   * progress in words, summary statistics (the engine's counters summed over realizations).
 #include <cstdint>
 #include <functional>
@@ -42,6 +43,10 @@ class ParticleSimulation : public ParticleSource {
   virtual double time() const = 0;
   virtual Vector3 momentum() const;                       // Σ m v; by default over the particles
   virtual Vector3 wall_impulse() const { return {0, 0, 0}; }  // momentum given to the walls so far
+  // For the .vtu snapshot: per-particle radii (empty: the configuration's one radius) and angular velocities
+  // (empty: rotation is not integrated, and the snapshot has no angular_velocity array).
+  virtual std::vector<double> radii() const { return {}; }
+  virtual std::vector<Vector3> angular_velocities() const { return {}; }
   // The engine's own entries of final.json (after the observables) and counters for summary.json (summed).
   virtual std::vector<std::pair<std::string, double>> final_values() const { return {}; }
   virtual std::vector<std::pair<std::string, std::int64_t>> counters() const { return {}; }

@@ -70,7 +70,7 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
   folder.prepare(files, options.force);
 
   RunResult result;
-  Progress progress(options.progress);
+  Progress progress(options.progress, options.progress_interval);
   for (std::size_t i = 0; i < engines.size(); ++i) {
     const Engine& engine = *engines[i];
     progress.start(engine.label(), i + 1, engines.size(), scene.time.end);

@@ -6,6 +6,7 @@
 //   3. compares every engine with the reference, plots DIR/report.png, writes DIR/summary.json last
 //      and prints a short summary.
 // Every file is written under a temporary name and renamed when complete.
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 
@@ -21,6 +22,7 @@ struct RunOptions {
   bool force = false;                   // write into a non-empty folder aggkit did not write (OutputFolder)
   std::ostream* report = &std::cout;    // the human summary; nullptr: none
   std::ostream* progress = &std::cerr;  // progress of long runs; nullptr: quiet
+  std::chrono::duration<double> progress_interval = std::chrono::seconds(1);  // at most one line per interval
   std::ostream* warnings = &std::cerr;  // e.g. a failed plot; nullptr: none
 };
 

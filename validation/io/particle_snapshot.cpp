@@ -19,7 +19,8 @@ namespace {
 constexpr std::chrono::seconds picture_timeout{300};
 
 void check_sizes(const ParticleConfiguration& config, std::span<const std::uint32_t> cluster,
-                 std::span<const std::array<double, 3>> velocity) {
+                 std::span<const std::array<double, 3>> velocity, std::span<const double> radius = {},
+                 std::span<const std::array<double, 3>> angular_velocity = {}) {
   check_configuration(config);
   const std::size_t n = config.positions.size();
   if (cluster.size() != n)
@@ -28,6 +29,12 @@ void check_sizes(const ParticleConfiguration& config, std::span<const std::uint3
   if (!velocity.empty() && velocity.size() != n)
     throw InputError("velocity", std::to_string(velocity.size()) + " vectors",
                      "needs one velocity per particle (" + std::to_string(n) + ") or none");
+  if (!radius.empty() && radius.size() != n)
+    throw InputError("radius", std::to_string(radius.size()) + " radii",
+                     "needs one radius per particle (" + std::to_string(n) + ") or none");
+  if (!angular_velocity.empty() && angular_velocity.size() != n)
+    throw InputError("angular_velocity", std::to_string(angular_velocity.size()) + " vectors",
+                     "needs one angular velocity per particle (" + std::to_string(n) + ") or none");
   for (std::uint32_t label : cluster)
     if (label > std::uint32_t(std::numeric_limits<std::int32_t>::max()))
       throw InputError("cluster", std::to_string(label), "labels are written as Int32 (at most 2^31 - 1)");
@@ -63,8 +70,9 @@ std::filesystem::path cluster_plot_script() {
 }  // namespace
 
 void write_vtu_snapshot(const std::filesystem::path& path, const ParticleConfiguration& config,
-                        std::span<const std::uint32_t> cluster, std::span<const std::array<double, 3>> velocity) {
-  check_sizes(config, cluster, velocity);
+                        std::span<const std::uint32_t> cluster, std::span<const std::array<double, 3>> velocity,
+                        std::span<const double> radius, std::span<const std::array<double, 3>> angular_velocity) {
+  check_sizes(config, cluster, velocity, radius, angular_velocity);
   const std::size_t n = config.positions.size();
   AtomicFile file(path);
   std::ostream& out = file.stream();
@@ -78,13 +86,16 @@ void write_vtu_snapshot(const std::filesystem::path& path, const ParticleConfigu
   for (std::uint32_t label : cluster) number(std::int32_t(label));
   out << "\n        </DataArray>\n";
   data_array_open(out, "Float64", "radius", 1);
-  for (std::size_t i = 0; i < n; ++i) number(config.radius);
+  for (std::size_t i = 0; i < n; ++i) number(radius.empty() ? config.radius : radius[i]);
   out << "\n        </DataArray>\n";
-  if (!velocity.empty()) {
-    data_array_open(out, "Float64", "velocity", 3);
-    for (const auto& v : velocity) number(v[0]), number(v[1]), number(config.dimension == 3 ? v[2] : 0.0);
+  const auto vectors = [&](const char* name, std::span<const std::array<double, 3>> values) {
+    if (values.empty()) return;
+    data_array_open(out, "Float64", name, 3);
+    for (const auto& v : values) number(v[0]), number(v[1]), number(config.dimension == 3 ? v[2] : 0.0);
     out << "\n        </DataArray>\n";
-  }
+  };
+  vectors("velocity", velocity);
+  vectors("angular_velocity", angular_velocity);
   out << "      </PointData>\n      <Points>\n";
   data_array_open(out, "Float64", "", 3);
   for (const auto& p : config.positions) number(p[0]), number(p[1]), number(config.dimension == 3 ? p[2] : 0.0);

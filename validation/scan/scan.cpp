@@ -8,12 +8,12 @@
 #include <map>
 #include <optional>
 #include <sstream>
-#include <unistd.h>
 
 #include "analysis/input_error.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/progress.hpp"
 #include "validation/scan/scan_lambda_crit.hpp"
+#include "validation/scan/run_store.hpp"
 #include "validation/scan/scan_mpi.hpp"
 #include "validation/scan/scan_output.hpp"
 #include "validation/scan/scan_point.hpp"
@@ -42,57 +42,13 @@ struct Run {
   bool operator<(const Run& o) const { return std::tie(a, lambda, size) < std::tie(o.a, o.lambda, o.size); }
 };
 
-std::string read_text(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return "";
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-[[noreturn]] void unusable(const std::filesystem::path& folder, const std::string& why) {
-  throw InputError("--out", folder.string(), "an output folder that can be created and written (" + why + ")");
-}
-
-void prepare_folder(const std::filesystem::path& root, const std::filesystem::path& points, int rank) {
-  std::error_code error;
-  std::filesystem::create_directories(points, error);
-  if (error) unusable(root, error.message());
-  // Root may write anywhere by permissions alone; only writing a file proves the folder is usable.
-  const std::filesystem::path probe = points / (".write-test-" + std::to_string(::getpid()) + "-" + std::to_string(rank));
-  std::ofstream file(probe);
-  file << "probe\n";
-  file.close();
-  const bool ok = static_cast<bool>(file);
-  std::filesystem::remove(probe, error);
-  if (!ok) unusable(root, "cannot write files in it");
-}
-
-// Rank 0: points computed for another scene (different model, time grid, integrator or classification)
-// must not be reused; they are removed and the fingerprint replaced.
-void check_fingerprint(const std::filesystem::path& points, const std::string& fingerprint, std::ostream* progress) {
-  const std::filesystem::path file = points / "fingerprint.toml";
-  std::error_code error;
-  const bool exists = std::filesystem::exists(file, error);
-  if (exists && read_text(file) == fingerprint) return;
-  if (exists) {
-    std::size_t removed = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(points, error))
-      if (entry.path().extension() == ".csv") removed += std::filesystem::remove(entry.path(), error) ? 1 : 0;
-    if (progress && removed)
-      *progress << "aggkit scan: the scene's model, time grid or classification changed: " << removed
-                << " earlier results discarded\n";
-  }
-  write_file_atomically(file, fingerprint);
-}
-
 class RunCache {
  public:
   RunCache(const ScanPlan& plan, std::filesystem::path folder, std::ostream* progress)
       : plan_(plan), folder_(std::move(folder)), progress_(progress), world_(mpi_world()) {}
 
   std::optional<ScanRecord> finished(const Run& run) const {
-    const std::optional<ScanRecord> r = parse_point_file(read_text(file(run)));
+    const std::optional<ScanRecord> r = parse_point_file(read_text_file(file(run)));
     if (!r || r->a != run.a || r->lambda != run.lambda || r->size != run.size) return std::nullopt;
     return r;
   }
@@ -102,22 +58,12 @@ class RunCache {
     std::sort(runs.begin(), runs.end());
     runs.erase(std::unique(runs.begin(), runs.end(), [](const Run& x, const Run& y) { return !(x < y) && !(y < x); }),
                runs.end());
-    std::vector<Run> todo;
-    for (const Run& run : runs)
-      if (!finished(run)) todo.push_back(run);
-    reused_ += runs.size() - todo.size();
-    mpi_barrier();  // every rank has listed the same unfinished runs before any is written
-    if (progress_ && world_.rank == 0)
-      *progress_ << "aggkit scan: " << what << ": " << runs.size() << " runs, " << runs.size() - todo.size()
-                 << " finished earlier, " << todo.size() << " to compute on " << world_.size
-                 << (world_.size == 1 ? " rank\n" : " ranks\n") << std::flush;
-    // Runs are numbered over the whole batch: after a resume the count continues after the runs finished
-    // earlier ("8/9") instead of starting again at 1.
-    const std::size_t earlier = runs.size() - todo.size();
-    long failed = 0;
-    for (std::size_t i = std::size_t(world_.rank); i < todo.size(); i += std::size_t(world_.size))
-      failed += compute_one(todo[i], earlier + i + 1, runs.size()) ? 0 : 1;
-    failed_ += std::size_t(mpi_sum(failed));  // also the barrier after which every result is on disk
+    const DistributedRuns done = compute_unfinished_runs(
+        runs.size(), [&](std::size_t i) { return finished(runs[i]).has_value(); },
+        [&](std::size_t i, std::size_t number, std::size_t todo) { return compute_one(runs[i], number, todo); },
+        "aggkit scan", what, progress_);
+    reused_ += done.reused;
+    failed_ += done.failed;
   }
 
   std::size_t reused() const { return reused_; }
@@ -200,7 +146,7 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
   const std::string header = "a,found,lambda_crit,lambda_tolerance,omega,note";
   std::vector<double> todo;
   for (double a : plan.a) {
-    if (parse_hopf_file(read_text(file(a)), header)) continue;
+    if (parse_hopf_file(read_text_file(file(a)), header)) continue;
     if (progress && world.rank == 0 && std::filesystem::exists(file(a)))
       *progress << "aggkit scan: warning: " << file(a).string() << " is damaged; computing that point again\n";
     todo.push_back(a);
@@ -229,7 +175,7 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
   }
   mpi_sum(failed);
   for (auto& row : crit) {
-    const std::optional<HopfRecord> h = parse_hopf_file(read_text(file(row.a)), header);
+    const std::optional<HopfRecord> h = parse_hopf_file(read_text_file(file(row.a)), header);
     if (!h) continue;  // its computation failed (counted and reported above)
     const bool found = h->found;
     const double lambda_crit = h->lambda_crit, tolerance = h->tolerance, omega = h->omega;
@@ -263,19 +209,10 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
 ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   const MpiWorld world = mpi_world();
   const std::filesystem::path points = options.out / "points";
-  // Every rank checks that it can write (they may not share a file system view); a failure anywhere stops
-  // all ranks with the same error.
-  std::string folder_error;
-  try {
-    prepare_folder(options.out, points, world.rank);
-  } catch (const InputError& e) {
-    folder_error = e.what();
-  }
-  if (!mpi_all(folder_error.empty())) {
-    if (!folder_error.empty()) throw InputError("--out", options.out.string(), "an output folder that can be created and written");
-    throw InputError("--out", options.out.string(), "an output folder that every MPI rank can write");
-  }
-  if (world.rank == 0) check_fingerprint(points, plan.fingerprint, options.progress);
+  prepare_points_folder(options.out, points);
+  if (world.rank == 0)
+    check_points_fingerprint(points, plan.fingerprint, ".csv", "aggkit scan",
+                             "the scene's model, time grid or classification changed", options.progress);
   mpi_barrier();
 
   RunCache cache(plan, points, options.progress);

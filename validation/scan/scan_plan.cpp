@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "validation/scene/scene_table.hpp"
+#include "validation/scene/value_range.hpp"
 
 namespace aggkit {
 
@@ -44,31 +45,7 @@ std::vector<double> read_axis(const SceneTable& scan, const std::string& name, b
     return values;
   }
   if (!node->is_table()) scan.fail(name, forms);
-  const SceneTable range = scan.table(name);
-  range.allow_only({"from", "to", "count", "spacing"});
-  const double from = range.number("from", Bound::finite);
-  const double to = range.number("to", Bound::finite);
-  const std::size_t count = range.count("count", 0);
-  if (count == 0) range.fail("count", "at least 1 (an empty range scans nothing)");
-  if (count > max_grid_values) range.fail("count", "at most " + std::to_string(max_grid_values));
-  const std::string spacing = range.optional_string("spacing").value_or("linear");
-  if (spacing != "linear" && spacing != "log") range.fail("spacing", "\"linear\" or \"log\"");
-  log_spacing = spacing == "log";
-  if (count == 1 && to != from) range.fail("count", "at least 2 for a range with from != to");
-  if (count > 1 && !(to > from))
-    range.fail("to", "greater than from = " + shortest_text(from) + " (the range would be empty)");
-  if (log_spacing && !(from > 0)) range.fail("from", "> 0 for spacing = \"log\"");
-  for (std::size_t i = 0; i < count; ++i) {
-    const double s = count == 1 ? 0.0 : double(i) / double(count - 1);
-    const double value = log_spacing ? from * std::pow(to / from, s) : from + (to - from) * s;
-    // To 12 significant digits: 0.55 + 0.05 k reads as 0.6, not 0.6000000000000001 (in the CSVs and the
-    // names of the finished-point files).
-    char text[32];
-    std::snprintf(text, sizeof text, "%.12g", value);
-    values.push_back(std::strtod(text, nullptr));
-  }
-  values.back() = to;  // exactly the end of the range, free of round-off
-  return values;
+  return read_value_range(scan.table(name), max_grid_values, log_spacing);
 }
 
 std::vector<std::pair<double, double>> read_check_points(const SceneTable& check) {

@@ -29,7 +29,9 @@ namespace {
 
 Scene read_scene(const toml::table& document, const std::filesystem::path& folder) {
   const SceneTable root(document, "");
-  root.allow_only({"name", "tier", "model", "particles", "time", "engine", "observe", "compare"});
+  root.allow_only({"name", "tier", "model", "particles", "time", "engine", "observe", "compare", "sweep"});
+  // [sweep] belongs to `aggkit sweep` (validation/sweep/sweep_plan.hpp); a run runs the scene as written.
+  if (root.contains("sweep") && !document.get("sweep")->is_table()) root.fail("sweep", "a table [sweep] (see aggkit sweep --help)");
   Scene scene;
   scene.name = root.string("name");
   if (scene.name.empty()) root.fail("name", "a non-empty name");
@@ -55,6 +57,10 @@ Scene read_scene(const toml::table& document, const std::filesystem::path& folde
 }  // namespace
 
 Scene parse_scene(std::string_view text, const std::string& source) { return read_scene(parse_toml_text(text, source), {}); }
+
+Scene parse_scene(std::string_view text, const std::string& source, const std::filesystem::path& folder) {
+  return read_scene(parse_toml_text(text, source), folder);
+}
 
 Scene load_scene(const std::filesystem::path& path) {
   Scene scene = read_scene(parse_toml_text(read_scene_file(path), path.string()), path.parent_path());

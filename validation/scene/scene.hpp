@@ -40,6 +40,9 @@
 //                                                  of the run, [end/2, end])
 //   snapshots = true                               particle engines: the final configuration as
 //                                                  <engine>/final.vtu and <engine>/final.png (default false)
+//   [sweep]                                        optional: the parameter sweep of `aggkit sweep`
+//                                                  (validation/sweep/sweep_plan.hpp); `aggkit run` ignores
+//                                                  it and runs the scene as written (its base point)
 //   [compare]                                      optional
 //   reference = "exact"                            an engine label
 //   tolerance = { M0 = 1e-6, M2 = 1e-6 }           max relative error over the output times, per series
@@ -149,5 +152,7 @@ struct Scene {
 Scene load_scene(const std::filesystem::path& path);
 // The same for TOML text; `source` names it in messages.
 Scene parse_scene(std::string_view text, const std::string& source = "scene");
+// The same, with relative paths in the scene (a [particles] start file) taken from `folder`.
+Scene parse_scene(std::string_view text, const std::string& source, const std::filesystem::path& folder);
 
 }  // namespace aggkit

@@ -105,6 +105,25 @@ TEST_CASE("dem: a binary head-on collision returns the calibrated restitution", 
   CHECK(std::abs(head_on(fine, 1.0).restitution - 0.1) < coarse_error / 8);
 }
 
+TEST_CASE("dem: an overdamped collision sticks when the step resolves the dashpot's time m*/γ", "[dem]") {
+  // ζ = 15 (γ_n = 2·10^4 against k̃_n = 10^6 in the campaign's units): the clipped closed form returns a tiny
+  // restitution. At dt = t_c/50 the explicit dashpot (velocity factor 1 − γ dt/m* = −0.9 per step) reverses
+  // the approach: the pair rebounds. At dt = (m*/γ)/5, the engine's default, it matches the closed form.
+  DemSettings s;
+  const double omega = 1000, zeta = 15;
+  s.stiffness_per_mass = omega * omega;
+  s.damping_per_mass = 2 * zeta * omega;
+  const double tc = M_PI / omega, tau = 1 / s.damping_per_mass;
+  const double expected = clipped_collision(zeta).restitution;
+  s.dt = tc / 50;
+  const double coarse = head_on(s, 1.0).restitution;
+  s.dt = tau / 5;
+  const double resolved = head_on(s, 1.0).restitution;
+  INFO("closed form " << expected << ", dt = t_c/50: " << coarse << ", dt = tau/5: " << resolved);
+  CHECK(coarse > 1.0);  // measured 1.13: the explicit dashpot even gains energy
+  CHECK(resolved == Approx(expected).margin(1e-5));  // measured 2.6e-7 apart
+}
+
 TEST_CASE("dem: the contact lasts t_c", "[dem]") {
   // Without clipping the formula's stiffness gives a damped half period ω_d = π/t_c: the contact lasts t_c.
   // With clipping the spheres part when the force reaches zero and fly apart over the remaining overlap: the

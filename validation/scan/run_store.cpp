@@ -1,0 +1,100 @@
+#include "validation/scan/run_store.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+#include <vector>
+
+#include "analysis/input_error.hpp"
+#include "validation/io/atomic_file.hpp"
+#include "validation/scan/scan_mpi.hpp"
+
+namespace aggkit {
+
+std::string read_text_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return "";
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+namespace {
+
+[[noreturn]] void unusable(const std::filesystem::path& folder, const std::string& why) {
+  throw InputError("--out", folder.string(), "an output folder that can be created and written (" + why + ")");
+}
+
+void prepare_here(const std::filesystem::path& root, const std::filesystem::path& points, int rank) {
+  std::error_code error;
+  std::filesystem::create_directories(points, error);
+  if (error) unusable(root, error.message());
+  // Root may write anywhere by permissions alone; only writing a file proves the folder is usable.
+  const std::filesystem::path probe = points / (".write-test-" + std::to_string(::getpid()) + "-" + std::to_string(rank));
+  std::ofstream file(probe);
+  file << "probe\n";
+  file.close();
+  const bool ok = static_cast<bool>(file);
+  std::filesystem::remove(probe, error);
+  if (!ok) unusable(root, "cannot write files in it");
+}
+
+}  // namespace
+
+void prepare_points_folder(const std::filesystem::path& out, const std::filesystem::path& points) {
+  // Every rank checks that it can write (they may not share a file system view); a failure anywhere stops
+  // all ranks with the same error.
+  std::string folder_error;
+  try {
+    prepare_here(out, points, mpi_world().rank);
+  } catch (const InputError& e) {
+    folder_error = e.what();
+  }
+  if (!mpi_all(folder_error.empty())) {
+    if (!folder_error.empty()) throw InputError("--out", out.string(), "an output folder that can be created and written");
+    throw InputError("--out", out.string(), "an output folder that every MPI rank can write");
+  }
+}
+
+void check_points_fingerprint(const std::filesystem::path& points, const std::string& fingerprint,
+                              const std::string& extension, const std::string& command, const std::string& why,
+                              std::ostream* progress) {
+  const std::filesystem::path file = points / "fingerprint.toml";
+  std::error_code error;
+  const bool exists = std::filesystem::exists(file, error);
+  if (exists && read_text_file(file) == fingerprint) return;
+  if (exists) {
+    std::size_t removed = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(points, error))
+      if (entry.path().extension() == extension) removed += std::filesystem::remove(entry.path(), error) ? 1 : 0;
+    if (progress && removed) *progress << command << ": " << why << ": " << removed << " earlier results discarded\n";
+  }
+  write_file_atomically(file, fingerprint);
+}
+
+DistributedRuns compute_unfinished_runs(std::size_t count, const std::function<bool(std::size_t)>& finished,
+                                        const std::function<bool(std::size_t, std::size_t, std::size_t)>& compute,
+                                        const std::string& command, const std::string& what, std::ostream* progress) {
+  const MpiWorld world = mpi_world();
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < count; ++i)
+    if (!finished(i)) todo.push_back(i);
+  DistributedRuns runs;
+  runs.runs = count;
+  runs.reused = count - todo.size();
+  mpi_barrier();  // every rank has listed the same unfinished runs before any is written
+  if (progress && world.rank == 0)
+    *progress << command << ": " << what << ": " << count << " runs, " << runs.reused << " finished earlier, "
+              << todo.size() << " to compute on " << world.size << (world.size == 1 ? " rank\n" : " ranks\n") << std::flush;
+  // Runs are numbered over the whole batch: after a resume the count continues after the runs finished
+  // earlier ("8/9") instead of starting again at 1.
+  long failed = 0;
+  for (std::size_t k = std::size_t(world.rank); k < todo.size(); k += std::size_t(world.size)) {
+    if (compute(todo[k], runs.reused + k + 1, count)) ++runs.computed;
+    else ++failed;
+  }
+  runs.failed = std::size_t(mpi_sum(failed));  // also the barrier after which every result is on disk
+  return runs;
+}
+
+}  // namespace aggkit

@@ -1,0 +1,131 @@
+#include "validation/sweep/sweep_record.hpp"
+
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "validation/io/text.hpp"
+
+namespace aggkit {
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+// Every column of the records, in order of first appearance.
+std::vector<std::string> column_names(const std::vector<SweepRecord>& records) {
+  std::vector<std::string> names;
+  std::map<std::string, bool> seen;
+  for (const auto& r : records)
+    for (const auto& [name, value] : r.columns)
+      if (!seen[name]) seen[name] = true, names.push_back(name);
+  return names;
+}
+
+double column(const SweepRecord& record, const std::string& name) {
+  for (const auto& [n, v] : record.columns)
+    if (n == name) return v;
+  return nan;
+}
+
+std::string values_cells(const SweepPlan& plan, const std::vector<nlohmann::json>& values) {
+  std::string text;
+  for (std::size_t a = 0; a < plan.axes.size(); ++a) text += csv_cell(sweep_value_text(values[a])) + ",";
+  return text;
+}
+
+std::string keys_header(const SweepPlan& plan) {
+  std::string text;
+  for (const auto& axis : plan.axes) text += csv_cell(axis.key) + ",";
+  return text;
+}
+
+}  // namespace
+
+std::string csv_cell(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+std::string record_file_text(const SweepRecord& r) {
+  nlohmann::json columns = nlohmann::json::array();
+  for (const auto& [name, value] : r.columns)
+    columns.push_back({name, std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr)});
+  const nlohmann::json j{{"point", r.point},     {"realization", r.realization}, {"values", r.values},
+                         {"columns", columns},   {"seconds", r.seconds},         {"rank", r.rank}};
+  return j.dump(1) + "\n";
+}
+
+std::optional<SweepRecord> parse_record_file(const std::string& text, std::size_t point, std::size_t realization,
+                                             const std::vector<nlohmann::json>& values) {
+  if (text.empty()) return std::nullopt;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    SweepRecord r;
+    r.point = j.at("point").get<std::size_t>();
+    r.realization = j.at("realization").get<std::size_t>();
+    r.values = j.at("values").get<std::vector<nlohmann::json>>();
+    if (r.point != point || r.realization != realization || r.values != values) return std::nullopt;
+    for (const auto& c : j.at("columns")) {
+      const nlohmann::json& v = c.at(1);
+      r.columns.emplace_back(c.at(0).get<std::string>(), v.is_null() ? nan : v.get<double>());
+    }
+    r.seconds = j.at("seconds").get<double>();
+    r.rank = j.at("rank").get<int>();
+    return r;
+  } catch (const std::exception&) {
+    return std::nullopt;  // damaged or of another format: the run is done again
+  }
+}
+
+std::string sweep_csv(const SweepPlan& plan, const std::vector<SweepRecord>& records) {
+  const std::vector<std::string> names = column_names(records);
+  std::string text = keys_header(plan) + "realization";
+  for (const auto& n : names) text += "," + csv_cell(n);
+  text += "\n";
+  for (const auto& r : records) {
+    text += values_cells(plan, r.values) + std::to_string(r.realization);
+    for (const auto& n : names) text += "," + shortest_text(column(r, n));
+    text += "\n";
+  }
+  return text;
+}
+
+std::string sweep_mean_csv(const SweepPlan& plan, const std::vector<SweepRecord>& records) {
+  const std::vector<std::string> names = column_names(records);
+  std::string text = keys_header(plan) + "runs";
+  for (const auto& n : names) text += "," + csv_cell(n) + "," + csv_cell(n + "_stderr") + "," + csv_cell(n + "_n");
+  text += "\n";
+  for (std::size_t begin = 0; begin < records.size();) {
+    std::size_t end = begin;
+    while (end < records.size() && records[end].point == records[begin].point) ++end;
+    text += values_cells(plan, records[begin].values) + std::to_string(end - begin);
+    for (const auto& n : names) {
+      // Mean and standard error over the runs where the value is finite (T_agg only where it aggregated).
+      double sum = 0, sum_squares = 0;
+      std::size_t count = 0;
+      for (std::size_t k = begin; k < end; ++k)
+        if (const double v = column(records[k], n); std::isfinite(v)) sum += v, ++count;
+      const double mean = count ? sum / double(count) : nan;
+      for (std::size_t k = begin; k < end; ++k)
+        if (const double v = column(records[k], n); std::isfinite(v)) sum_squares += (v - mean) * (v - mean);
+      const double stderr_ = count > 1 ? std::sqrt(sum_squares / double(count - 1) / double(count)) : count == 1 ? 0.0 : nan;
+      text += "," + shortest_text(mean) + "," + shortest_text(stderr_) + "," + std::to_string(count);
+    }
+    text += "\n";
+    begin = end;
+  }
+  return text;
+}
+
+std::string sweep_timing_csv(const std::vector<SweepRecord>& records) {
+  std::string text = "point,realization,seconds,rank\n";
+  for (const auto& r : records)
+    text += std::to_string(r.point) + "," + std::to_string(r.realization) + "," + shortest_text(r.seconds) + "," +
+            std::to_string(r.rank) + "\n";
+  return text;
+}
+
+}  // namespace aggkit
