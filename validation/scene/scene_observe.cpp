@@ -47,7 +47,12 @@ void read_window(const SceneTable& observe, const Scene& scene, Observation& obs
   observation.window_end = end;
   if (observe.contains("window")) {
     const std::vector<double> w = observe.numbers("window", Bound::finite);
-    const std::string text = "[" + (w.empty() ? std::string() : shortest_text(w.front())) + (w.size() > 1 ? ", " + shortest_text(w[1]) : "") + "]";
+    std::string text = "[";  // the value as written, for the message; built by appends (GCC 12 -Wrestrict)
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      if (i > 0) text += ", ";
+      text += shortest_text(w[i]);
+    }
+    text += ']';
     if (w.size() != 2 || !(w[0] >= 0 && w[0] < w[1] && w[1] <= end * (1 + 1e-12)))
       throw InputError(observe.key("window"), text, "[start, end] with 0 <= start < end <= time.end = " + shortest_text(end));
     observation.window_start = w[0];
