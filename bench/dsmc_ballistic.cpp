@@ -51,9 +51,10 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     wall_total += wall;
     events_total += double(simulation.statistics().accepted());
-    std::printf("run %d: %.2f s, %llu accepted of %llu trials, %llu doublings, %llu particles at t = 100\n", r, wall,
-                (unsigned long long)simulation.statistics().accepted(), (unsigned long long)simulation.statistics().trials,
-                (unsigned long long)simulation.statistics().doublings, (unsigned long long)simulation.snapshot().particles);
+    std::printf("run %d: %.2f s, %llu accepted of %llu trials, %llu doublings, %llu halvings, %llu particles at t = 100\n",
+                r, wall, (unsigned long long)simulation.statistics().accepted(),
+                (unsigned long long)simulation.statistics().trials, (unsigned long long)simulation.statistics().doublings,
+                (unsigned long long)simulation.statistics().halvings, (unsigned long long)simulation.snapshot().particles);
   }
   std::printf("| %s | %llu | %d |", dsmc::to_string(options.method).c_str(), (unsigned long long)particles, runs);
   for (std::size_t i = 0; i < 3; ++i)

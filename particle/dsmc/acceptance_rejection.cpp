@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "particle/dsmc/population_control.hpp"
+
 namespace aggkit::dsmc {
 
 namespace {
@@ -13,8 +15,8 @@ constexpr std::uint64_t refresh_interval = 1 << 16;
 }  // namespace
 
 AcceptanceRejection::AcceptanceRejection(InteractionKernel kernel, std::uint64_t bucket_limit)
-    : kernel_(kernel), population_(bucket_limit), majorant_(max_bins * max_bins, 0.0), row_(max_bins, 0.0),
-      weight_(max_bins, 0.0) {}
+    : kernel_(kernel), table_(kernel_), population_(bucket_limit), majorant_(max_bins * max_bins, 0.0),
+      diagonal_(max_bins, 0.0), count_(max_bins, 0.0), row_(max_bins, 0.0), weight_(max_bins, 0.0) {}
 
 void AcceptanceRejection::ensure_bins(std::size_t bins) {
   if (bins <= known_) return;
@@ -30,24 +32,45 @@ void AcceptanceRejection::ensure_bins(std::size_t bins) {
                           kernel_.raw(b_high, c_high)});
       majorant_[b * max_bins + c] = majorant_[c * max_bins + b] = bound;
     }
+    diagonal_[c] = bound(c, c);
   }
   recompute_rows();  // the new bins' rows see the particles already present
 }
 
 void AcceptanceRejection::change(std::size_t bin, double delta) {
-  const double* column = &majorant_[bin * max_bins];  // symmetric: row `bin` is column `bin`
-  const std::size_t n = known_;
-  for (std::size_t b = 0; b < n; ++b) row_[b] += delta * column[b];
+  // Deferred to trial_weight(), which applies the (at most three) changes of an event in one pass.
+  for (std::size_t k = 0; k < pending_count_; ++k)
+    if (pending_[k].bin == bin) {
+      pending_[k].delta += delta;
+      count_[bin] += delta;
+      dirty_ = true;
+      return;
+    }
+  if (pending_count_ == pending_.size()) apply_pending();
+  pending_[pending_count_++] = {bin, delta};
+  count_[bin] += delta;
   dirty_ = true;
+}
+
+void AcceptanceRejection::apply_pending() {
+  const std::size_t n = known_;
+  for (std::size_t k = 0; k < pending_count_; ++k) {
+    const double delta = pending_[k].delta;
+    const double* column = &majorant_[pending_[k].bin * max_bins];  // symmetric: row `bin` is column `bin`
+    for (std::size_t b = 0; b < n; ++b) row_[b] += delta * column[b];
+  }
+  pending_count_ = 0;
 }
 
 void AcceptanceRejection::recompute_rows() {
   const std::size_t n = population_.bins();
+  for (std::size_t c = 0; c < n; ++c) count_[c] = double(population_.count(c));
   for (std::size_t b = 0; b < known_; ++b) {
     double sum = 0.0;
-    for (std::size_t c = 0; c < n; ++c) sum += bound(b, c) * double(population_.count(c));
+    for (std::size_t c = 0; c < n; ++c) sum += bound(b, c) * count_[c];
     row_[b] = sum;
   }
+  pending_count_ = 0;
   dirty_ = true;
   events_since_refresh_ = 0;
 }
@@ -63,13 +86,14 @@ void AcceptanceRejection::add(std::uint64_t size, std::uint64_t count) { insert(
 
 double AcceptanceRejection::trial_weight() {
   if (!dirty_) return total_weight_;
+  // One pass over the bins: the pending row changes of the last event, then the weights n_b (row_b - K̄(b,b)).
   const std::size_t n = population_.bins();
+  apply_pending();
   double total = 0.0;
   for (std::size_t b = 0; b < n; ++b) {
-    const double count = double(population_.count(b));
-    const double w = count > 0.0 ? std::max(0.0, count * (row_[b] - bound(b, b))) : 0.0;
-    weight_[b] = w;
-    total += w;
+    const double w = count_[b] * (row_[b] - diagonal_[b]);
+    weight_[b] = w > 0.0 ? w : 0.0;
+    total += weight_[b];
   }
   total_weight_ = total;
   dirty_ = false;
@@ -89,12 +113,12 @@ TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
   }
   if (b == n) b = last;
   const std::uint64_t n_b = population_.count(b);
-  double v = random.uniform() * std::max(0.0, row_[b] - bound(b, b));
+  double v = random.uniform() * std::max(0.0, row_[b] - diagonal_[b]);
+  const double* bounds = &majorant_[b * max_bins];
   std::size_t c = 0;
   last = n;
   for (; c < n; ++c) {
-    const std::uint64_t others = population_.count(c) - (c == b ? 1 : 0);
-    const double w = bound(b, c) * double(others);
+    const double w = bounds[c] * (count_[c] - (c == b ? 1.0 : 0.0));
     if (w <= 0.0) continue;
     last = c;
     if (v < w) break;
@@ -114,7 +138,7 @@ TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
   const auto p = population_.pick(b, first_rank);
   const auto q = population_.pick(c, second_rank);
 
-  const double k = kernel_(p.size, q.size);
+  const double k = table_(p.size, q.size);
   const double majorant = bound(b, c);
   if (k > majorant * (1.0 + 1e-12))
     throw std::runtime_error("dsmc: kernel K(" + std::to_string(p.size) + ", " + std::to_string(q.size) +
@@ -155,6 +179,12 @@ TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
 void AcceptanceRejection::duplicate() {
   population_.duplicate();
   leaked_ *= 2;
+  recompute_rows();
+}
+
+void AcceptanceRejection::halve(Random& random) {
+  population_.halve(random);
+  leaked_ = halve_count(leaked_, random);
   recompute_rows();
 }
 

@@ -87,6 +87,7 @@ class DsmcEngine final : public Engine {
       total.shatterings += s.shatterings;
       total.leaks += s.leaks;
       total.doublings += s.doublings;
+      total.halvings += s.halvings;
       max_doublings = std::max<std::int64_t>(max_doublings, std::int64_t(s.doublings));
       extinct += s.extinct;
       frozen += s.frozen;
@@ -109,6 +110,7 @@ class DsmcEngine final : public Engine {
         {"accepted_events_per_second", double(total.accepted()) / wall},
         {"doublings", std::int64_t(total.doublings)},
         {"max_doublings_per_run", max_doublings},
+        {"halvings", std::int64_t(total.halvings)},
         {"extinct_runs", extinct},
         {"frozen_runs", frozen},
         {"first_frozen_time", first_frozen},
