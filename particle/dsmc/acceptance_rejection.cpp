@@ -16,7 +16,7 @@ constexpr std::uint64_t refresh_interval = 1 << 16;
 
 AcceptanceRejection::AcceptanceRejection(InteractionKernel kernel, std::uint64_t bucket_limit)
     : kernel_(kernel), table_(kernel_), population_(bucket_limit), majorant_(max_bins * max_bins, 0.0),
-      diagonal_(max_bins, 0.0), count_(max_bins, 0.0), row_(max_bins, 0.0), weight_(max_bins, 0.0) {}
+      diagonal_(max_bins, 0.0), zeros_(max_bins, 0.0), count_(max_bins, 0.0), row_(max_bins, 0.0), weight_(max_bins, 0.0) {}
 
 void AcceptanceRejection::ensure_bins(std::size_t bins) {
   if (bins <= known_) return;
@@ -86,18 +86,32 @@ void AcceptanceRejection::add(std::uint64_t size, std::uint64_t count) { insert(
 
 double AcceptanceRejection::trial_weight() {
   if (!dirty_) return total_weight_;
-  // One pass over the bins: the pending row changes of the last event, then the weights n_b (row_b - K̄(b,b)).
-  const std::size_t n = population_.bins();
-  apply_pending();
-  double total = 0.0;
-  for (std::size_t b = 0; b < n; ++b) {
-    const double w = count_[b] * (row_[b] - diagonal_[b]);
-    weight_[b] = w > 0.0 ? w : 0.0;
-    total += weight_[b];
+  // One pass over the bins: the pending row changes of the last event (unused slots add 0 × a row of zeros),
+  // then the weights n_b (row_b - K̄(b,b)).
+  const double* column[3];
+  double delta[3];
+  for (std::size_t k = 0; k < 3; ++k) {
+    column[k] = k < pending_count_ ? &majorant_[pending_[k].bin * max_bins] : zeros_.data();
+    delta[k] = k < pending_count_ ? pending_[k].delta : 0.0;
   }
-  total_weight_ = total;
+  pending_count_ = 0;
+  const std::size_t n = known_;  // row_, weight_, count_ and diagonal_ hold max_bins entries (a multiple of 4)
+  double* __restrict row = row_.data();
+  double* __restrict weight = weight_.data();
+  const double* __restrict count = count_.data();
+  const double* __restrict diagonal = diagonal_.data();
+  double partial[4] = {0.0, 0.0, 0.0, 0.0};  // four sums: no chain of dependent additions
+  for (std::size_t b = 0; b < n; b += 4)
+    for (std::size_t l = 0; l < 4; ++l) {
+      const std::size_t i = b + l;
+      row[i] += delta[0] * column[0][i] + delta[1] * column[1][i] + delta[2] * column[2][i];
+      const double w = count[i] * (row[i] - diagonal[i]);
+      weight[i] = w > 0.0 ? w : 0.0;
+      partial[l] += weight[i];
+    }
+  total_weight_ = (partial[0] + partial[1]) + (partial[2] + partial[3]);
   dirty_ = false;
-  return total;
+  return total_weight_;
 }
 
 TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {

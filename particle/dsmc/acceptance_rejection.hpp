@@ -56,6 +56,7 @@ class AcceptanceRejection final : public Stepper {
   BinnedPopulation population_;
   std::vector<double> majorant_;  // max_bins × max_bins, filled for bins < known_
   std::vector<double> diagonal_;  // K̄(b, b)
+  std::vector<double> zeros_;     // a row of zeros (unused pending slots)
   std::size_t known_ = 0;
   std::vector<double> count_;     // n_b as a double (exact below 2^53)
   std::vector<double> row_;       // row_[b] = Σ_c K̄(b,c) n_c, up to the pending changes
@@ -64,7 +65,7 @@ class AcceptanceRejection final : public Stepper {
     std::size_t bin;
     double delta;
   };
-  std::array<Change, 4> pending_{};  // count changes not yet applied to row_ (an event makes at most three)
+  std::array<Change, 3> pending_{};  // count changes not yet applied to row_ (an event makes at most three)
   std::size_t pending_count_ = 0;
   double total_weight_ = 0.0;
   bool dirty_ = true;
