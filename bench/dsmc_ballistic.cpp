@@ -2,7 +2,8 @@
 // Tables 2 and 4]): relative RMS error per run (the paper's "std over runs") of M0, M2, M3 at t = 1, 10, 100
 // against CVODE (N = 5000, rtol 1e-8; within 1e-7 of a rtol 1e-12 reference, bench/log/cvode-work-precision.md, CVODE
 // work-precision), and run time / accepted events per second of one run to t = 100.
-//   bench_dsmc_ballistic PARTICLES RUNS [method ar|fast] [bucket]
+//   bench_dsmc_ballistic PARTICLES RUNS [method ar|fast] [bucket] [halving 1|0]
+// (halving 0: population control only doubles, as in [Kalinov2022]; the case name then says halving=0)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   options.particles = particles;
   if (argc > 3) options.method = dsmc::method_from_name(argv[3]);
   if (argc > 4) options.bucket = std::strtoull(argv[4], nullptr, 10);
+  if (argc > 5) options.population_halving = std::atoi(argv[5]) != 0;
   AggregationModel model;
   model.kernel = Kernel::ballistic();
   model.lambda = ShatteringRate::constant(0.01);
@@ -76,7 +78,8 @@ int main(int argc, char** argv) {
   std::printf("cpu time per run %.2f s (wall %.2f s), accepted events per cpu second %.3g\n", cpu_total / runs,
               wall_total / runs, events_total / cpu_total);
   const aggkit::bench::Figures figures("dsmc_ballistic", argc, argv);
-  const std::string case_name = "particles=" + std::to_string(particles) + " method=" + dsmc::to_string(options.method);
+  const std::string case_name = "particles=" + std::to_string(particles) + " method=" + dsmc::to_string(options.method) +
+                                (options.population_halving ? "" : " halving=0");
   figures.add(case_name, "wall_seconds", wall_total / runs, "s");
   figures.add(case_name, "events_per_second", events_total / wall_total, "1/s");
   figures.add(case_name, "cpu_seconds", cpu_total / runs, "s");

@@ -121,7 +121,8 @@ void Simulation::advance_to(double t, const std::function<void(double time)>& ev
       volume_ *= 2.0;
       ++statistics_.doublings;
       control_mass_ *= 2;
-    } else if (options_.population_control && stepper_->particles() > 2 * initial_particles_) {
+    } else if (options_.population_control && options_.population_halving &&
+               stepper_->particles() > 2 * initial_particles_) {
       stepper_->halve(random_);
       volume_ *= 0.5;
       ++statistics_.halvings;

@@ -121,3 +121,17 @@ TEST_CASE("dsmc: runs through several halvings follow the exact total density of
     }
   }
 }
+
+TEST_CASE("dsmc: without population_halving the shattering population only grows") {
+  AggregationModel model = aggkit::testing::dsmc_model(Kernel::constant(), 1.0, 256);
+  model.initial.assign(256, 0.0);
+  model.initial[7] = 1.0 / 8.0;
+  dsmc::Options options;
+  options.particles = 3000;
+  options.population_halving = false;
+  dsmc::Simulation simulation(model, options, 5, 6.0);
+  simulation.advance_to(6.0);
+  CHECK(simulation.statistics().halvings == 0);
+  CHECK(simulation.snapshot().particles > 4 * options.particles);  // M0 grew from 1/8 to ~2/3: 5.3x
+  CHECK(simulation.mass() == simulation.initial_mass());           // no control event: the mass is exact
+}
