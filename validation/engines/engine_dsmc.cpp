@@ -131,6 +131,8 @@ const OptionTable& dsmc_options() {
       integer_option("bucket", "1024", "sizes <= bucket are grouped per size", 1, 67108864),
       flag_option("truncate", false, "apply model.size and model.truncation (default: the untruncated system)"),
       flag_option("population_control", true, "duplicate the population when it falls below N(0)/2"),
+      flag_option("population_halving", true,
+                  "with population_control, halve the population by pairs when it exceeds 2 N(0) (cheaper, noisier)"),
       integer_option("threads", "0", "worker threads (0: every core)", 0),
       number_option("max_wall_seconds", "0", "wall-time budget of the whole ensemble; the run fails when it is spent (0: none)",
                     0.0, 1e9),
@@ -175,6 +177,7 @@ std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec&
   options.bucket = std::uint64_t(given.integer("bucket", std::int64_t(options.bucket)));
   options.truncate = given.boolean("truncate", options.truncate);
   options.population_control = given.boolean("population_control", options.population_control);
+  options.population_halving = given.boolean("population_halving", options.population_halving);
   options.threads = std::size_t(given.integer("threads", std::int64_t(options.threads)));
   under_key(rekey, [&] { options.validate(); });  // the model (λ >= 0, N, start) is validated with the scene
   check_resources(given, options, scene);
