@@ -104,7 +104,7 @@ TEST_CASE("engine dsmc: the wall-time budget stops a long ensemble as a failed e
   CHECK(result.exit_code == 1);
 }
 
-TEST_CASE("engine dsmc: population_halving is a scene key; off, a growing population is never halved", "[dsmc][harness]") {
+TEST_CASE("engine dsmc: population_halving is a scene key, and off a growing population is never halved", "[dsmc][harness]") {
   // Octamers with K = 1, λ = 1: M0 grows from 1/8 towards 2/3, so 2000 particles pass 2 N(0) by t = 4.
   const auto scene = [](const std::string& extra) {
     return "name = \"halving\"\n[model]\nkernel = { name = \"constant\" }\nlambda = 1.0\nsize = 64\n"
