@@ -3,7 +3,8 @@
 // against CVODE (N = 5000, rtol 1e-8; within 1e-7 of a rtol 1e-12 reference, bench/log/cvode-work-precision.md, CVODE
 // work-precision), and run time / accepted events per second of one run to t = 100.
 //   bench_dsmc_ballistic PARTICLES RUNS [method ar|fast] [bucket] [halving 1|0]
-// (halving 0: population control only doubles, as in [Kalinov2022]; the case name then says halving=0)
+// (halving 0, the default: population control only doubles, as in [Kalinov2022]; halving 1: the case name
+// says halving=1)
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -79,7 +80,7 @@ int main(int argc, char** argv) {
               wall_total / runs, events_total / cpu_total);
   const aggkit::bench::Figures figures("dsmc_ballistic", argc, argv);
   const std::string case_name = "particles=" + std::to_string(particles) + " method=" + dsmc::to_string(options.method) +
-                                (options.population_halving ? "" : " halving=0");
+                                (options.population_halving ? " halving=1" : "");
   figures.add(case_name, "wall_seconds", wall_total / runs, "s");
   figures.add(case_name, "events_per_second", events_total / wall_total, "1/s");
   figures.add(case_name, "cpu_seconds", cpu_total / runs, "s");

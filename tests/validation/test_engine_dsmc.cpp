@@ -113,7 +113,7 @@ TEST_CASE("engine dsmc: population_halving is a scene key, and off a growing pop
   };
   for (const bool halving : {true, false}) {
     const auto out = aggkit::testing::scratch_folder(halving ? "dsmc-halving-on" : "dsmc-halving-off");
-    const RunResult result = run_scene(aggkit::testing::parse_checked(scene(halving ? "" : "population_halving = false")),
+    const RunResult result = run_scene(aggkit::testing::parse_checked(scene(halving ? "population_halving = true" : "")),
                                        aggkit::testing::quiet_run(out));
     REQUIRE(result.records[0].completed());
     std::ifstream in(out / "summary.json");

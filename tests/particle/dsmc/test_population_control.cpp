@@ -93,6 +93,7 @@ TEST_CASE("dsmc: runs through several halvings follow the exact total density of
     options.particles = 3000;
     options.runs = 16;
     options.seed = 21;
+    options.population_halving = true;  // off by default
     dsmc::Ensemble ensemble(model, options, times.back());
     for (std::size_t i = 0; i < times.size(); ++i) {
       std::vector<double> m0, m1, m2;
