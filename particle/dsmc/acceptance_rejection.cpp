@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "particle/dsmc/population_control.hpp"
+
 namespace aggkit::dsmc {
 
 namespace {
@@ -13,8 +15,8 @@ constexpr std::uint64_t refresh_interval = 1 << 16;
 }  // namespace
 
 AcceptanceRejection::AcceptanceRejection(InteractionKernel kernel, std::uint64_t bucket_limit)
-    : kernel_(kernel), population_(bucket_limit), majorant_(max_bins * max_bins, 0.0), row_(max_bins, 0.0),
-      weight_(max_bins, 0.0) {}
+    : kernel_(kernel), table_(kernel_), population_(bucket_limit), majorant_(max_bins * max_bins, 0.0),
+      diagonal_(max_bins, 0.0), zeros_(max_bins, 0.0), count_(max_bins, 0.0), row_(max_bins, 0.0), weight_(max_bins, 0.0) {}
 
 void AcceptanceRejection::ensure_bins(std::size_t bins) {
   if (bins <= known_) return;
@@ -30,24 +32,45 @@ void AcceptanceRejection::ensure_bins(std::size_t bins) {
                           kernel_.raw(b_high, c_high)});
       majorant_[b * max_bins + c] = majorant_[c * max_bins + b] = bound;
     }
+    diagonal_[c] = bound(c, c);
   }
   recompute_rows();  // the new bins' rows see the particles already present
 }
 
 void AcceptanceRejection::change(std::size_t bin, double delta) {
-  const double* column = &majorant_[bin * max_bins];  // symmetric: row `bin` is column `bin`
-  const std::size_t n = known_;
-  for (std::size_t b = 0; b < n; ++b) row_[b] += delta * column[b];
+  // Deferred to trial_weight(), which applies the (at most three) changes of an event in one pass.
+  for (std::size_t k = 0; k < pending_count_; ++k)
+    if (pending_[k].bin == bin) {
+      pending_[k].delta += delta;
+      count_[bin] += delta;
+      dirty_ = true;
+      return;
+    }
+  if (pending_count_ == pending_.size()) apply_pending();
+  pending_[pending_count_++] = {bin, delta};
+  count_[bin] += delta;
   dirty_ = true;
+}
+
+void AcceptanceRejection::apply_pending() {
+  const std::size_t n = known_;
+  for (std::size_t k = 0; k < pending_count_; ++k) {
+    const double delta = pending_[k].delta;
+    const double* column = &majorant_[pending_[k].bin * max_bins];  // symmetric: row `bin` is column `bin`
+    for (std::size_t b = 0; b < n; ++b) row_[b] += delta * column[b];
+  }
+  pending_count_ = 0;
 }
 
 void AcceptanceRejection::recompute_rows() {
   const std::size_t n = population_.bins();
+  for (std::size_t c = 0; c < n; ++c) count_[c] = double(population_.count(c));
   for (std::size_t b = 0; b < known_; ++b) {
     double sum = 0.0;
-    for (std::size_t c = 0; c < n; ++c) sum += bound(b, c) * double(population_.count(c));
+    for (std::size_t c = 0; c < n; ++c) sum += bound(b, c) * count_[c];
     row_[b] = sum;
   }
+  pending_count_ = 0;
   dirty_ = true;
   events_since_refresh_ = 0;
 }
@@ -63,17 +86,32 @@ void AcceptanceRejection::add(std::uint64_t size, std::uint64_t count) { insert(
 
 double AcceptanceRejection::trial_weight() {
   if (!dirty_) return total_weight_;
-  const std::size_t n = population_.bins();
-  double total = 0.0;
-  for (std::size_t b = 0; b < n; ++b) {
-    const double count = double(population_.count(b));
-    const double w = count > 0.0 ? std::max(0.0, count * (row_[b] - bound(b, b))) : 0.0;
-    weight_[b] = w;
-    total += w;
+  // One pass over the bins: the pending row changes of the last event (unused slots add 0 × a row of zeros),
+  // then the weights n_b (row_b - K̄(b,b)).
+  const double* column[3];
+  double delta[3];
+  for (std::size_t k = 0; k < 3; ++k) {
+    column[k] = k < pending_count_ ? &majorant_[pending_[k].bin * max_bins] : zeros_.data();
+    delta[k] = k < pending_count_ ? pending_[k].delta : 0.0;
   }
-  total_weight_ = total;
+  pending_count_ = 0;
+  const std::size_t n = known_;  // row_, weight_, count_ and diagonal_ hold max_bins entries (a multiple of 4)
+  double* __restrict row = row_.data();
+  double* __restrict weight = weight_.data();
+  const double* __restrict count = count_.data();
+  const double* __restrict diagonal = diagonal_.data();
+  double partial[4] = {0.0, 0.0, 0.0, 0.0};  // four sums: no chain of dependent additions
+  for (std::size_t b = 0; b < n; b += 4)
+    for (std::size_t l = 0; l < 4; ++l) {
+      const std::size_t i = b + l;
+      row[i] += delta[0] * column[0][i] + delta[1] * column[1][i] + delta[2] * column[2][i];
+      const double w = count[i] * (row[i] - diagonal[i]);
+      weight[i] = w > 0.0 ? w : 0.0;
+      partial[l] += weight[i];
+    }
+  total_weight_ = (partial[0] + partial[1]) + (partial[2] + partial[3]);
   dirty_ = false;
-  return total;
+  return total_weight_;
 }
 
 TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
@@ -89,12 +127,12 @@ TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
   }
   if (b == n) b = last;
   const std::uint64_t n_b = population_.count(b);
-  double v = random.uniform() * std::max(0.0, row_[b] - bound(b, b));
+  double v = random.uniform() * std::max(0.0, row_[b] - diagonal_[b]);
+  const double* bounds = &majorant_[b * max_bins];
   std::size_t c = 0;
   last = n;
   for (; c < n; ++c) {
-    const std::uint64_t others = population_.count(c) - (c == b ? 1 : 0);
-    const double w = bound(b, c) * double(others);
+    const double w = bounds[c] * (count_[c] - (c == b ? 1.0 : 0.0));
     if (w <= 0.0) continue;
     last = c;
     if (v < w) break;
@@ -114,7 +152,7 @@ TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
   const auto p = population_.pick(b, first_rank);
   const auto q = population_.pick(c, second_rank);
 
-  const double k = kernel_(p.size, q.size);
+  const double k = table_(p.size, q.size);
   const double majorant = bound(b, c);
   if (k > majorant * (1.0 + 1e-12))
     throw std::runtime_error("dsmc: kernel K(" + std::to_string(p.size) + ", " + std::to_string(q.size) +
@@ -155,6 +193,12 @@ TrialOutcome AcceptanceRejection::trial(double lambda, Random& random) {
 void AcceptanceRejection::duplicate() {
   population_.duplicate();
   leaked_ *= 2;
+  recompute_rows();
+}
+
+void AcceptanceRejection::halve(Random& random) {
+  population_.halve(random);
+  leaked_ = halve_count(leaked_, random);
   recompute_rows();
 }
 

@@ -17,10 +17,12 @@
 // genproduct, brownian ((i/j)^a + (j/i)^a in i is minimal at i = j) and ballistic (d log K / d i changes
 // sign once: with z = (i/j)^{1/3} the sign is that of (2/3)(z - z^2 + z^3) - 1/2, increasing in z). Every
 // accepted pair checks K_ij <= K̄; a user kernel that violates the bound stops the run with an error.
+#include <array>
 #include <memory>
 #include <vector>
 
 #include "particle/dsmc/binned_population.hpp"
+#include "particle/dsmc/kernel_table.hpp"
 #include "particle/dsmc/stepper.hpp"
 
 namespace aggkit::dsmc {
@@ -33,6 +35,7 @@ class AcceptanceRejection final : public Stepper {
   double trial_weight() override;
   TrialOutcome trial(double lambda, Random& random) override;
   void duplicate() override;
+  void halve(Random& random) override;
   std::uint64_t particles() const override { return population_.particles(); }
   void for_each_group(const std::function<void(std::uint64_t, std::uint64_t)>& f) const override {
     population_.for_each_group(f);
@@ -43,16 +46,27 @@ class AcceptanceRejection final : public Stepper {
  private:
   double bound(std::size_t b, std::size_t c) const { return majorant_[b * max_bins + c]; }
   void ensure_bins(std::size_t bins);  // majorant entries for bins < `bins`
-  void change(std::size_t bin, double delta);  // row sums after n_bin += delta
+  void change(std::size_t bin, double delta);  // n_bin += delta: the row sums follow in trial_weight()
+  void apply_pending();
   void insert(std::uint64_t size, std::uint64_t count);
   void recompute_rows();
 
   InteractionKernel kernel_;
+  KernelTable table_;             // K_ij for i, j <= KernelTable::sizes, equal to kernel_(i, j)
   BinnedPopulation population_;
   std::vector<double> majorant_;  // max_bins × max_bins, filled for bins < known_
+  std::vector<double> diagonal_;  // K̄(b, b)
+  std::vector<double> zeros_;     // a row of zeros (unused pending slots)
   std::size_t known_ = 0;
-  std::vector<double> row_;       // row_[b] = Σ_c K̄(b,c) n_c
+  std::vector<double> count_;     // n_b as a double (exact below 2^53)
+  std::vector<double> row_;       // row_[b] = Σ_c K̄(b,c) n_c, up to the pending changes
   std::vector<double> weight_;    // n_b (row_b - K̄(b,b)), valid when !dirty_
+  struct Change {
+    std::size_t bin;
+    double delta;
+  };
+  std::array<Change, 3> pending_{};  // count changes not yet applied to row_ (an event makes at most three)
+  std::size_t pending_count_ = 0;
   double total_weight_ = 0.0;
   bool dirty_ = true;
   std::uint64_t leaked_ = 0;

@@ -2,7 +2,14 @@
 
 #include <algorithm>
 
+#include "particle/dsmc/population_control.hpp"
+
 namespace aggkit::dsmc {
+
+namespace {
+// Bins of fewer sizes than this (sizes below 64) pick a bucketed particle by scanning the bin's buckets.
+constexpr std::uint64_t narrow_bin = 16;
+}  // namespace
 
 BinnedPopulation::BinnedPopulation(std::uint64_t bucket_limit)
     : limit_(bucket_limit), bucket_(bucket_limit + 1, 0), fenwick_(bucket_limit) {}
@@ -30,8 +37,13 @@ void BinnedPopulation::add(std::uint64_t size, std::uint64_t copies) {
 BinnedPopulation::Pick BinnedPopulation::pick(std::size_t b, std::uint64_t rank) const {
   const Bin& bin = bins_[b];
   if (rank < bin.small) {
-    const std::uint64_t low = bin_low(b);
-    if (low == bin_high(b)) return {b, low, npos};
+    const std::uint64_t low = bin_low(b), high = std::min(bin_high(b), limit_);
+    if (low == high) return {b, low, npos};
+    if (high - low < narrow_bin) {  // a short scan of the bin's buckets beats two Fenwick walks
+      std::uint64_t s = low;
+      for (; rank >= bucket_[s]; ++s) rank -= bucket_[s];
+      return {b, s, npos};
+    }
     return {b, fenwick_.select(fenwick_.prefix(low - 1) + rank), npos};
   }
   const std::size_t index = std::size_t(rank - bin.small);
@@ -63,6 +75,26 @@ void BinnedPopulation::duplicate() {
     for (std::size_t i = 0; i < n; ++i) bin.large.push_back(bin.large[i]);
   }
   particles_ *= 2;
+}
+
+void BinnedPopulation::halve(Random& random) {
+  // Buckets in increasing size, then the individual particles bin by bin (increasing sizes again).
+  for (auto& bin : bins_) bin.count = bin.small = 0;
+  particles_ = 0;
+  for (std::uint64_t s = 1; s <= limit_; ++s) {
+    if (bucket_[s] == 0) continue;
+    bucket_[s] = halve_count(bucket_[s], random);
+    Bin& bin = bins_[bin_of(s)];
+    bin.count += bucket_[s];
+    bin.small += bucket_[s];
+    particles_ += bucket_[s];
+  }
+  fenwick_.assign(bucket_);
+  for (auto& bin : bins_) {
+    halve_sizes(bin.large, random);
+    bin.count += bin.large.size();
+    particles_ += bin.large.size();
+  }
 }
 
 void BinnedPopulation::for_each_group(const std::function<void(std::uint64_t, std::uint64_t)>& f) const {

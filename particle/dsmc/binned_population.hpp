@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "particle/dsmc/fenwick.hpp"
+#include "particle/dsmc/random.hpp"
 #include "particle/dsmc/size_bins.hpp"
 
 namespace aggkit::dsmc {
@@ -36,6 +37,7 @@ class BinnedPopulation {
   // Removes picked particles; two large ones from the same bin must be removed higher index first.
   void remove(const Pick& particle);
   void duplicate();  // every particle doubled (population control)
+  void halve(Random& random);  // equal sizes paired, one of each pair removed (population_control.hpp)
   void for_each_group(const std::function<void(std::uint64_t size, std::uint64_t count)>& f) const;
 
  private:

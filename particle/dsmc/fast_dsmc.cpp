@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "particle/dsmc/population_control.hpp"
+
 namespace aggkit::dsmc {
 
 FastDsmc::FastDsmc(InteractionKernel kernel, std::uint64_t bucket_limit)
@@ -126,6 +128,33 @@ void FastDsmc::duplicate() {
   }
   particles_ *= 2;
   leaked_ *= 2;
+}
+
+void FastDsmc::halve(Random& random) {
+  // Counts per size (bucketed groups and individual particles alike), halved in increasing size order; the
+  // groups and their rates are then rebuilt (O(D^2) kernel evaluations, once per halving).
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> counts;
+  for (const auto& g : groups_) counts.push_back({g.size, g.count});
+  std::sort(counts.begin(), counts.end());
+  groups_.clear();
+  std::fill(slot_.begin(), slot_.end(), npos);
+  particles_ = 0;
+  for (std::size_t i = 0; i < counts.size();) {
+    std::uint64_t count = 0;
+    std::size_t j = i;
+    for (; j < counts.size() && counts[j].first == counts[i].first; ++j) count += counts[j].second;
+    const std::uint64_t size = counts[i].first, kept = halve_count(count, random);
+    if (size <= limit_) {
+      if (kept > 0) groups_.push_back({size, kept, 0.0});
+      if (kept > 0) slot_[size] = groups_.size() - 1;
+    } else {
+      for (std::uint64_t k = 0; k < kept; ++k) groups_.push_back({size, 1, 0.0});
+    }
+    particles_ += kept;
+    i = j;
+  }
+  leaked_ = halve_count(leaked_, random);
+  recompute_rates();
 }
 
 void FastDsmc::for_each_group(const std::function<void(std::uint64_t, std::uint64_t)>& f) const {

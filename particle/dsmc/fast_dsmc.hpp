@@ -21,6 +21,7 @@ class FastDsmc final : public Stepper {
   double trial_weight() override;
   TrialOutcome trial(double lambda, Random& random) override;
   void duplicate() override;
+  void halve(Random& random) override;
   std::uint64_t particles() const override { return particles_; }
   void for_each_group(const std::function<void(std::uint64_t, std::uint64_t)>& f) const override;
   std::uint64_t leaked_mass() const override { return leaked_; }

@@ -29,6 +29,14 @@ class Fenwick {
       }
     return position + 1;
   }
+  // Rebuilds the tree from counts[1..n] (counts[0] unused) in O(n).
+  void assign(const std::vector<std::uint64_t>& counts) {
+    for (std::size_t i = 1; i < tree_.size(); ++i) tree_[i] = counts[i];
+    for (std::size_t i = 1; i < tree_.size(); ++i) {
+      const std::size_t parent = i + (i & (~i + 1));
+      if (parent < tree_.size()) tree_[parent] += tree_[i];
+    }
+  }
   void scale(std::uint64_t factor) {  // every count multiplied (the tree is linear in the counts)
     for (auto& entry : tree_) entry *= factor;
   }

@@ -51,6 +51,7 @@ Simulation::Simulation(const AggregationModel& model, const Options& options, st
     density += model_.initial[k];
   }
   initial_particles_ = options_.particles;
+  control_mass_ = initial_mass_;
   volume_ = double(options_.particles) / density;
 }
 
@@ -119,6 +120,13 @@ void Simulation::advance_to(double t, const std::function<void(double time)>& ev
       stepper_->duplicate();
       volume_ *= 2.0;
       ++statistics_.doublings;
+      control_mass_ *= 2;
+    } else if (options_.population_control && options_.population_halving &&
+               stepper_->particles() > 2 * initial_particles_) {
+      stepper_->halve(random_);
+      volume_ *= 0.5;
+      ++statistics_.halvings;
+      control_mass_ = mass();
     }
   }
   time_ = std::max(time_, t);

@@ -2,7 +2,11 @@
 // One DSMC realisation of the aggregation-shattering model [Kalinov2022]: the initial densities become
 // N(0) particles in the volume V = N(0) / Σ_k n_k(0); trials of the chosen method (stepper.hpp) advance
 // the time by τ = 2V / ((1+λ(t)) W) each. Population control ([Kalinov2022, Sec. 2]; [Liffman1992]):
-// when N(t) < N(0)/2 every particle is duplicated and V doubles, so densities are unchanged. A population
+// when N(t) < N(0)/2 every particle is duplicated and V doubles, so densities are unchanged; when shattering
+// drives N(t) above 2 N(0) the population is halved by pairs of equal size (Stepper::halve: every particle
+// survives with probability 1/2, so expected densities are unchanged) and V halves. A doubling keeps the mass
+// exactly (×2); a halving keeps it in expectation (×1/2, off by at most half the odd ones out, one per size).
+// Between population-control events aggregation and shattering conserve the integer mass exactly. A population
 // where no pair can interact any more (one cluster left — "extinction" [Kalinov2022, Sec. 5.2] — or, under
 // a cutoff, only pairs beyond it) is frozen and reported, not looped on.
 #include <cstdint>
@@ -23,6 +27,7 @@ struct RunStatistics {
   std::uint64_t shatterings = 0;
   std::uint64_t leaks = 0;           // merged clusters removed by a `drop` truncation
   std::uint64_t doublings = 0;       // population-control duplications
+  std::uint64_t halvings = 0;        // population-control halvings (N(t) > 2 N(0))
   bool extinct = false;              // one cluster left
   bool frozen = false;               // no pair can interact (extinct, or every pair beyond a cutoff)
   double frozen_time = 0.0;          // when that was found
@@ -44,8 +49,10 @@ class Simulation {
   const RunStatistics& statistics() const { return statistics_; }
   double volume() const { return volume_; }
   std::uint64_t initial_particles() const { return initial_particles_; }
-  // Σ k count_k plus the leaked mass, exact: equals initial mass × 2^doublings at every moment.
+  // Σ k count_k plus the leaked mass, exact: equals initial mass × 2^doublings while no halving happened, and
+  // control_mass() from one population-control event to the next.
   std::uint64_t mass() const;
+  std::uint64_t control_mass() const { return control_mass_; }  // mass() right after the last control event
   std::uint64_t initial_mass() const { return initial_mass_; }
 
  private:
@@ -62,6 +69,7 @@ class Simulation {
   double next_lambda_ = 0.0;   // λ at scheduling
   std::uint64_t initial_particles_ = 0;
   std::uint64_t initial_mass_ = 0;
+  std::uint64_t control_mass_ = 0;
   std::uint64_t rejections_in_a_row_ = 0;
   RunStatistics statistics_;
 };

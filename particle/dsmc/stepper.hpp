@@ -21,6 +21,12 @@ class Stepper {
   // One trial at shattering rate λ: picks a pair, accepts, merges or shatters it.
   virtual TrialOutcome trial(double lambda, Random& random) = 0;
   virtual void duplicate() = 0;  // population control: every particle doubled
+  // Population control in reverse: particles of equal size are paired and one of each pair is removed; the
+  // odd one out of a size is kept with probability 1/2 (coins drawn in increasing size order, so a run stays
+  // reproducible). Each particle survives with probability exactly 1/2, so E[count_k after] = count_k / 2 for
+  // every size k: with the volume halved the expected densities are unchanged. The leaked mass is halved the
+  // same way. See halve_counts (population_control.hpp).
+  virtual void halve(Random& random) = 0;
   virtual std::uint64_t particles() const = 0;
   virtual void for_each_group(const std::function<void(std::uint64_t size, std::uint64_t count)>& f) const = 0;
   virtual std::uint64_t leaked_mass() const = 0;  // mass of merged clusters removed by a `drop` truncation

@@ -103,3 +103,23 @@ TEST_CASE("engine dsmc: the wall-time budget stops a long ensemble as a failed e
   CHECK_THAT(*result.records[0].failure, Catch::Matchers::Contains("max_wall_seconds"));
   CHECK(result.exit_code == 1);
 }
+
+TEST_CASE("engine dsmc: population_halving is a scene key, and off a growing population is never halved", "[dsmc][harness]") {
+  // Octamers with K = 1, λ = 1: M0 grows from 1/8 towards 2/3, so 2000 particles pass 2 N(0) by t = 4.
+  const auto scene = [](const std::string& extra) {
+    return "name = \"halving\"\n[model]\nkernel = { name = \"constant\" }\nlambda = 1.0\nsize = 64\n"
+           "initial = { kind = \"table\", n = [0, 0, 0, 0, 0, 0, 0, 0.125] }\n[time]\nend = 4.0\n[[engine]]\n"
+           "name = \"dsmc\"\nparticles = 2000\n" + extra + "\n[observe]\nseries = [\"M0\"]\n";
+  };
+  for (const bool halving : {true, false}) {
+    const auto out = aggkit::testing::scratch_folder(halving ? "dsmc-halving-on" : "dsmc-halving-off");
+    const RunResult result = run_scene(aggkit::testing::parse_checked(scene(halving ? "population_halving = true" : "")),
+                                       aggkit::testing::quiet_run(out));
+    REQUIRE(result.records[0].completed());
+    std::ifstream in(out / "summary.json");
+    const auto summary = nlohmann::json::parse(in);
+    const auto halvings = summary["engines"]["dsmc"]["statistics"]["halvings"].get<std::int64_t>();
+    INFO("population_halving = " << halving << ": " << halvings << " halvings");
+    CHECK((halving ? halvings > 0 : halvings == 0));
+  }
+}

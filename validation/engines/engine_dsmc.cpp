@@ -87,6 +87,7 @@ class DsmcEngine final : public Engine {
       total.shatterings += s.shatterings;
       total.leaks += s.leaks;
       total.doublings += s.doublings;
+      total.halvings += s.halvings;
       max_doublings = std::max<std::int64_t>(max_doublings, std::int64_t(s.doublings));
       extinct += s.extinct;
       frozen += s.frozen;
@@ -109,6 +110,7 @@ class DsmcEngine final : public Engine {
         {"accepted_events_per_second", double(total.accepted()) / wall},
         {"doublings", std::int64_t(total.doublings)},
         {"max_doublings_per_run", max_doublings},
+        {"halvings", std::int64_t(total.halvings)},
         {"extinct_runs", extinct},
         {"frozen_runs", frozen},
         {"first_frozen_time", first_frozen},
@@ -129,6 +131,8 @@ const OptionTable& dsmc_options() {
       integer_option("bucket", "1024", "sizes <= bucket are grouped per size", 1, 67108864),
       flag_option("truncate", false, "apply model.size and model.truncation (default: the untruncated system)"),
       flag_option("population_control", true, "duplicate the population when it falls below N(0)/2"),
+      flag_option("population_halving", false,
+                  "with population_control, halve the population by pairs when it exceeds 2 N(0) (faster, noisier late)"),
       integer_option("threads", "0", "worker threads (0: every core)", 0),
       number_option("max_wall_seconds", "0", "wall-time budget of the whole ensemble; the run fails when it is spent (0: none)",
                     0.0, 1e9),
@@ -173,6 +177,7 @@ std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec&
   options.bucket = std::uint64_t(given.integer("bucket", std::int64_t(options.bucket)));
   options.truncate = given.boolean("truncate", options.truncate);
   options.population_control = given.boolean("population_control", options.population_control);
+  options.population_halving = given.boolean("population_halving", options.population_halving);
   options.threads = std::size_t(given.integer("threads", std::int64_t(options.threads)));
   under_key(rekey, [&] { options.validate(); });  // the model (λ >= 0, N, start) is validated with the scene
   check_resources(given, options, scene);

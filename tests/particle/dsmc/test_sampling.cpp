@@ -7,6 +7,7 @@
 
 #include "particle/dsmc/binned_population.hpp"
 #include "particle/dsmc/fenwick.hpp"
+#include "particle/dsmc/kernel_table.hpp"
 #include "particle/dsmc/size_bins.hpp"
 #include "solvers/kernels.hpp"
 
@@ -73,4 +74,21 @@ TEST_CASE("dsmc: a binned population picks, removes and doubles particles of bot
   std::uint64_t mass = 0;
   population.for_each_group([&](std::uint64_t s, std::uint64_t n) { mass += s * n; });
   CHECK(mass == 2 * (999 + 15 + 13));  // 999 monomers, 5 trimers and two of {6, 7, 7}: 6 + 7
+}
+
+TEST_CASE("dsmc: the kernel table equals the kernel bit for bit, cutoff included, inside and beyond the table") {
+  for (const bool cutoff : {false, true}) {
+    const Kernel kernel = Kernel::ballistic();
+    const dsmc::InteractionKernel direct(kernel, cutoff, Truncation::cutoff, 50);
+    const dsmc::KernelTable table(direct);
+    const std::uint64_t top = dsmc::KernelTable::sizes + 16;
+    std::size_t zeros = 0;
+    for (std::uint64_t i = 1; i <= top; ++i)
+      for (std::uint64_t j = 1; j <= top; ++j) {
+        INFO("cutoff " << cutoff << ", K(" << i << ", " << j << ")");
+        REQUIRE(table(i, j) == direct(i, j));  // exact equality: the table holds the kernel's own values
+        zeros += table(i, j) == 0.0;
+      }
+    CHECK((zeros > 0) == cutoff);  // the cutoff (i + j > 50) is in the table
+  }
 }
