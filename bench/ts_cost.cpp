@@ -7,7 +7,8 @@
 // minimisation, merges found after a minimisation (secondary), ED seconds and events, TS/ED, and the
 // flights within a safe time, which skip contact detection (quiet).
 // Iterations per merge and free spheres per minimisation flat in N mean the minimisation work follows the
-// new contacts, not N [Degond2024, Sec. 3.3]; the rest of a step (flight and contact detection) is O(N).
+// new contacts, not N [Degond2024, Sec. 3.3]; the rest of a step (flight and contact detection) is O(N)
+// per flight (detection and the cell update skipped in quiet flights).
 #include <cmath>
 #include <ctime>
 #include <cstdio>
