@@ -4,9 +4,11 @@
 //   bench_ts_cost cost DT_FACTOR NU N1 [N2 ...]      one line per N, then the cost exponents (log-log fits)
 //   bench_ts_cost threads DT_FACTOR NU N REPEATS     cluster_threads 1 and 2 alternated, REPEATS times each
 // Per N: TS seconds, steps, substeps, merges, minimisation iterations per merge, free spheres per
-// minimisation, merges found after a minimisation (secondary), ED seconds and events, and TS/ED.
+// minimisation, merges found after a minimisation (secondary), ED seconds and events, TS/ED, and the
+// flights within a safe time, which skip contact detection (quiet).
 // Iterations per merge and free spheres per minimisation flat in N mean the minimisation work follows the
-// new contacts, not N [Degond2024, Sec. 3.3]; the rest of a step (flight and contact detection) is O(N).
+// new contacts, not N [Degond2024, Sec. 3.3]; the rest of a step (flight and contact detection) is O(N)
+// per flight (detection and the cell update skipped in quiet flights).
 #include <cmath>
 #include <ctime>
 #include <cstdio>
@@ -96,8 +98,8 @@ int main(int argc, char** argv) {
   }
   std::printf("# 2-D reflecting, square lattice, unit speed, nu %g, TS dt_factor %g, to one cluster; TS then ED per N\n", nu,
               dt_factor);
-  std::printf("%9s %9s %9s %8s %9s %8s %9s %9s %9s %9s %9s %10s %9s\n", "N", "ts_cpu_s", "ts_wall_s", "steps", "substeps",
-              "merges", "iter/mrg", "free/min", "secondary", "ed_cpu_s", "ed_wall_s", "ed_events", "ts/ed_cpu");
+  std::printf("%9s %9s %9s %8s %9s %8s %9s %9s %9s %9s %9s %10s %9s %9s\n", "N", "ts_cpu_s", "ts_wall_s", "steps", "substeps",
+              "merges", "iter/mrg", "free/min", "secondary", "ed_cpu_s", "ed_wall_s", "ed_events", "ts/ed_cpu", "quiet");
   std::vector<double> ns, ts_times, ed_times;
   for (int k = 4; k < argc; ++k) {
     const auto n = std::size_t(std::atof(argv[k]));
@@ -108,12 +110,12 @@ int main(int argc, char** argv) {
     ed.advance(1e30, 1);
     const double ed_seconds = bench::seconds_since(start), ed_cpu = cpu_seconds() - cpu0;
     const TsCounters& c = ts.counters;
-    std::printf("%9zu %9.3f %9.3f %8llu %9llu %8llu %9.1f %9.1f %9llu %9.3f %9.3f %10llu %9.2f\n", n, ts.cpu, ts.seconds,
+    std::printf("%9zu %9.3f %9.3f %8llu %9llu %8llu %9.1f %9.1f %9llu %9.3f %9.3f %10llu %9.2f %9llu\n", n, ts.cpu, ts.seconds,
                 (unsigned long long)c.steps, (unsigned long long)c.substeps, (unsigned long long)c.merges,
                 double(c.minimisation_iterations) / double(std::max<std::uint64_t>(c.merges, 1)),
                 double(c.free_spheres) / double(std::max<std::uint64_t>(c.minimisations, 1)),
                 (unsigned long long)c.secondary_merges, ed_cpu, ed_seconds, (unsigned long long)ed.counters().events(),
-                ts.cpu / ed_cpu);
+                ts.cpu / ed_cpu, (unsigned long long)c.quiet_flights);
     std::fflush(stdout);
     const std::string at = setup + " N=" + bench::Figures::text(double(n));
     figures.add(at, "ts_cpu_seconds", ts.cpu, "s");

@@ -35,6 +35,14 @@
 // substeps that do not, each followed by steps 2–3; contacts are found along the flown paths (a pair whose
 // separation came within 2R during the flight), so none is tunnelled through however long the step.
 //
+// Quiet flights: a contact-detection pass also yields a safe time — the smallest gap between spheres of
+// different clusters (pairs in neighbouring cells: their gap; the rest: at least the narrowest cell side
+// less 2R) divided by the largest closing speed of the two clusters (|V_a| + |V_b|; 2 max|V| for the
+// rest). While the flights since a pass that found nothing stay within it, no pair can come within 2R, so
+// those flights skip detection and the cell-list update: the result is the same as detecting each flight
+// and finding nothing. Anything that can move a cluster faster than its speed (a merge, a minimisation, a
+// wall correction other than a specular reflection) ends the safe time.
+//
 // Time step: Δt^n = Δt(0) (2 − ln M^n / ln N), Δt(0) = dt_factor · L / max_i |V_i(0)| (L the largest box
 // side) [Degond2024, Table 1]: Δt(0) with N clusters, 2Δt(0) with one, growing with ln of the number of
 // merges so far (the cluster count falls like a power of t in ballistic aggregation, so the step grows
@@ -62,11 +70,13 @@ struct TsSettings {
   std::size_t max_rounds = 1000;   // link–minimise rounds per step before giving up (counted)
   bool contact_time = true;        // binary collisions merged at their contact (see the header)
   double substep_displacement = 0.25;  // largest flight of a cluster in one substep, in diameters 2R
+  bool quiet_flights = true;       // skip detection within a pass's safe time (see the header); same run
 };
 
 struct TsCounters {
   std::uint64_t steps = 0;
   std::uint64_t substeps = 0;           // flights (≥ 1 per step; more when a cluster would fly too far)
+  std::uint64_t quiet_flights = 0;      // flights within a safe time (no detection pass needed)
   std::uint64_t merges = 0;
   std::uint64_t contact_time_merges = 0;  // binary collisions merged at their contact time
   std::uint64_t secondary_merges = 0;  // merges found after a minimisation of the same step (not in flight)
@@ -135,13 +145,18 @@ class TimeSteppingAggregation {
     std::uint32_t cluster;
     std::vector<std::uint32_t> seeds;  // ends of new links
   };
-  void flight(double dt);
+  // Moves every sphere; returns whether the flight needs a detection pass (then the cell list is updated).
+  bool flight(double dt);
   void reflect(std::uint32_t cluster);
+  void locate();  // cell list and longest_flight_ from x_ and flown_
   // Pairs to link: of different clusters overlapping now, or (`swept`, after a flight) whose relative
   // path over the flight came within 2R; with `among`, those of the given spheres, same-cluster pairs
   // overlapping by more than same_cluster_tolerance included.
+  // `safe`, when given (full swept pass only): the safe time of the header's quiet flights (0 when the
+  // pass took a path that does not bound it).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among,
-                                                                               bool swept = false) const;
+                                                                               bool swept = false,
+                                                                               double* safe = nullptr) const;
   void link(std::uint32_t a, std::uint32_t b);
   // Writes only the group's free spheres; `largest_move`: the largest displacement of one of them.
   DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move);
@@ -174,6 +189,9 @@ class TimeSteppingAggregation {
   std::vector<Vector3> flown_;     // per sphere: its displacement in the last flight (walls included)
   std::vector<char> reflected_;    // per cluster: reflected by a wall in the last flight
   double longest_flight_ = 0;      // the largest |flown_|
+  std::vector<double> speed_;      // per cluster id: |velocity_|, set at the start of a step
+  double safe_left_ = 0;           // time left of the safe time of the last detection pass
+  bool jumped_ = false;            // a cluster was moved by a wall other than by a specular reflection
   std::vector<std::vector<std::uint32_t>> links_;  // per sphere: its linked partners
   double time_ = 0, dt0_ = 0;
   Vector3 wall_impulse_{0, 0, 0};

@@ -12,7 +12,7 @@ using namespace aggkit;
 namespace {
 
 TimeSteppingAggregation make_run(int dimension, std::size_t count, double nu, Boundary boundary, double dt_factor,
-                                 std::size_t threads = 1, bool contact_time = true) {
+                                 std::size_t threads = 1, bool contact_time = true, bool quiet_flights = true) {
   const double radius = 0.5;
   const double side = box_side_for_volume_fraction(dimension, count, radius, nu);
   const Box box{dimension, {side, side, dimension == 3 ? side : 0.0}, boundary};
@@ -20,6 +20,7 @@ TimeSteppingAggregation make_run(int dimension, std::size_t count, double nu, Bo
   settings.dt_factor = dt_factor;
   settings.threads = threads;
   settings.contact_time = contact_time;
+  settings.quiet_flights = quiet_flights;
   return TimeSteppingAggregation(box, radius, lattice_positions(box, count, radius),
                                  initial_velocities(dimension, count, VelocityLaw::fixed_speed, 1.0, 7), settings);
 }
@@ -91,6 +92,36 @@ TEST_CASE("ts: contact detection split over two threads gives the same run as on
   CHECK(one.counters().merges > 100);
   CHECK(one.clusters() == two.clusters());
   CHECK(one.positions() == two.positions());
+}
+
+TEST_CASE("ts: quiet flights (detection skipped within a safe time) give the same run as detecting every flight",
+          "[ts][quiet]") {
+  // The safe time is a proof that a skipped pass would have found nothing: the runs must agree to the
+  // bit, through the end phase (few slow clusters: most flights quiet), with both kinds of walls, in 2-D
+  // and 3-D.
+  struct Case {
+    int dimension;
+    std::size_t count;
+    double nu;
+    Boundary boundary;
+  };
+  for (const Case k : {Case{2, 400, 0.3, Boundary::reflecting}, Case{2, 300, 0.1, Boundary::periodic},
+                       Case{3, 216, 0.2, Boundary::reflecting}, Case{3, 125, 0.1, Boundary::periodic}}) {
+    auto quiet = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01);
+    auto every = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01, 1, true, false);
+    while (every.clusters() > 1 && every.counters().steps < 20000) {
+      quiet.step();
+      every.step();
+    }
+    INFO("dimension " << k.dimension << ", N " << k.count);
+    CHECK(every.counters().quiet_flights == 0);
+    CHECK(quiet.counters().quiet_flights > 0);  // the skipping path is taken
+    CHECK(quiet.counters().steps == every.counters().steps);
+    CHECK(quiet.counters().merges == every.counters().merges);
+    CHECK(quiet.counters().minimisation_iterations == every.counters().minimisation_iterations);
+    CHECK(quiet.positions() == every.positions());
+    CHECK(quiet.wall_impulse() == every.wall_impulse());
+  }
 }
 
 TEST_CASE("ts: a start with overlaps is refused naming particles.initial", "[ts][input]") {
