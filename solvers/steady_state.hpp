@@ -39,6 +39,13 @@ struct SteadyStateOptions {
   double start_time = 20.0;
   double start_rtol = 1e-4;
   int start_retries = 2;
+  // Coarse-to-fine start (without a guess, when N > coarse_start_above and the initial state lies within
+  // the first N / 4 sizes): the steady state at N / 4 (found the same way, recursively), its tail beyond
+  // N / 8 replaced by a fit ln n_k = a + b ln k + c k over N / 32 ... N / 8 and extended to N. Newton then
+  // solves the size-N system to the same tolerance, so the result does not depend on the start; the
+  // start saves the CVODE run at full size and most of Newton's damped steps. If Newton fails from it,
+  // the CVODE start follows. 0 disables.
+  std::size_t coarse_start_above = 16384;
   // PETSc options-database entries for the SNES and its KSP/PC ("-snes_rtol 1e-12 -ksp_type bcgs"),
   // applied after the settings above (they override them); the command line's (solvers/petsc_options.hpp)
   // come after these.
@@ -57,7 +64,10 @@ struct SteadyStateResult {
   // Added beyond the shared interface:
   double leak_rate = 0;                  // mass per unit time leaving through N, relative to M (drop)
   double most_negative_density = 0;      // min(0, min_k n_k) relative to max_k n_k
-  double start_time = 0;                 // CVODE time of the start (0: the caller's guess)
+  double start_time = 0;                 // CVODE time of the start (0: the caller's guess or a coarse start)
+  std::size_t coarse_size = 0;           // size of the coarse steady state the start came from (0: none)
+  double start_seconds = 0;              // wall time spent finding the start (CVODE or the coarse solve)
+  double setup_seconds = 0;              // wall time building the size-N system (kernel factorisation)
   std::string note;                      // why it did not converge, retries
   std::vector<std::string> unused_petsc_options;  // PETSc options no solver object read (misspelled?)
 };
@@ -66,6 +76,13 @@ struct SteadyStateResult {
 // λ must be constant in time. Throws InputError on bad options or model.
 SteadyStateResult solve_steady_state(const AggregationModel& model, const SteadyStateOptions& options = {},
                                      std::span<const double> initial_guess = {});
+
+// The coarse-to-fine start's extension of a steady state `coarse` (sizes 1..Nc) to sizes 1..N: n_k for
+// k ≤ Nc / 8, beyond that exp(a + b ln k + c k) with a, b, c the least-squares fit of ln n_k over
+// Nc / 32 < k ≤ Nc / 8 (the form of a power law with an exponential cut-off; c clamped to ≤ 0; the edge
+// region near Nc, distorted by the truncation, is not used). Where the fitted region holds non-positive
+// densities the extension is zero.
+std::vector<double> extend_steady_state(std::span<const double> coarse, std::size_t N);
 
 // Natural-parameter continuation: the steady states of `base` with λ = lambdas[i] (in the given order),
 // each started from the secant extrapolation of the previous two solutions (the first from CVODE).

@@ -173,3 +173,37 @@ TEST_CASE("PETSc options change the solve: -snes_rtol stops earlier, the command
   CHECK_THROWS_AS(check_petsc_options("snes_rtol 1e-3", "petsc_options"), InputError);
   CHECK_NOTHROW(check_petsc_options("-snes_monitor_cancel -ksp_type bcgs -snes_linesearch_type basic", "petsc_options"));
 }
+
+TEST_CASE("the coarse-to-fine start finds the steady state of the direct solve", "[snes][steady][coarse]") {
+  // Ballistic (the low-rank kernel) λ = 0.1 at N = 2048 started from the steady state at N / 4 = 512
+  // (coarse_start_above = 512) and from CVODE (coarse start off), both solved to ||F|| ≤ 1e-13 ||F(n0)||.
+  // Both are then the same root: the Jacobian's smallest singular values here are ~λ K ~ 1e-2 relative, so
+  // a 1e-13 residual bounds the difference well below the 1e-10 (relative to max n) asked.
+  AggregationModel model = brownian_model(0.5, 0.1, 2048);
+  model.kernel = Kernel::ballistic();
+  SteadyStateOptions options;
+  options.relative_tolerance = 1e-13;
+  options.coarse_start_above = 0;
+  const SteadyStateResult direct = solve_steady_state(model, options);
+  options.coarse_start_above = 512;
+  const SteadyStateResult coarse = solve_steady_state(model, options);
+  INFO(direct.note << " / " << coarse.note);
+  REQUIRE(direct.converged);
+  REQUIRE(coarse.converged);
+  CHECK(direct.coarse_size == 0);
+  CHECK(coarse.coarse_size == 512);
+  CHECK(coarse.start_time == 0.0);  // Newton converged from the coarse start, no CVODE retry
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t k = 0; k < direct.n.size(); ++k) {
+    largest = std::max(largest, std::abs(direct.n[k]));
+    difference = std::max(difference, std::abs(direct.n[k] - coarse.n[k]));
+  }
+  INFO("max |n_coarse - n_direct| / max n = " << difference / largest);
+  CHECK(difference <= 1e-10 * largest);
+
+  // The extension keeps the coarse values up to Nc / 8 and continues the fitted tail without a jump.
+  const std::vector<double> extended = extend_steady_state(coarse.n, 8192);
+  REQUIRE(extended.size() == 8192);
+  for (std::size_t k = 0; k < 256; ++k) CHECK(extended[k] == coarse.n[k]);
+  CHECK(extended[256] == Approx(coarse.n[256]).epsilon(0.05));
+}

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 
 #include "analysis/input_error.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/harness/output_folder.hpp"
+#include "validation/harness/plot.hpp"
 #include "validation/io/progress.hpp"
 #include "validation/harness/report.hpp"
 #include "validation/harness/series_output.hpp"
@@ -69,6 +71,9 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
   }
   folder.prepare(files, options.force);
 
+  // The plotter's interpreter starts now: its matplotlib import overlaps the engines.
+  std::optional<SeriesPlotter> plotter;
+  if (options.plot) plotter.emplace();
   RunResult result;
   Progress progress(options.progress, options.progress_interval);
   for (std::size_t i = 0; i < engines.size(); ++i) {
@@ -91,7 +96,7 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
   result.exit_code = result.pass ? exit_pass : exit_failed;
 
   if (options.plot) {
-    result.plot = plot_series(scene, result.records, folder);
+    result.plot = plotter->plot(scene, result.records, folder);
     if (result.plot.status == PlotOutcome::Status::failed && options.warnings)
       *options.warnings << "aggkit: warning: no plot: " << result.plot.message << "\n";
   } else {

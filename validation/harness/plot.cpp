@@ -41,9 +41,12 @@ std::string to_string(PlotOutcome::Status status) {
   return "?";
 }
 
-PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder) {
-  AtomicFile png(folder.report_file());
-  std::vector<std::string> argv{plot_interpreter(), series_plot_script().string(), "--output", png.temporary_path().string(),
+namespace {
+
+// The plotter's arguments after the script, or nullopt if no engine completed.
+std::optional<std::vector<std::string>> plot_arguments(const Scene& scene, const std::vector<EngineRecord>& records,
+                                                       const OutputFolder& folder, const AtomicFile& png) {
+  std::vector<std::string> argv{"--output", png.temporary_path().string(),
                                 "--title=" + scene.name};  // one word: a name starting with '-' is no option
   if (scene.compare) argv.insert(argv.end(), {"--reference", scene.compare->reference});
   std::size_t plotted = 0;
@@ -61,15 +64,18 @@ PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& rec
                                shortest_text(*floor)});
     ++plotted;
   }
-  if (plotted == 0) return {PlotOutcome::Status::skipped, "no engine completed"};
+  if (plotted == 0) return std::nullopt;
+  return argv;
+}
 
-  const ProcessOutcome run = run_process(argv, plot_timeout);
+PlotOutcome plot_outcome(const ProcessOutcome& run, AtomicFile& png, const std::string& interpreter,
+                         const std::string& script) {
   if (!run.succeeded()) {
     std::string why = !run.started ? run.output
                       : run.timed_out ? "the plotter ran longer than " + std::to_string(plot_timeout.count()) + " s"
                                       : last_output_line(run.output);
     if (why.empty()) why = "the plotter exited with status " + std::to_string(run.exit_status);
-    return {PlotOutcome::Status::failed, argv[0] + " " + argv[1] + ": " + why};
+    return {PlotOutcome::Status::failed, interpreter + " " + script + ": " + why};
   }
   try {
     png.commit();
@@ -77,6 +83,29 @@ PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& rec
     return {PlotOutcome::Status::failed, e.what()};
   }
   return {PlotOutcome::Status::written, ""};
+}
+
+}  // namespace
+
+PlotOutcome plot_series(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder) {
+  AtomicFile png(folder.report_file());
+  const auto arguments = plot_arguments(scene, records, folder, png);
+  if (!arguments) return {PlotOutcome::Status::skipped, "no engine completed"};
+  std::vector<std::string> argv{plot_interpreter(), series_plot_script().string()};
+  argv.insert(argv.end(), arguments->begin(), arguments->end());
+  return plot_outcome(run_process(argv, plot_timeout), png, argv[0], argv[1]);
+}
+
+SeriesPlotter::SeriesPlotter()
+    : interpreter_(plot_interpreter()),
+      script_(series_plot_script().string()),
+      process_(started_plot_command(script_)) {}
+
+PlotOutcome SeriesPlotter::plot(const Scene& scene, const std::vector<EngineRecord>& records, const OutputFolder& folder) {
+  AtomicFile png(folder.report_file());
+  const auto arguments = plot_arguments(scene, records, folder, png);
+  if (!arguments) return {PlotOutcome::Status::skipped, "no engine completed"};  // the destructor ends the process
+  return plot_outcome(process_.finish(started_plot_input(*arguments), plot_timeout), png, interpreter_, script_);
 }
 
 }  // namespace aggkit
