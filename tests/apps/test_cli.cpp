@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/apps/shell_quote.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
 using aggkit::testing::SceneText;
@@ -19,11 +20,7 @@ struct Outcome {
   std::string err;
 };
 
-std::string quoted(const std::string& word) {
-  std::string q = "'";
-  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using aggkit::testing::quoted;
 
 // Runs `aggkit <arguments>` with stdout and stderr captured in `folder`; `environment` is prefixed.
 Outcome aggkit_cli(const std::vector<std::string>& arguments, const std::filesystem::path& folder,

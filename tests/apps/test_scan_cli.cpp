@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <thread>
 
+#include "tests/apps/shell_quote.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
 using Catch::Matchers::Contains;
@@ -22,11 +23,7 @@ struct Outcome {
   std::string err;
 };
 
-std::string quoted(const std::string& word) {
-  std::string q = "'";
-  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using aggkit::testing::quoted;
 
 // FFTW's measured plans may differ between processes (and so the last bits of a run); estimated plans
 // make every process compute the same numbers.

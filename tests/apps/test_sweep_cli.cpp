@@ -9,6 +9,7 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include "tests/apps/shell_quote.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
 using Catch::Matchers::Contains;
@@ -21,11 +22,7 @@ struct Outcome {
   std::string err;
 };
 
-std::string quoted(const std::string& word) {
-  std::string q = "'";
-  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using aggkit::testing::quoted;
 
 std::string sweep_command(const std::string& prefix, const fs::path& scene, const fs::path& out, bool plot = false) {
   std::string command = prefix + quoted(AGGKIT_CLI) + " sweep " + quoted(scene.string()) + " --out " + quoted(out.string());

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/apps/shell_quote.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
 using Catch::Matchers::Contains;
@@ -24,11 +25,7 @@ struct Outcome {
   std::string out, err;
 };
 
-std::string quoted(const std::string& word) {
-  std::string q = "'";
-  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using aggkit::testing::quoted;
 
 std::string validate_command(const std::vector<std::string>& arguments) {
   std::string command = quoted(AGGKIT_CLI) + " validate";
