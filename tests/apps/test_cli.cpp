@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tests/apps/shell_quote.hpp"
+#include "tests/apps/command_fixture.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
 using aggkit::testing::SceneText;

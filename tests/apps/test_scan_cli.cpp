@@ -10,7 +10,7 @@
 #include <sys/wait.h>
 #include <thread>
 
-#include "tests/apps/shell_quote.hpp"
+#include "tests/apps/command_fixture.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
 using Catch::Matchers::Contains;
@@ -18,10 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int exit_code;
-  std::string err;
-};
 
 using aggkit::testing::quoted;
 
@@ -36,16 +32,10 @@ std::string scan_command(const std::string& prefix, const fs::path& scene, const
   return command;
 }
 
-Outcome run(const std::string& command, const fs::path& folder) {
-  const auto err = folder / "stderr.txt";
-  const int status = std::system((command + " >/dev/null 2>" + quoted(err.string())).c_str());
-  REQUIRE(WIFEXITED(status));
-  return {WEXITSTATUS(status), aggkit::testing::read_text(err)};
-}
+using Outcome = aggkit::testing::CommandOutcome;
+using aggkit::testing::mpirun;
 
-std::string mpirun(int ranks) {
-  return quoted(AGGKIT_MPIEXEC) + " --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
-}
+Outcome run(const std::string& command, const fs::path& folder) { return aggkit::testing::run_command(command, folder); }
 
 // 3 x 3 points at N = 128 (cutoff: mass conserved), t up to 100: steady, damped and monotone regimes, each
 // point a few hundredths of a second.

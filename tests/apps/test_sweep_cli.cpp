@@ -9,7 +9,7 @@
 #include <sstream>
 #include <sys/wait.h>
 
-#include "tests/apps/shell_quote.hpp"
+#include "tests/apps/command_fixture.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
 using Catch::Matchers::Contains;
@@ -17,10 +17,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Outcome {
-  int exit_code;
-  std::string err;
-};
 
 using aggkit::testing::quoted;
 
@@ -30,16 +26,10 @@ std::string sweep_command(const std::string& prefix, const fs::path& scene, cons
   return command;
 }
 
-Outcome run(const std::string& command, const fs::path& folder) {
-  const auto err = folder / "stderr.txt";
-  const int status = std::system((command + " >/dev/null 2>" + quoted(err.string())).c_str());
-  REQUIRE(WIFEXITED(status));
-  return {WEXITSTATUS(status), aggkit::testing::read_text(err)};
-}
+using Outcome = aggkit::testing::CommandOutcome;
+using aggkit::testing::mpirun;
 
-std::string mpirun(int ranks) {
-  return quoted(AGGKIT_MPIEXEC) + " --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
-}
+Outcome run(const std::string& command, const fs::path& folder) { return aggkit::testing::run_command(command, folder); }
 
 using Table = std::vector<std::map<std::string, std::string>>;
 Table read_csv(const fs::path& file) {

@@ -1,0 +1,39 @@
+#pragma once
+// The command-line tests build shell commands for std::system: one word in single quotes, with embedded
+// single quotes closed, escaped and reopened ('\''), so paths and scene text pass through unchanged.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+
+#include "tests/validation/scene_fixture.hpp"
+
+namespace aggkit::testing {
+
+inline std::string quoted(const std::string& word) {
+  std::string q = "'";
+  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// A command's exit status and its standard error (stdout discarded), the latter kept in FOLDER/stderr.txt.
+struct CommandOutcome {
+  int exit_code;
+  std::string err;
+};
+
+inline CommandOutcome run_command(const std::string& command, const std::filesystem::path& folder) {
+  const auto err = folder / "stderr.txt";
+  const int status = std::system((command + " >/dev/null 2>" + quoted(err.string())).c_str());
+  REQUIRE(WIFEXITED(status));
+  return {WEXITSTATUS(status), read_text(err)};
+}
+
+// The prefix that starts a command on RANKS MPI ranks (as root, more ranks than cores allowed).
+inline std::string mpirun(int ranks) {
+  return quoted(AGGKIT_MPIEXEC) + " --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " ";
+}
+
+}  // namespace aggkit::testing
