@@ -77,6 +77,8 @@ void IntegratorOptions::validate() const {
     throw InputError("krylov", std::to_string(krylov_dimension), "must be in 0..500 (0: default 5)");
   if (!std::isfinite(linear_tolerance_factor) || !(linear_tolerance_factor > 0.0) || linear_tolerance_factor > 1.0)
     throw InputError("linear_tolerance_factor", format_value(linear_tolerance_factor), "must be in (0, 1]");
+  if (!std::isfinite(negligible_fraction) || negligible_fraction < 0.0 || negligible_fraction > 0.1)
+    throw InputError("negligible_fraction", format_value(negligible_fraction), "must be in [0, 0.1]");
   if (max_steps < 1) throw InputError("max_steps", std::to_string(max_steps), "must be >= 1");
 }
 
@@ -325,6 +327,11 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
     abstol[k] = std::max(options.effective_atol() * std::pow(double(k + 1), -options.atol_exponent),
                          options.effective_atol_floor() * density_scale);
   y[N] = 0.0;
+  if (options.negligible_fraction > 0.0) {  // the adaptive active range: ν_k = fraction · atol_k
+    std::vector<double> levels(N);
+    for (std::size_t k = 0; k < N; ++k) levels[k] = options.negligible_fraction * abstol[k];
+    rates->set_negligible_levels(std::move(levels));
+  }
   // The leaked mass matters relative to the total mass M; an absolute tolerance tied to atol would make
   // CVODE resolve a leak of ~1e-20 driven by the far tail (thousands of extra steps were seen).
   abstol[N] = std::max(options.effective_atol(), options.rtol * problem.mass);
@@ -430,6 +437,10 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   }
   stats.kernel_rank = rates->kernel_rank();
   stats.kernel_relative_error = rates->kernel_relative_error();
+  const Rates::ActiveRangeStatistics range = rates->active_range_statistics();
+  stats.active_size_final = range.final_size;
+  stats.active_size_mean = range.mean_size;
+  stats.fft_work_fraction = range.fft_work_fraction;
   stats.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return stats;
 }

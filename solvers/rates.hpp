@@ -36,6 +36,19 @@ class Rates {
   virtual std::size_t kernel_rank() const { return 0; }
   virtual double kernel_relative_error() const { return 0.0; }
 
+  // Adaptive active size range (fast path; the direct path ignores it). With negligible levels ν_k set,
+  // sizes beyond the last one with |n_k| > ν_k take no part in collisions, and the FFTs are sized to the
+  // sizes that do (solvers/rates_fast.cpp). Empty: every size with n_k ≠ 0 takes part.
+  virtual void set_negligible_levels(std::vector<double> levels) { (void)levels; }
+  // What the active range saved over the right-hand sides evaluated so far.
+  struct ActiveRangeStatistics {
+    std::size_t final_size = 0;   // active range of the last state evaluated
+    double mean_size = 0.0;       // mean over the states evaluated
+    double fft_work_fraction = 1.0;  // Σ L log L of the FFT lengths used / the same at full range
+    long states = 0;              // distinct states prepared (right-hand sides and Jacobians share them)
+  };
+  virtual ActiveRangeStatistics active_range_statistics() const { return {size_, double(size_), 1.0, 0}; }
+
  protected:
   explicit Rates(std::size_t N) : size_(N) {}
   std::size_t size_;

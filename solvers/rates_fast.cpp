@@ -16,9 +16,20 @@
 // with G = 10 (so |x̃| ≤ G max|n|, no overflow). Each size takes its gain from whichever of the plain
 // and the tilted convolution has the smaller round-off bound ε Σ|C_pq| ||φ_p x|| ||φ_q x|| (times
 // e^{-θ(s-2k0)} for the tilted one): the plain one near the peak, the tilted one in the tail. Sizes
-// with n_k ≤ 1e-300 max n take no part in collisions (the active range 1..K_a), which also shortens
-// the FFTs at early times. The Jacobian-vector product uses the plain convolution (a Krylov vector
-// need not decay); it only steers Newton's method.
+// with n_k ≤ 1e-300 max n take no part in collisions. The Jacobian-vector product uses the plain
+// convolution (a Krylov vector need not decay); it only steers Newton's method.
+//
+// Active size range. Sizes 1..K_a take part in collisions; K_a is the last size with |n_k| above its
+// negligible level ν_k (set by the integrator to a small fraction of the absolute tolerance atol_k; without
+// levels, 1e-300 max n). Every transform, product and sum then covers 1..K_a, and the FFT length is the
+// smallest planned one ≥ 2 K_a. The truncated system is the full one with the pairs that involve a size
+// beyond K_a left out: pairs inside the range gain into sizes up to 2 K_a (so the tail beyond K_a keeps
+// growing from the resolved sizes), lose, and shatter exactly as in the full system, so mass is conserved
+// term by term. What is left out is of order ν: a size k > K_a (|n_k| ≤ ν_k) misses its own loss (at most
+// ν_k), and a size i ≤ K_a misses the collisions with it, a relative rate Σ_{k>K_a} K_ik ν_k. As soon as a
+// size beyond the edge, fed by the gain, rises above ν_k it joins, so the range grows before its tail
+// reaches the tolerance; sizes beyond 2 K_a stay exactly 0. At early times, when the distribution covers a
+// few hundred of N sizes, the FFTs shrink accordingly.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -148,7 +159,8 @@ class FastRates final : public Rates {
       cached_n_[0] = std::nan("");
     }
     // ½ Σ_{i+j>N} (i+j) K_ij n_i n_j = Σ_i i n_i Σ_{j>N-i} K_ij n_j over the active range (the same
-    // truncated n that evaluate() uses, so leak = -dM1/dt exactly).
+    // truncated n that evaluate() uses, so leak = -dM1/dt exactly); no pair leaves while 2 K_a ≤ N.
+    if (2 * active_ <= size_) return 0.0;
     return kernel_.truncation_flux(n, n, active_);
   }
 
@@ -158,8 +170,19 @@ class FastRates final : public Rates {
   std::size_t kernel_rank() const override { return kernel_.rank(); }
   double kernel_relative_error() const override { return kernel_.form().max_relative_error; }
 
+  void set_negligible_levels(std::vector<double> levels) override {
+    negligible_ = std::move(levels);
+    negligible_.resize(negligible_.empty() ? 0 : size_, 0.0);
+    cached_n_[0] = std::nan("");  // the active range may change for the same state
+  }
+  ActiveRangeStatistics active_range_statistics() const override {
+    if (states_ == 0) return {size_, double(size_), 1.0, 0};
+    const double full = work(fft_.length_for(size_));
+    return {active_, double(active_sum_) / double(states_), fft_work_ / (double(states_) * full), states_};
+  }
+
  private:
-  // Peak k0 of |n| and the active range 1..K_a (K_a the last size with |n_k| > 1e-300 |n_k0|).
+  // Peak k0 of |n| and the active range 1..K_a (K_a the last size with |n_k| > max(ν_k, 1e-300 |n_k0|)).
   void find_active_range(std::span<const double> n) {
     peak_ = 1;
     for (std::size_t k = 1; k <= size_; ++k)
@@ -167,11 +190,13 @@ class FastRates final : public Rates {
     const double floor = 1e-300 * std::abs(n[peak_ - 1]);
     active_ = 1;
     for (std::size_t k = size_; k >= 1; --k)
-      if (std::abs(n[k - 1]) > floor) {
+      if (std::abs(n[k - 1]) > floor && (negligible_.empty() || std::abs(n[k - 1]) > negligible_[k - 1])) {
         active_ = k;
         break;
       }
   }
+
+  static double work(std::size_t length) { return double(length) * std::log2(double(length)); }
 
   // Slowest decay rate of |n| beyond its peak with growth allowance G = 10, sampled at ≤ 1024 sizes
   // (the allowance absorbs what the sampling misses; overflow is excluded when tilting).
@@ -194,6 +219,7 @@ class FastRates final : public Rates {
     newton_spectra_ready_ = false;
     find_active_range(n);
     length_ = fft_.length_for(active_);
+    ++states_, active_sum_ += active_, fft_work_ += work(length_);
     tilt_ = decay_rate(n);
     plain_bound_ = kernel_.roundoff_bound(n, active_);
     use_tilted_ = tilt_ > 0.0;
@@ -237,6 +263,10 @@ class FastRates final : public Rates {
   FftConvolution::Spectrum accumulator_;
   std::vector<double> kernel_diagonal_, kernel_monomer_, kernel_subdiagonal_;  // K̃_kk, K̃_k1, K̃_{k,k-1}
   std::vector<double> cached_n_, rate_n_, rate_v_, tilted_n_, conv_, tilted_conv_;
+  std::vector<double> negligible_;  // ν_k (empty: none)
+  long states_ = 0;
+  std::size_t active_sum_ = 0;
+  double fft_work_ = 0.0;
   double tilt_ = 0.0, plain_bound_ = 0.0, tilted_bound_ = 0.0;
   bool use_plain_ = true, use_tilted_ = false, newton_spectra_ready_ = false;
   std::size_t active_ = 1, length_ = 0, peak_ = 1, plain_support_ = 1, plain_valid_ = 2, plain_length_ = 0;

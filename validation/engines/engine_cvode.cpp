@@ -27,6 +27,9 @@ const OptionTable& cvode_options() {
       number_option("lowrank_tolerance", "min(1e-8, 1e-3 rtol)", "relative error of the low-rank kernel (0: default)",
                     0.0, 0.1),
       number_option("jacobian_tolerance", "1e-4", "low-rank tolerance of the Jacobian-vector products", 0.0, 0.1),
+      number_option("negligible_fraction", "1e-6",
+                    "sizes beyond the last with |n_k| > this fraction of atol_k take no part (adaptive active range; 0: off)",
+                    0.0, 0.1),
       word_option("preconditioner", "monomer", "bdf-gmres preconditioner", {"monomer", "jacobi", "none"}),
       integer_option("krylov", "0", "Krylov subspace dimension (0: CVODE's default 5)", 0, 500),
       integer_option("max_steps", "10000000", "most internal steps", 1),
@@ -85,6 +88,9 @@ class CvodeEngine final : public Engine {
         {"integrator_wall_seconds", s.wall_seconds},
         {"kernel_rank", std::int64_t(s.kernel_rank)},
         {"kernel_relative_error", s.kernel_relative_error},
+        {"active_size_final", std::int64_t(s.active_size_final)},
+        {"active_size_mean", s.active_size_mean},
+        {"fft_work_fraction", s.fft_work_fraction},
         {"negative_densities", std::int64_t(s.negative_densities)},
         {"most_negative_density", s.most_negative_density},
         {"negative_beyond_tolerance", std::int64_t(s.negative_beyond_tolerance)},
@@ -109,6 +115,7 @@ std::unique_ptr<Engine> build_cvode(const EngineOptions& given, const EngineSpec
   options.atol_floor = given.number("atol_floor", options.atol_floor);
   options.lowrank_tolerance = given.number("lowrank_tolerance", options.lowrank_tolerance);
   options.jacobian_tolerance = given.number("jacobian_tolerance", options.jacobian_tolerance);
+  options.negligible_fraction = given.number("negligible_fraction", options.negligible_fraction);
   options.krylov_dimension = int(given.integer("krylov", options.krylov_dimension));
   options.max_steps = long(given.integer("max_steps", options.max_steps));
   options.project_mass = given.boolean("project_mass", options.project_mass);
