@@ -26,7 +26,7 @@ const OptionTable& cvode_options() {
       word_option("rhs", "fast", "right-hand side: FFT/low-rank O(N R log N), or the direct O(N^2) sums", {"fast", "direct"}),
       number_option("lowrank_tolerance", "min(1e-8, 1e-3 rtol)", "relative error of the low-rank kernel (0: default)",
                     0.0, 0.1),
-      number_option("jacobian_tolerance", "1e-4", "low-rank tolerance of the Jacobian-vector products", 0.0, 0.1),
+      number_option("jacobian_tolerance", "1e-2", "low-rank tolerance of the Jacobian-vector products", 0.0, 0.1),
       number_option("negligible_fraction", "1e-6",
                     "sizes beyond the last with |n_k| > this fraction of atol_k take no part (adaptive active range; 0: off)",
                     0.0, 0.1),

@@ -70,10 +70,15 @@ def decade_label(value, _position=None):
 
 
 def label_log_axes(axes):
-    for axis in (axes.xaxis, axes.yaxis):
+    """Decade labels on log axes; no minor ticks where more than 6 decades make them a solid comb (each
+    tick is an object to build and draw: ~130 of them on a 16-decade distribution axis)."""
+    for axis, limits in ((axes.xaxis, axes.get_xlim()), (axes.yaxis, axes.get_ylim())):
         if axis.get_scale() == "log":
             axis.set_major_formatter(ticker.FuncFormatter(decade_label))
             axis.set_minor_formatter(ticker.NullFormatter())
+            low, high = sorted(limits)
+            if low > 0 and math.log10(high / low) > 6:
+                axis.set_minor_locator(ticker.NullLocator())
 
 
 def plot_series(axes, observable, engines, reference):
