@@ -2,61 +2,92 @@
 
 namespace aggkit {
 
+namespace {
+
+inline void relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
+std::uint32_t generation_of(std::uint64_t ticket) { return std::uint32_t(ticket >> 32); }
+
+}  // namespace
+
 WorkerPool::WorkerPool(std::size_t threads) {
   for (std::size_t t = 1; t < threads; ++t) workers_.emplace_back([this] { work(); });
 }
 
 WorkerPool::~WorkerPool() {
-  {
-    std::lock_guard lock(mutex_);
-    stop_ = true;
-  }
-  start_.notify_all();
+  stop_.store(true);
+  wake_.value.fetch_add(1);
+  wake_.value.notify_all();
   for (std::thread& t : workers_) t.join();
 }
 
-void WorkerPool::drain() {
-  std::unique_lock lock(mutex_);
-  while (next_ < jobs_) {
-    const std::size_t k = next_++;
-    lock.unlock();
-    (*job_)(k);
-    lock.lock();
-    if (++done_ == jobs_) finished_.notify_all();
+std::size_t WorkerPool::drain(std::uint32_t generation) {
+  std::size_t ran = 0;
+  std::uint64_t t = ticket_.value.load(std::memory_order_acquire);
+  while (generation_of(t) == generation && std::uint32_t(t) != 0) {
+    if (!ticket_.value.compare_exchange_weak(t, t - 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+    // Claimed: the run cannot finish before this job is done, so its fields stay put until then.
+    const std::uint32_t jobs = jobs_;
+    invoke_(context_, jobs - std::uint32_t(t));
+    ++ran;
+    if (done_.value.fetch_add(1) + 1 == jobs && caller_sleeps_.value.load()) done_.value.notify_all();
+    t = ticket_.value.load(std::memory_order_acquire);
   }
+  return ran;
 }
 
 void WorkerPool::work() {
-  std::uint64_t seen = 0;
+  std::uint32_t seen = 0;
   for (;;) {
-    {
-      std::unique_lock lock(mutex_);
-      start_.wait(lock, [&] { return stop_ || generation_ != seen; });
-      if (stop_) return;
-      seen = generation_;
+    std::uint64_t t = ticket_.value.load(std::memory_order_acquire);
+    auto since = std::chrono::steady_clock::now();
+    for (unsigned polls = 1; generation_of(t) == seen && !stop_.load(std::memory_order_relaxed); ++polls) {
+      relax();
+      t = ticket_.value.load(std::memory_order_acquire);
+      if (polls % 64 != 0 || std::chrono::steady_clock::now() - since < spin_time) continue;
+      // Block. The sleeper count is raised before the last look at the ticket and the caller bumps wake_
+      // after publishing, then reads the count (all sequentially consistent): either this thread sees the
+      // new run or the caller sees a sleeper and notifies.
+      const std::uint32_t woken = wake_.value.load();
+      sleepers_.value.fetch_add(1);
+      t = ticket_.value.load();
+      if (generation_of(t) == seen && !stop_.load()) wake_.value.wait(woken);
+      sleepers_.value.fetch_sub(1);
+      t = ticket_.value.load(std::memory_order_acquire);
+      since = std::chrono::steady_clock::now();
     }
-    drain();
+    if (stop_.load()) return;
+    seen = generation_of(t);
+    drain(seen);
   }
 }
 
-void WorkerPool::run(std::size_t jobs, const std::function<void(std::size_t)>& job) {
-  if (workers_.empty() || jobs <= 1) {
-    for (std::size_t k = 0; k < jobs; ++k) job(k);
-    return;
+void WorkerPool::dispatch(std::size_t jobs, Invoke invoke, void* context) {
+  invoke_ = invoke;
+  context_ = context;
+  jobs_ = std::uint32_t(jobs);
+  done_.value.store(0, std::memory_order_relaxed);
+  ++generation_;
+  ticket_.value.store((std::uint64_t(generation_) << 32) | jobs_);  // publishes the fields above
+  wake_.value.fetch_add(1);
+  if (sleepers_.value.load() > 0) wake_.value.notify_all();
+  drain(generation_);
+  // Wait for the jobs the workers claimed: poll, then block (the same handshake as the workers' with
+  // caller_sleeps_ in place of the sleeper count).
+  const auto since = std::chrono::steady_clock::now();
+  for (unsigned polls = 1; done_.value.load(std::memory_order_acquire) != jobs_; ++polls) {
+    relax();
+    if (polls % 64 != 0 || std::chrono::steady_clock::now() - since < spin_time) continue;
+    caller_sleeps_.value.store(1);
+    for (std::uint32_t d = done_.value.load(); d != jobs_; d = done_.value.load()) done_.value.wait(d);
+    caller_sleeps_.value.store(0);
   }
-  {
-    std::lock_guard lock(mutex_);
-    job_ = &job;
-    jobs_ = jobs;
-    next_ = done_ = 0;
-    ++generation_;
-  }
-  start_.notify_all();
-  drain();
-  std::unique_lock lock(mutex_);
-  finished_.wait(lock, [&] { return done_ == jobs_; });
-  job_ = nullptr;
-  jobs_ = 0;
 }
 
 }  // namespace aggkit

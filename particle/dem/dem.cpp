@@ -156,7 +156,8 @@ void Dem::for_each_near_pair(double range, Visit&& visit) const {
       }
 }
 
-void Dem::parallel(std::size_t jobs, const std::function<void(std::size_t)>& job) {
+template <class Job>
+void Dem::parallel(std::size_t jobs, Job&& job) {
   if (pool_) pool_->run(jobs, job);
   else
     for (std::size_t k = 0; k < jobs; ++k) job(k);

@@ -153,7 +153,7 @@ class Dem {
   void rebuild_pairs();
   ContactTotals pair_forces(std::size_t begin, std::size_t end, std::vector<ContactForce>& contacts);
   // job(k) for k < jobs, on the worker pool when force_threads > 1.
-  void parallel(std::size_t jobs, const std::function<void(std::size_t)>& job);
+  template <class Job> void parallel(std::size_t jobs, Job&& job);
   void wall_forces();
   void gravity_forces(std::vector<Vector3>& out);  // adds the gravity forces to `out`
   void tangential_force(std::uint32_t i, std::uint32_t j, Vector3& xi, const Vector3& normal, double overlap, double normal_force,
