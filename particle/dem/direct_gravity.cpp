@@ -5,6 +5,8 @@
 #include <cmath>
 #include <thread>
 
+#include "particle/common/simd_clones.hpp"
+
 namespace aggkit {
 
 namespace {
@@ -15,7 +17,7 @@ struct Tile {
 
 // Block `a` against block `b` (b > a), or the pairs i < j within block a (b == a). Coordinates and masses
 // as arrays; partial forces into fa (block a) and fb (block b, the same buffer when b == a).
-void run_tile(const double* px, const double* py, const double* pz, const double* pm, std::size_t a0, std::size_t a1,
+AGGKIT_SIMD_CLONES void run_tile(const double* px, const double* py, const double* pz, const double* pm, std::size_t a0, std::size_t a1,
               std::size_t b0, std::size_t b1, bool same, double G, double eps2, double* fax, double* fay, double* faz,
               double* fbx, double* fby, double* fbz) {
   for (std::size_t i = a0; i < a1; ++i) {

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <thread>
 
+#include "particle/common/simd_clones.hpp"
+
 namespace aggkit {
 
 namespace {
@@ -19,11 +21,51 @@ constexpr std::uint32_t group_size = 64;  // particles sharing one walk (leaves 
 struct Scratch {
   std::vector<double> cx, cy, cz, mass, dx, dy, dz, dm;
   std::array<std::vector<double>, 6> q;
+  std::vector<double> mx, my, mz, ax, ay, az;  // the group's members: positions, accelerations / G
+  void members(std::size_t n) {
+    for (auto* v : {&mx, &my, &mz, &ax, &ay, &az}) v->resize(n);
+  }
   void clear() {
     for (auto* v : {&cx, &cy, &cz, &mass, &dx, &dy, &dz, &dm}) v->clear();
     for (auto& v : q) v.clear();
   }
 };
+
+// The lists' accelerations / G on each member, by vectorised loops over the accepted cells (monopole and
+// quadrupole) and the leaves' particles (the engine's softened law).
+AGGKIT_SIMD_CLONES void evaluate_lists(Scratch& s, std::size_t members, double eps2) {
+  const std::size_t nm = s.mass.size(), nd = s.dm.size();
+  const double* cx = s.cx.data(); const double* cy = s.cy.data(); const double* cz = s.cz.data();
+  const double* cm = s.mass.data();
+  const double *q0 = s.q[0].data(), *q1 = s.q[1].data(), *q2 = s.q[2].data(), *q3 = s.q[3].data(), *q4 = s.q[4].data(),
+               *q5 = s.q[5].data();
+  const double* px = s.dx.data(); const double* py = s.dy.data(); const double* pz = s.dz.data();
+  const double* pm = s.dm.data();
+  for (std::size_t k = 0; k < members; ++k) {
+    const double xi = s.mx[k], yi = s.my[k], zi = s.mz[k];
+    double ax = 0, ay = 0, az = 0;
+#pragma omp simd reduction(+ : ax, ay, az)
+    for (std::size_t c = 0; c < nm; ++c) {
+      const double dx = xi - cx[c], dy = yi - cy[c], dz = zi - cz[c];
+      const double r2 = dx * dx + dy * dy + dz * dz;
+      const double inv2 = 1 / r2, inv = std::sqrt(inv2), inv3 = inv2 * inv, inv5 = inv3 * inv2, inv7 = inv5 * inv2;
+      const double qx = q0[c] * dx + q3[c] * dy + q4[c] * dz, qy = q3[c] * dx + q1[c] * dy + q5[c] * dz,
+                   qz = q4[c] * dx + q5[c] * dy + q2[c] * dz;
+      const double dqd = dx * qx + dy * qy + dz * qz;
+      const double radial = -cm[c] * inv3 - 2.5 * dqd * inv7;
+      ax += radial * dx + qx * inv5, ay += radial * dy + qy * inv5, az += radial * dz + qz * inv5;
+    }
+#pragma omp simd reduction(+ : ax, ay, az)
+    for (std::size_t j = 0; j < nd; ++j) {
+      const double ex = px[j] - xi, ey = py[j] - yi, ez = pz[j] - zi;
+      const double s2 = ex * ex + ey * ey + ez * ez;
+      // itself (s = 0) adds nothing; branch-free, so that the loop vectorises
+      const double f = (s2 > 0 ? pm[j] : 0.0) / (s2 > 0 ? std::sqrt(s2) * (s2 + eps2) : 1.0);
+      ax += f * ex, ay += f * ey, az += f * ez;
+    }
+    s.ax[k] = ax, s.ay[k] = ay, s.az[k] = az;
+  }
+}
 
 struct Cell {
   Vector3 centre{0, 0, 0};  // centre of mass
@@ -68,38 +110,13 @@ class Tree {
       for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], x_[order_[k]][d]), hi[d] = std::max(hi[d], x_[order_[k]][d]);
     s.clear();
     gather(0, lo, hi, theta * theta, s);
-    const std::size_t nm = s.mass.size(), nd = s.dm.size();
+    s.members(g.end - g.begin);
     for (std::uint32_t k = g.begin; k < g.end; ++k) {
-      const std::uint32_t i = order_[k];
-      const double xi = x_[i][0], yi = x_[i][1], zi = x_[i][2];
-      double ax = 0, ay = 0, az = 0;
-      const double* cx = s.cx.data(); const double* cy = s.cy.data(); const double* cz = s.cz.data();
-      const double* cm = s.mass.data();
-      const double *q0 = s.q[0].data(), *q1 = s.q[1].data(), *q2 = s.q[2].data(), *q3 = s.q[3].data(), *q4 = s.q[4].data(),
-                   *q5 = s.q[5].data();
-#pragma omp simd reduction(+ : ax, ay, az)
-      for (std::size_t c = 0; c < nm; ++c) {
-        const double dx = xi - cx[c], dy = yi - cy[c], dz = zi - cz[c];
-        const double r2 = dx * dx + dy * dy + dz * dz;
-        const double inv2 = 1 / r2, inv = std::sqrt(inv2), inv3 = inv2 * inv, inv5 = inv3 * inv2, inv7 = inv5 * inv2;
-        const double qx = q0[c] * dx + q3[c] * dy + q4[c] * dz, qy = q3[c] * dx + q1[c] * dy + q5[c] * dz,
-                     qz = q4[c] * dx + q5[c] * dy + q2[c] * dz;
-        const double dqd = dx * qx + dy * qy + dz * qz;
-        const double radial = -cm[c] * inv3 - 2.5 * dqd * inv7;
-        ax += radial * dx + qx * inv5, ay += radial * dy + qy * inv5, az += radial * dz + qz * inv5;
-      }
-      const double* px = s.dx.data(); const double* py = s.dy.data(); const double* pz = s.dz.data();
-      const double* pm = s.dm.data();
-#pragma omp simd reduction(+ : ax, ay, az)
-      for (std::size_t j = 0; j < nd; ++j) {
-        const double ex = px[j] - xi, ey = py[j] - yi, ez = pz[j] - zi;
-        const double s2 = ex * ex + ey * ey + ez * ez;
-        // itself (s = 0) adds nothing; branch-free, so that the loop vectorises
-        const double f = (s2 > 0 ? pm[j] : 0.0) / (s2 > 0 ? std::sqrt(s2) * (s2 + eps2) : 1.0);
-        ax += f * ex, ay += f * ey, az += f * ez;
-      }
-      a[k] = {G * ax, G * ay, G * az};
+      const Vector3& p = x_[order_[k]];
+      s.mx[k - g.begin] = p[0], s.my[k - g.begin] = p[1], s.mz[k - g.begin] = p[2];
     }
+    evaluate_lists(s, g.end - g.begin, eps2);
+    for (std::uint32_t k = g.begin; k < g.end; ++k) a[k] = {G * s.ax[k - g.begin], G * s.ay[k - g.begin], G * s.az[k - g.begin]};
   }
 
   std::uint32_t particle_at(std::uint32_t k) const { return order_[k]; }
