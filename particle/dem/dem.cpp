@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "particle/common/simd_clones.hpp"
+
 namespace aggkit {
 
 namespace {
@@ -426,6 +428,143 @@ void Dem::gravity_forces(std::vector<Vector3>& out) {
   direct_gravity(x_, mass_, settings_.G, softening_, settings_.force_threads, out);
 }
 
+namespace {
+
+// The translational half of step()'s first pass over particles [begin, end) on flat arrays (3 doubles per
+// particle): kick by F dt/2m, drift, periodic wrap by one side, the dashpot's velocity, forces cleared, and
+// the Verlet list's displacement check. Branch-free, so that it vectorises; the arithmetic of each particle
+// is that of the plain loop.
+struct Drift {
+  double *x, *v, *f, *u;
+  const double *inverse_mass, *built;  // built: positions at the list's build (x itself when there are none)
+  double dt, half, moved_limit;
+  bool periodic;
+  double side[3], half_side[3];
+};
+constexpr unsigned drift_moved = 1, drift_fault = 2;  // some particle beyond skin/2; a wrap by one side failed
+
+AGGKIT_SIMD_CLONES unsigned drift_chunk(const Drift& a, std::size_t begin, std::size_t end) {
+  double* const x = a.x;
+  double* const v = a.v;
+  double* const f = a.f;
+  double* const u = a.u;
+  const double* const inverse_mass = a.inverse_mass;
+  const double* const built = a.built;
+  const double dt = a.dt, half = a.half, limit = a.moved_limit;
+  // Without periodic images the shifts are zero and the half sides infinite: the selects then do nothing.
+  double shift[3], side[3], half_side[3];
+  for (int k = 0; k < 3; ++k) {
+    shift[k] = a.periodic ? a.side[k] : 0.0;
+    side[k] = a.periodic ? a.side[k] : std::numeric_limits<double>::infinity();
+    half_side[k] = a.periodic ? a.half_side[k] : std::numeric_limits<double>::infinity();
+  }
+  const bool periodic = a.periodic;
+  unsigned moved = 0, fault = 0;
+#pragma omp simd reduction(| : moved, fault)
+  for (std::size_t i = begin; i < end; ++i) {
+    const double hm = half * inverse_mass[i];
+    double d2 = 0;
+    unsigned bad = 0;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t e = 3 * i + std::size_t(k);
+      const double kick = hm * f[e];
+      const double vk = v[e] + kick;
+      v[e] = vk;
+      double c = x[e] + dt * vk;
+      c += c < 0 ? shift[k] : c >= side[k] ? -shift[k] : 0.0;
+      bad |= periodic && !(c >= 0 && c < side[k]) ? 1u : 0u;
+      double d = c - built[e];
+      d += d > half_side[k] ? -shift[k] : d < -half_side[k] ? shift[k] : 0.0;
+      d2 += d * d;
+      x[e] = c;
+      u[e] = vk + kick;  // the dashpot's estimate of v(t + dt): second order
+      f[e] = 0;
+    }
+    moved |= d2 > limit ? drift_moved : 0u;
+    fault |= bad ? drift_fault : 0u;
+  }
+  return moved | fault;
+}
+
+// The rotational half (friction): ω kicked by the torque's half step, its prediction for the tangential
+// springs, torques cleared, and q ← exp(½ ω dt) q (rotation by |ω| dt about ω, space frame), renormalised.
+// For a half angle a below 1e-3 (the usual case) cos a and sin(a)/|ω| from their series (next terms
+// < 1e-19) and the renormalisation by one Newton step from 1 (|p|² − 1 is round-off), branch-free and
+// vectorised; larger angles are left to rotate_large (cos, sin, a square root). ω = 0 leaves q as it is.
+struct Spin {
+  double *w, *w_pred, *torque;
+  std::array<double, 4>* q;
+  const double* inverse_inertia;
+  double dt, half;
+};
+
+std::array<double, 4> rotated(const std::array<double, 4>& r, const std::array<double, 4>& q) {
+  return {r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
+          r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
+}
+
+constexpr double small_half_angle2 = 1e-6;
+
+AGGKIT_SIMD_CLONES bool spin_chunk(const Spin& a, std::size_t begin, std::size_t end) {
+  double* const w = a.w;
+  double* const w_pred = a.w_pred;
+  double* const torque = a.torque;
+  double* const q = a.q[0].data();
+  const double* const inverse_inertia = a.inverse_inertia;
+  const double dt = a.dt, half = a.half;
+  unsigned large = 0;
+#pragma omp simd reduction(| : large)
+  for (std::size_t i = begin; i < end; ++i) {
+    const double hi = half * inverse_inertia[i];  // I = 2/5 m R²
+    double wi[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t e = 3 * i + std::size_t(k);
+      const double spin = hi * torque[e];
+      wi[k] = w[e] + spin;
+      w[e] = wi[k];
+      w_pred[e] = wi[k] + spin;
+      torque[e] = 0;
+    }
+    const double w2 = wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2];
+    const double a2 = 0.25 * w2 * dt * dt;
+    const bool small = a2 < small_half_angle2;
+    large |= w2 > 0 && !small ? 1u : 0u;
+    constexpr double c2 = 1.0 / 2, c4 = 1.0 / 24, s2 = 1.0 / 6, s4 = 1.0 / 120;  // multiplications, not divisions
+    const double c = 1 - a2 * c2 + a2 * a2 * c4;
+    const double sw = half * (1 - a2 * s2 + a2 * a2 * s4);  // sin(a)/|ω|
+    const std::size_t o = 4 * i;
+    const double r0 = c, r1 = sw * wi[0], r2 = sw * wi[1], r3 = sw * wi[2];
+    const double q0 = q[o], q1 = q[o + 1], q2 = q[o + 2], q3 = q[o + 3];
+    double p0 = r0 * q0 - r1 * q1 - r2 * q2 - r3 * q3, p1 = r0 * q1 + r1 * q0 + r2 * q3 - r3 * q2,
+           p2 = r0 * q2 - r1 * q3 + r2 * q0 + r3 * q1, p3 = r0 * q3 + r1 * q2 - r2 * q1 + r3 * q0;
+    const double length2 = p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3;
+    const double inverse_length = 1.5 - 0.5 * length2;
+    const bool keep = !(w2 > 0 && small);  // ω = 0, or a large angle (rotate_large)
+    q[o] = keep ? q0 : p0 * inverse_length;
+    q[o + 1] = keep ? q1 : p1 * inverse_length;
+    q[o + 2] = keep ? q2 : p2 * inverse_length;
+    q[o + 3] = keep ? q3 : p3 * inverse_length;
+  }
+  return large != 0;
+}
+
+void rotate_large(const Spin& a, std::size_t begin, std::size_t end) {
+  for (std::size_t i = begin; i < end; ++i) {
+    const double wx = a.w[3 * i], wy = a.w[3 * i + 1], wz = a.w[3 * i + 2];
+    const double w2 = wx * wx + wy * wy + wz * wz;
+    const double a2 = 0.25 * w2 * a.dt * a.dt;
+    if (!(w2 > 0) || a2 < small_half_angle2) continue;
+    const double angle = std::sqrt(a2);
+    const double sw = std::sin(angle) * a.half / angle;
+    std::array<double, 4> p = rotated({std::cos(angle), sw * wx, sw * wy, sw * wz}, a.q[i]);
+    const double inverse_length = 1 / std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]);
+    for (double& c : p) c *= inverse_length;
+    a.q[i] = p;
+  }
+}
+
+}  // namespace
+
 void Dem::step() {
   const double dt = settings_.dt, half = 0.5 * dt;
   const std::size_t n = x_.size();
@@ -441,68 +580,29 @@ void Dem::step() {
   const std::size_t chunks = std::clamp<std::size_t>(n / 2048, 1, 64);
   std::vector<char> moved_in(chunks, 0);
   parallel(chunks, [&](std::size_t chunk) {
-  // Local pointers and constants: the loop streams the arrays without reloading them.
-  Vector3* const x = x_.data();
-  Vector3* const v = v_.data();
-  Vector3* const f = f_.data();
-  Vector3* const u = u_.data();
-  Vector3* const w = w_.data();
-  Vector3* const w_pred = w_pred_.data();
-  Vector3* const torque = torque_.data();
-  std::array<double, 4>* const orientation = q_.data();
-  const double* const inverse_mass = inverse_mass_.data();
-  const double* const inverse_inertia = inverse_inertia_.data();
-  const Vector3* const built = pairs_built_at_.data();
-  const bool periodic = periodic_, check = pairs_built_at_.size() == n;
-  const Vector3 side = side_, half_side = half_side_;
-  bool moved = false;
-  for (std::size_t i = chunk * n / chunks, end = (chunk + 1) * n / chunks; i < end; ++i) {
-    const Vector3 kick = (half * inverse_mass[i]) * f[i];
-    v[i] = v[i] + kick;
-    Vector3 xi = x[i] + dt * v[i];
-    if (periodic)
-      for (int k = 0; k < 3; ++k) {
-        double& c = xi[k];
-        if (c < 0) c += side[k];
-        else if (c >= side[k]) c -= side[k];
-        if (!(c >= 0 && c < side[k])) c = box_.wrap(xi)[k];  // more than a box side per step, or −tiny + L = L
+    const std::size_t begin = chunk * n / chunks, end = (chunk + 1) * n / chunks;
+    const bool check = pairs_built_at_.size() == n;
+    Drift drift{x_[0].data(), v_[0].data(), f_[0].data(), u_[0].data(), inverse_mass_.data(),
+                check ? pairs_built_at_[0].data() : x_[0].data(), dt, half, moved_limit, periodic_, {}, {}};
+    for (int k = 0; k < 3; ++k) drift.side[k] = side_[k], drift.half_side[k] = half_side_[k];
+    const unsigned flags = drift_chunk(drift, begin, end);
+    if (flags & drift_fault)  // more than a box side in one step, or −tiny + L = L: the exact wrap
+      for (std::size_t i = begin; i < end; ++i) {
+        Vector3& xi = x_[i];
+        for (int k = 0; k < 3; ++k)
+          if (!(xi[k] >= 0 && xi[k] < side_[k])) xi[k] = box_.wrap(xi)[k];
       }
-    x[i] = xi;
-    u[i] = v[i] + kick;  // the dashpot's estimate of v(t + dt): second order
-    f[i] = {0, 0, 0};
-    if (!moved && check) {
-      Vector3 d = xi - built[i];
-      if (periodic)
-        for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side[k] ? -side[k] : d[k] < -half_side[k] ? side[k] : 0.0;
-      moved = dot(d, d) > moved_limit;
-    }
-    if (!friction) continue;
-    const Vector3 spin = (half * inverse_inertia[i]) * torque[i];  // I = 2/5 m R²
-    const Vector3 wi = w[i] + spin;
-    w[i] = wi;
-    w_pred[i] = wi + spin;
-    torque[i] = {0, 0, 0};
-    // q ← exp(½ ω dt) q: rotation by |ω| dt about ω (space frame), renormalised. For a half angle a below
-    // 1e-3, cos a and sin(a)/|ω| from their series (next terms < 1e-19) and the renormalisation by one
-    // Newton step from 1 (|p|² − 1 is round-off): no square root, no division.
-    const double w2 = dot(wi, wi);
-    if (w2 > 0) {
-      const double a2 = 0.25 * w2 * dt * dt;
-      const bool small = a2 < 1e-6;
-      const double a = small ? 0.0 : std::sqrt(a2);
-      constexpr double c2 = 1.0 / 2, c4 = 1.0 / 24, s2 = 1.0 / 6, s4 = 1.0 / 120;  // multiplications, not divisions
-      const double c = small ? 1 - a2 * c2 + a2 * a2 * c4 : std::cos(a);
-      const double sw = small ? half * (1 - a2 * s2 + a2 * a2 * s4) : std::sin(a) * half / a;  // sin(a)/|ω|
-      const std::array<double, 4> r{c, sw * wi[0], sw * wi[1], sw * wi[2]}, q = orientation[i];
-      std::array<double, 4> p{r[0] * q[0] - r[1] * q[1] - r[2] * q[2] - r[3] * q[3], r[0] * q[1] + r[1] * q[0] + r[2] * q[3] - r[3] * q[2],
-                              r[0] * q[2] - r[1] * q[3] + r[2] * q[0] + r[3] * q[1], r[0] * q[3] + r[1] * q[2] - r[2] * q[1] + r[3] * q[0]};
-      const double length2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3];
-      const double inverse_length = small ? 1.5 - 0.5 * length2 : 1 / std::sqrt(length2);
-      for (double& c4q : p) c4q *= inverse_length;
-      orientation[i] = p;
-    }
-  }
-  moved_in[chunk] = moved;
+    bool moved = check && (flags & drift_moved);
+    if (check && (flags & drift_fault) && !moved)
+      for (std::size_t i = begin; i < end && !moved; ++i) {
+        Vector3 d = x_[i] - pairs_built_at_[i];
+        for (int k = 0; k < 3; ++k) d[k] += d[k] > half_side_[k] ? -side_[k] : d[k] < -half_side_[k] ? side_[k] : 0.0;
+        moved = dot(d, d) > moved_limit;
+      }
+    moved_in[chunk] = moved;
+    if (!friction) return;
+    Spin spin{w_[0].data(), w_pred_[0].data(), torque_[0].data(), q_.data(), inverse_inertia_.data(), dt, half};
+    if (spin_chunk(spin, begin, end)) rotate_large(spin, begin, end);
   });
   moved_beyond_skin_ = std::find(moved_in.begin(), moved_in.end(), 1) != moved_in.end();
   forces_cleared_ = true;
