@@ -451,39 +451,41 @@ AGGKIT_SIMD_CLONES unsigned drift_chunk(const Drift& a, std::size_t begin, std::
   const double* const inverse_mass = a.inverse_mass;
   const double* const built = a.built;
   const double dt = a.dt, half = a.half, limit = a.moved_limit;
-  // Without periodic images the shifts are zero and the half sides infinite: the selects then do nothing.
-  double shift[3], side[3], half_side[3];
-  for (int k = 0; k < 3; ++k) {
-    shift[k] = a.periodic ? a.side[k] : 0.0;
-    side[k] = a.periodic ? a.side[k] : std::numeric_limits<double>::infinity();
-    half_side[k] = a.periodic ? a.half_side[k] : std::numeric_limits<double>::infinity();
-  }
+  // Without periodic images the shifts are zero and the bounds infinite: the selects then do nothing.
   const bool periodic = a.periodic;
-  unsigned moved = 0, fault = 0;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double shift0 = periodic ? a.side[0] : 0.0, shift1 = periodic ? a.side[1] : 0.0, shift2 = periodic ? a.side[2] : 0.0;
+  const double side0 = periodic ? a.side[0] : inf, side1 = periodic ? a.side[1] : inf, side2 = periodic ? a.side[2] : inf;
+  const double low = periodic ? 0.0 : -inf;
+  const double half0 = periodic ? a.half_side[0] : inf, half1 = periodic ? a.half_side[1] : inf, half2 = periodic ? a.half_side[2] : inf;
+  int moved = 0, fault = 0;
 #pragma omp simd reduction(| : moved, fault)
   for (std::size_t i = begin; i < end; ++i) {
     const double hm = half * inverse_mass[i];
     double d2 = 0;
-    unsigned bad = 0;
-    for (int k = 0; k < 3; ++k) {
-      const std::size_t e = 3 * i + std::size_t(k);
+    int bad = 0;
+    // One component: shift, side, half side of its axis.
+    auto component = [&](std::size_t e, double shift, double side, double half_side) {
       const double kick = hm * f[e];
       const double vk = v[e] + kick;
       v[e] = vk;
       double c = x[e] + dt * vk;
-      c += c < 0 ? shift[k] : c >= side[k] ? -shift[k] : 0.0;
-      bad |= periodic && !(c >= 0 && c < side[k]) ? 1u : 0u;
+      c += c < 0 ? shift : c >= side ? -shift : 0.0;
+      bad |= c >= low && c < side ? 0 : 1;
       double d = c - built[e];
-      d += d > half_side[k] ? -shift[k] : d < -half_side[k] ? shift[k] : 0.0;
+      d += d > half_side ? -shift : d < -half_side ? shift : 0.0;
       d2 += d * d;
       x[e] = c;
       u[e] = vk + kick;  // the dashpot's estimate of v(t + dt): second order
       f[e] = 0;
-    }
-    moved |= d2 > limit ? drift_moved : 0u;
-    fault |= bad ? drift_fault : 0u;
+    };
+    component(3 * i, shift0, side0, half0);
+    component(3 * i + 1, shift1, side1, half1);
+    component(3 * i + 2, shift2, side2, half2);
+    moved |= d2 > limit ? int(drift_moved) : 0;
+    fault |= bad ? int(drift_fault) : 0;
   }
-  return moved | fault;
+  return unsigned(moved | fault);
 }
 
 // The rotational half (friction): ω kicked by the torque's half step, its prediction for the tangential
@@ -512,38 +514,33 @@ AGGKIT_SIMD_CLONES bool spin_chunk(const Spin& a, std::size_t begin, std::size_t
   double* const q = a.q[0].data();
   const double* const inverse_inertia = a.inverse_inertia;
   const double dt = a.dt, half = a.half;
-  unsigned large = 0;
+  int large = 0;
 #pragma omp simd reduction(| : large)
   for (std::size_t i = begin; i < end; ++i) {
     const double hi = half * inverse_inertia[i];  // I = 2/5 m R²
-    double wi[3];
-    for (int k = 0; k < 3; ++k) {
-      const std::size_t e = 3 * i + std::size_t(k);
-      const double spin = hi * torque[e];
-      wi[k] = w[e] + spin;
-      w[e] = wi[k];
-      w_pred[e] = wi[k] + spin;
-      torque[e] = 0;
-    }
-    const double w2 = wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2];
+    const std::size_t e = 3 * i;
+    const double spin0 = hi * torque[e], spin1 = hi * torque[e + 1], spin2 = hi * torque[e + 2];
+    const double w0 = w[e] + spin0, w1 = w[e + 1] + spin1, w2c = w[e + 2] + spin2;
+    w[e] = w0, w[e + 1] = w1, w[e + 2] = w2c;
+    w_pred[e] = w0 + spin0, w_pred[e + 1] = w1 + spin1, w_pred[e + 2] = w2c + spin2;
+    torque[e] = 0, torque[e + 1] = 0, torque[e + 2] = 0;
+    const double w2 = w0 * w0 + w1 * w1 + w2c * w2c;
     const double a2 = 0.25 * w2 * dt * dt;
-    const bool small = a2 < small_half_angle2;
-    large |= w2 > 0 && !small ? 1u : 0u;
+    large |= int(w2 > 0) & int(a2 >= small_half_angle2);
     constexpr double c2 = 1.0 / 2, c4 = 1.0 / 24, s2 = 1.0 / 6, s4 = 1.0 / 120;  // multiplications, not divisions
     const double c = 1 - a2 * c2 + a2 * a2 * c4;
     const double sw = half * (1 - a2 * s2 + a2 * a2 * s4);  // sin(a)/|ω|
+    // Otherwise (ω = 0, or a large angle left to rotate_large) r = (1, 0, 0, 0) and no renormalisation:
+    // p = q exactly. Selects on values, not on the stores, so that the loop vectorises.
+    const bool rotate = int(w2 > 0) & int(a2 < small_half_angle2);
     const std::size_t o = 4 * i;
-    const double r0 = c, r1 = sw * wi[0], r2 = sw * wi[1], r3 = sw * wi[2];
+    const double r0 = rotate ? c : 1.0, r1 = rotate ? sw * w0 : 0.0, r2 = rotate ? sw * w1 : 0.0, r3 = rotate ? sw * w2c : 0.0;
     const double q0 = q[o], q1 = q[o + 1], q2 = q[o + 2], q3 = q[o + 3];
-    double p0 = r0 * q0 - r1 * q1 - r2 * q2 - r3 * q3, p1 = r0 * q1 + r1 * q0 + r2 * q3 - r3 * q2,
-           p2 = r0 * q2 - r1 * q3 + r2 * q0 + r3 * q1, p3 = r0 * q3 + r1 * q2 - r2 * q1 + r3 * q0;
+    const double p0 = r0 * q0 - r1 * q1 - r2 * q2 - r3 * q3, p1 = r0 * q1 + r1 * q0 + r2 * q3 - r3 * q2,
+                 p2 = r0 * q2 - r1 * q3 + r2 * q0 + r3 * q1, p3 = r0 * q3 + r1 * q2 - r2 * q1 + r3 * q0;
     const double length2 = p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3;
-    const double inverse_length = 1.5 - 0.5 * length2;
-    const bool keep = !(w2 > 0 && small);  // ω = 0, or a large angle (rotate_large)
-    q[o] = keep ? q0 : p0 * inverse_length;
-    q[o + 1] = keep ? q1 : p1 * inverse_length;
-    q[o + 2] = keep ? q2 : p2 * inverse_length;
-    q[o + 3] = keep ? q3 : p3 * inverse_length;
+    const double inverse_length = rotate ? 1.5 - 0.5 * length2 : 1.0;
+    q[o] = p0 * inverse_length, q[o + 1] = p1 * inverse_length, q[o + 2] = p2 * inverse_length, q[o + 3] = p3 * inverse_length;
   }
   return large != 0;
 }
