@@ -280,9 +280,11 @@ Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end, std::vec
     const std::uint8_t before = pairs_.state[p];
     if (r2 >= (reach + tolerance) * (reach + tolerance)) {
       // Outside the contact graph's distance: an episode that overlapped ends as a rebound.
+      // (Most pairs of the list: nothing to write when they were already out.)
+      if (before == 0) continue;
       if ((before & in_graph) && (before & episode_overlapped)) ++totals.rebounds;
       pairs_.state[p] = 0;
-      if (friction) pairs_.history[p] = {0, 0, 0};
+      if (friction && (before & overlapping)) pairs_.history[p] = {0, 0, 0};  // zero unless overlapping
       continue;
     }
     ++totals.graph_edges;
@@ -291,7 +293,7 @@ Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end, std::vec
     std::uint8_t state = in_graph | ((before & in_graph) ? (before & episode_overlapped) : 0);
     if (overlap <= 0 || r == 0) {
       pairs_.state[p] = state;
-      if (friction) pairs_.history[p] = {0, 0, 0};  // the history is dropped with the contact
+      if (friction && (before & overlapping)) pairs_.history[p] = {0, 0, 0};  // the history is dropped with the contact
       continue;
     }
     pairs_.state[p] = state | overlapping | episode_overlapped;
@@ -560,6 +562,22 @@ void rotate_large(const Spin& a, std::size_t begin, std::size_t end) {
   }
 }
 
+// The closing half kick of step(): v += F dt/2m over particles [begin, end) (flat arrays); returns Σ m|v|²
+// (a vectorised sum: its order is fixed by the range).
+AGGKIT_SIMD_CLONES double kick(double* v, const double* f, const double* inverse_mass, const double* mass, double half, std::size_t begin,
+                               std::size_t end) {
+  double sum = 0;
+#pragma omp simd reduction(+ : sum)
+  for (std::size_t i = begin; i < end; ++i) {
+    const double h = half * inverse_mass[i];
+    const std::size_t e = 3 * i;
+    const double v0 = v[e] + h * f[e], v1 = v[e + 1] + h * f[e + 1], v2 = v[e + 2] + h * f[e + 2];
+    v[e] = v0, v[e + 1] = v1, v[e + 2] = v2;
+    sum += mass[i] * (v0 * v0 + v1 * v1 + v2 * v2);
+  }
+  return sum;
+}
+
 }  // namespace
 
 void Dem::step() {
@@ -607,13 +625,9 @@ void Dem::step() {
   compute_forces();
   std::vector<double> twice_kinetic(chunks, 0.0);  // Σ m|v|² per chunk, added in chunk order
   parallel(chunks, [&](std::size_t chunk) {
-    double sum = 0;
-    for (std::size_t i = chunk * n / chunks, end = (chunk + 1) * n / chunks; i < end; ++i) {
-      v_[i] = v_[i] + (half * inverse_mass_[i]) * f_[i];
-      sum += mass_[i] * dot(v_[i], v_[i]);
-      if (friction) w_[i] = w_[i] + (half * inverse_inertia_[i]) * torque_[i];
-    }
-    twice_kinetic[chunk] = sum;
+    const std::size_t begin = chunk * n / chunks, end = (chunk + 1) * n / chunks;
+    twice_kinetic[chunk] = kick(v_[0].data(), f_[0].data(), inverse_mass_.data(), mass_.data(), half, begin, end);
+    if (friction) kick(w_[0].data(), torque_[0].data(), inverse_inertia_.data(), mass_.data(), half, begin, end);  // ω; sum unused
   });
   for (double sum : twice_kinetic) counters_.kinetic_integral += dt * sum;
   wall_impulse_ = wall_impulse_ - half * wall_force_;
