@@ -131,30 +131,41 @@ void Dem::for_each_near_pair(double range, Visit&& visit) const {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < n; ++i) order[fill[cell_of[i]]++] = std::uint32_t(i);
   }
+  // Each pair of particles once: the pairs within a cell, then those with the 13 neighbour cells of the
+  // forward half of the stencil (the other 13 meet this cell from their side). With periodic images every
+  // axis has 1 or at least 3 cells, so no neighbour cell is met twice.
+  std::vector<std::array<int, 3>> forward;
+  for (int oz = -1; oz <= 1; ++oz)
+    for (int oy = -1; oy <= 1; ++oy)
+      for (int ox = -1; ox <= 1; ++ox) {
+        const int off[3] = {ox, oy, oz};
+        bool used = true;
+        for (int d = 0; d < 3; ++d) used = used && !(cells[d] == 1 && off[d] != 0);
+        // forward: the first non-zero offset (z, then y, then x) is positive
+        const int lead = oz != 0 ? oz : oy != 0 ? oy : ox;
+        if (used && lead > 0) forward.push_back({ox, oy, oz});
+      }
   for (std::int64_t cz = 0; cz < cells[2]; ++cz)
     for (std::int64_t cy = 0; cy < cells[1]; ++cy)
       for (std::int64_t cx = 0; cx < cells[0]; ++cx) {
         const std::size_t c = std::size_t((cz * cells[1] + cy) * cells[0] + cx);
         if (start[c] == start[c + 1]) continue;
+        for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
+          for (std::uint32_t b = a + 1; b < start[c + 1]; ++b) visit(std::min(order[a], order[b]), std::max(order[a], order[b]));
         const std::int64_t own[3] = {cx, cy, cz};
-        for (int oz = -1; oz <= 1; ++oz)
-          for (int oy = -1; oy <= 1; ++oy)
-            for (int ox = -1; ox <= 1; ++ox) {
-              const int off[3] = {ox, oy, oz};
-              std::int64_t other[3];
-              bool skip = false;
-              for (int d = 0; d < 3 && !skip; ++d) {
-                if (cells[d] == 1 && off[d] != 0) skip = true;
-                other[d] = own[d] + off[d];
-                if (periodic) other[d] = (other[d] + cells[d]) % cells[d];
-                else if (other[d] < 0 || other[d] >= cells[d]) skip = true;
-              }
-              if (skip) continue;
-              const std::size_t c2 = std::size_t((other[2] * cells[1] + other[1]) * cells[0] + other[0]);
-              for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
-                for (std::uint32_t b = start[c2]; b < start[c2 + 1]; ++b)
-                  if (order[a] < order[b]) visit(order[a], order[b]);
-            }
+        for (const std::array<int, 3>& off : forward) {
+          std::int64_t other[3];
+          bool skip = false;
+          for (int d = 0; d < 3 && !skip; ++d) {
+            other[d] = own[d] + off[d];
+            if (periodic) other[d] = (other[d] + cells[d]) % cells[d];
+            else if (other[d] < 0 || other[d] >= cells[d]) skip = true;
+          }
+          if (skip) continue;
+          const std::size_t c2 = std::size_t((other[2] * cells[1] + other[1]) * cells[0] + other[0]);
+          for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
+            for (std::uint32_t b = start[c2]; b < start[c2 + 1]; ++b) visit(std::min(order[a], order[b]), std::max(order[a], order[b]));
+        }
       }
 }
 
