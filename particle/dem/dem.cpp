@@ -435,10 +435,10 @@ void Dem::tangential_force(std::uint32_t i, std::uint32_t j, Vector3& history, c
 
 void Dem::gravity_forces(std::vector<Vector3>& out) {
   if (settings_.tree) {
-    tree_gravity(x_, mass_, settings_.G, softening_, settings_.opening_angle, settings_.force_threads, out);
+    tree_gravity(x_, mass_, settings_.G, softening_, settings_.opening_angle, pool_.get(), out);
     return;
   }
-  direct_gravity(x_, mass_, settings_.G, softening_, settings_.force_threads, out);
+  direct_gravity(x_, mass_, settings_.G, softening_, pool_.get(), out);
 }
 
 namespace {

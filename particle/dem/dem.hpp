@@ -17,7 +17,8 @@
 // fixed chunks of particles, the contacts over fixed chunks of the Verlet list into per-chunk buffers added
 // to the particles in pair order, direct gravity over a fixed tiling of the pairs reduced in a fixed order
 // (direct_gravity.hpp), the Barnes–Hut tree (gravity_tree.hpp) per particle: the result does not depend on
-// the thread count.
+// the thread count. All of them run on one worker pool (particle/common/worker_pool.hpp) kept for the run.
+// The integration's loops are vectorised (particle/common/simd_clones.hpp).
 #include <cstddef>
 #include <array>
 #include <cstdint>

@@ -1,9 +1,7 @@
 #include "particle/dem/direct_gravity.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <thread>
 
 #include "particle/common/simd_clones.hpp"
 
@@ -46,6 +44,13 @@ AGGKIT_SIMD_CLONES void run_tile(const double* px, const double* py, const doubl
 
 void direct_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, std::size_t threads,
                     std::vector<Vector3>& force) {
+  if (threads <= 1) return direct_gravity(x, m, G, softening, nullptr, force);
+  WorkerPool pool(threads);
+  direct_gravity(x, m, G, softening, &pool, force);
+}
+
+void direct_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, WorkerPool* pool,
+                    std::vector<Vector3>& force) {
   const std::size_t n = x.size();
   if (n < 2) return;
   std::vector<double> px(n), py(n), pz(n);
@@ -70,18 +75,9 @@ void direct_gravity(const std::vector<Vector3>& x, const std::vector<double>& m,
     run_tile(px.data(), py.data(), pz.data(), m.data(), block_begin(t.a), block_begin(t.a + 1), block_begin(t.b), block_begin(t.b + 1),
              t.a == t.b, G, eps2, fx.data() + oa, fy.data() + oa, fz.data() + oa, fx.data() + ob, fy.data() + ob, fz.data() + ob);
   };
-  threads = std::min(std::max<std::size_t>(threads, 1), tiles.size());
-  if (threads == 1) {
+  if (pool) pool->run(tiles.size(), [&](std::size_t t) { run(tiles[t]); });
+  else
     for (const Tile& t : tiles) run(t);
-  } else {
-    std::atomic<std::size_t> next{0};
-    std::vector<std::thread> pool;
-    for (std::size_t w = 0; w < threads; ++w)
-      pool.emplace_back([&] {
-        for (std::size_t t = next++; t < tiles.size(); t = next++) run(tiles[t]);
-      });
-    for (std::thread& th : pool) th.join();
-  }
   // Reduction in tile order (a, b ascending), one particle at a time.
   for (const Tile& t : tiles) {
     for (std::size_t i = block_begin(t.a), k = t.offset_a; i < block_begin(t.a + 1); ++i, ++k)

@@ -1,11 +1,9 @@
 #include "particle/dem/gravity_tree.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <thread>
 
 #include "particle/common/simd_clones.hpp"
 
@@ -216,32 +214,34 @@ class Tree {
 }  // namespace
 
 void tree_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, double theta,
-                  std::size_t threads, std::vector<Vector3>& force) {
+                  WorkerPool* pool, std::vector<Vector3>& force) {
   if (x.size() < 2) return;
   const Tree tree(x, m);
   const double eps2 = softening * softening;
   const std::vector<std::int32_t> groups = tree.groups();
   std::vector<Vector3> a(x.size());  // by tree order
-  auto run = [&](std::size_t begin, std::size_t end) {
-    Scratch scratch;
-    for (std::size_t g = begin; g < end; ++g) tree.group_accelerations(groups[g], G, eps2, theta, scratch, a);
+  // Jobs of 16 groups; each thread keeps its lists' storage from job to job.
+  constexpr std::size_t per_job = 16;
+  const std::size_t jobs = (groups.size() + per_job - 1) / per_job;
+  auto run = [&](std::size_t job) {
+    thread_local Scratch scratch;
+    for (std::size_t g = job * per_job; g < std::min(groups.size(), (job + 1) * per_job); ++g)
+      tree.group_accelerations(groups[g], G, eps2, theta, scratch, a);
   };
-  threads = std::max<std::size_t>(1, std::min(threads, groups.size() / 16 + 1));
-  if (threads == 1) {
-    run(0, groups.size());
-  } else {
-    std::atomic<std::size_t> next{0};
-    std::vector<std::thread> pool;
-    for (std::size_t w = 0; w < threads; ++w)
-      pool.emplace_back([&] {
-        for (std::size_t b = next.fetch_add(16); b < groups.size(); b = next.fetch_add(16)) run(b, std::min(groups.size(), b + 16));
-      });
-    for (std::thread& t : pool) t.join();
-  }
+  if (pool) pool->run(jobs, run);
+  else
+    for (std::size_t job = 0; job < jobs; ++job) run(job);
   for (std::uint32_t k = 0; k < x.size(); ++k) {
     const std::uint32_t i = tree.particle_at(k);
     force[i] = force[i] + m[i] * a[k];
   }
+}
+
+void tree_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, double theta,
+                  std::size_t threads, std::vector<Vector3>& force) {
+  if (threads <= 1) return tree_gravity(x, m, G, softening, theta, nullptr, force);
+  WorkerPool pool(threads);
+  tree_gravity(x, m, G, softening, theta, &pool, force);
 }
 
 }  // namespace aggkit

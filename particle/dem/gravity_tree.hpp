@@ -8,7 +8,7 @@
 //   a = −G M d/r³ + G Q d/r⁵ − (5/2) G (dᵀQd) d/r⁷   (d = x − centre of mass);
 // otherwise its children are opened, and leaves (≤ 16 particles) act pair by pair with the engine's law
 // G m_i m_j/(r² + ε²) along the pair [Trivino2025, eq. 1]. The group's lists are evaluated for each member by
-// vectorised loops. Accepted cells use the Newtonian expansion: they lie at r > l/θ, where the softening's
+// vectorised loops (compiled for several vector units, chosen at load time: particle/common/simd_clones.hpp). Accepted cells use the Newtonian expansion: they lie at r > l/θ, where the softening's
 // relative effect ε²/r² is negligible beside the expansion error. Each group's walk and each member's sum
 // are independent of the others: any thread count gives the same forces. Unlike the symmetric direct sum
 // the tree does not conserve momentum exactly (the expansion error, which falls with θ).
@@ -16,11 +16,15 @@
 #include <vector>
 
 #include "particle/common/vector3.hpp"
+#include "particle/common/worker_pool.hpp"
 
 namespace aggkit {
 
 // Forces (not accelerations) on every particle, added to `force`. θ in (0, 1].
 void tree_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, double opening_angle,
                   std::size_t threads, std::vector<Vector3>& force);
+// The same on a worker pool (nullptr: the calling thread alone).
+void tree_gravity(const std::vector<Vector3>& x, const std::vector<double>& m, double G, double softening, double opening_angle,
+                  WorkerPool* pool, std::vector<Vector3>& force);
 
 }  // namespace aggkit
