@@ -90,7 +90,7 @@ inline Vector3 Dem::separation(std::size_t i, std::size_t j) const {
 }
 
 template <class Visit>
-void Dem::for_each_near_pair(double range, Visit&& visit) const {
+void Dem::for_each_near_pair(double range, std::size_t parts, Visit&& visit) const {
   const std::size_t n = x_.size();
   // Grid region per axis: the box for periodic/reflecting, the particles' bounding box when open.
   Vector3 lo{0, 0, 0}, extent{0, 0, 0};
@@ -145,13 +145,16 @@ void Dem::for_each_near_pair(double range, Visit&& visit) const {
         const int lead = oz != 0 ? oz : oy != 0 ? oy : ox;
         if (used && lead > 0) forward.push_back({ox, oy, oz});
       }
-  for (std::int64_t cz = 0; cz < cells[2]; ++cz)
+  // Slabs of z cells as parts (on the worker pool when there is one).
+  parts = std::clamp<std::size_t>(parts, 1, std::size_t(cells[2]));
+  auto slab = [&](std::size_t part) {
+  for (std::int64_t cz = std::int64_t(part) * cells[2] / std::int64_t(parts), cz_end = std::int64_t(part + 1) * cells[2] / std::int64_t(parts); cz < cz_end; ++cz)
     for (std::int64_t cy = 0; cy < cells[1]; ++cy)
       for (std::int64_t cx = 0; cx < cells[0]; ++cx) {
         const std::size_t c = std::size_t((cz * cells[1] + cy) * cells[0] + cx);
         if (start[c] == start[c + 1]) continue;
         for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
-          for (std::uint32_t b = a + 1; b < start[c + 1]; ++b) visit(std::min(order[a], order[b]), std::max(order[a], order[b]));
+          for (std::uint32_t b = a + 1; b < start[c + 1]; ++b) visit(part, std::min(order[a], order[b]), std::max(order[a], order[b]));
         const std::int64_t own[3] = {cx, cy, cz};
         for (const std::array<int, 3>& off : forward) {
           std::int64_t other[3];
@@ -164,9 +167,13 @@ void Dem::for_each_near_pair(double range, Visit&& visit) const {
           if (skip) continue;
           const std::size_t c2 = std::size_t((other[2] * cells[1] + other[1]) * cells[0] + other[0]);
           for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
-            for (std::uint32_t b = start[c2]; b < start[c2 + 1]; ++b) visit(std::min(order[a], order[b]), std::max(order[a], order[b]));
+            for (std::uint32_t b = start[c2]; b < start[c2 + 1]; ++b) visit(part, std::min(order[a], order[b]), std::max(order[a], order[b]));
         }
       }
+  };
+  if (pool_ && parts > 1) pool_->run(parts, slab);
+  else
+    for (std::size_t part = 0; part < parts; ++part) slab(part);
 }
 
 template <class Job>
@@ -193,30 +200,41 @@ void Dem::rebuild_pairs() {
   const std::size_t n = x_.size();
   const double tolerance = settings_.contact_tolerance * min_radius_;
   const double skin = 0.2 * max_radius_;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> found;
-  found.reserve(pairs_.size() + pairs_.size() / 8 + 16);
-  for_each_near_pair(2 * max_radius_ + tolerance + skin, [&](std::uint32_t i, std::uint32_t j) {
+  // The search in slabs (fixed by N; on the worker pool), each into its own buffer: the sorted list below
+  // does not depend on the split.
+  const std::size_t parts = std::clamp<std::size_t>(n / 2048, 1, 64);
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(parts);
+  for (auto& part : found) part.reserve((pairs_.size() + pairs_.size() / 8) / parts + 16);
+  for_each_near_pair(2 * max_radius_ + tolerance + skin, parts, [&](std::size_t part, std::uint32_t i, std::uint32_t j) {
     const Vector3 d = separation(i, j);
     const double reach = radius_[i] + radius_[j] + tolerance + skin;
-    if (dot(d, d) < reach * reach) found.push_back({i, j});
+    if (dot(d, d) < reach * reach) found[part].push_back({i, j});
   });
   std::vector<std::uint32_t> start(n + 1, 0);
-  for (const auto& pair : found) ++start[pair.first + 1];
+  std::size_t pairs = 0;
+  for (const auto& part : found) {
+    pairs += part.size();
+    for (const auto& pair : part) ++start[pair.first + 1];
+  }
   for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
   PairList list;
-  list.first.resize(found.size());
-  list.second.resize(found.size());
+  list.first.resize(pairs);
+  list.second.resize(pairs);
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (const auto& [i, j] : found) {
-      const std::uint32_t slot = fill[i]++;
-      list.first[slot] = i;
-      list.second[slot] = j;
-    }
+    for (const auto& part : found)
+      for (const auto& [i, j] : part) {
+        const std::uint32_t slot = fill[i]++;
+        list.first[slot] = i;
+        list.second[slot] = j;
+      }
   }
-  for (std::size_t i = 0; i < n; ++i) std::sort(list.second.begin() + start[i], list.second.begin() + start[i + 1]);
-  list.state.assign(found.size(), 0);
-  if (settings_.friction > 0) list.history.assign(found.size(), Vector3{0, 0, 0});
+  parallel(parts, [&](std::size_t part) {
+    for (std::size_t i = part * n / parts; i < (part + 1) * n / parts; ++i)
+      std::sort(list.second.begin() + start[i], list.second.begin() + start[i + 1]);
+  });
+  list.state.assign(pairs, 0);
+  if (settings_.friction > 0) list.history.assign(pairs, Vector3{0, 0, 0});
   std::size_t old = 0;
   for (std::size_t p = 0; p < list.size(); ++p) {
     const auto key = [](std::uint32_t i, std::uint32_t j) { return (std::uint64_t(i) << 32) | j; };
@@ -696,7 +714,7 @@ double Dem::elastic_energy() const {
     return overlap <= limit ? 0.5 * k * overlap * overlap : 0.5 * k * limit * limit + k * limit * (overlap - limit);
   };
   double e = 0;
-  for_each_near_pair(2 * max_radius_, [&](std::uint32_t i, std::uint32_t j) {
+  for_each_near_pair(2 * max_radius_, 1, [&](std::size_t, std::uint32_t i, std::uint32_t j) {
     const double overlap = radius_[i] + radius_[j] - norm(separation(i, j));
     if (overlap > 0) e += spring_energy(pair_stiffness(mass_[i] * mass_[j] / (mass_[i] + mass_[j])), overlap);
   });

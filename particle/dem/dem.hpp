@@ -159,7 +159,10 @@ class Dem {
   void gravity_forces(std::vector<Vector3>& out);  // adds the gravity forces to `out`
   void tangential_force(std::uint32_t i, std::uint32_t j, Vector3& xi, const Vector3& normal, double overlap, double normal_force,
                         double normal_stiffness, ContactTotals& totals, ContactForce& out) const;
-  template <class Visit> void for_each_near_pair(double range, Visit&& visit) const;
+  // visit(part, i, j) for every pair i < j within `range` (and some farther), found by a cell grid in up to
+  // `parts` slabs, on the worker pool when parts > 1: a part's pairs come in a fixed order, the parts' calls
+  // may interleave.
+  template <class Visit> void for_each_near_pair(double range, std::size_t parts, Visit&& visit) const;
   Vector3 separation(std::size_t i, std::size_t j) const;  // x_j − x_i (minimum image)
   std::vector<std::uint32_t> component_parents() const;    // union–find of the contact graph, roots = smallest index
 

@@ -366,7 +366,8 @@ TEST_CASE("dem: impulse-split gravity costs little energy", "[dem]") {
 
 TEST_CASE("dem: a frictional gas gives the same bits on 1 and 3 force threads", "[dem][friction]") {
   // 5000 spheres at volume fraction 0.3 in a periodic box, μ = 0.5: 2 chunks of particles and several of
-  // the Verlet list, so the worker pool splits the integration and the contacts; 1000 steps with list builds.
+  // the Verlet list, so the worker pool splits the integration, the contact search (2 slabs) and the contacts;
+  // 1000 steps with list builds.
   const double radius = 0.5, side = box_side_for_volume_fraction(3, 5000, radius, 0.3);
   const Box box{3, {side, side, side}, Boundary::periodic};
   auto start = [&] {
