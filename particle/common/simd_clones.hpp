@@ -4,8 +4,10 @@
 // on (GCC's target_clones; a build for the baseline still runs everywhere). One machine always runs the
 // same version, so results stay bit-identical from run to run and for any thread count; two machines with
 // different vector units may differ in the last bits (lane count of the reductions, fused multiply-adds).
-// Elsewhere (other compilers or architectures) it expands to nothing.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
+// Elsewhere (other compilers or architectures) it expands to nothing, and a build can switch it off with
+// -DAGGKIT_SIMD_CLONES= (then the flags alone choose the vector unit).
+#if defined(AGGKIT_SIMD_CLONES)
+#elif defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
 #define AGGKIT_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define AGGKIT_SIMD_CLONES
