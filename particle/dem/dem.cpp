@@ -262,7 +262,8 @@ void Dem::contact_forces() {
   // The pairs in fixed chunks (their number from the list's length only), each computing its contacts'
   // forces into its own buffer, possibly on several threads; the forces are then added in pair order, so
   // the sums do not depend on the thread count.
-  const std::size_t chunks = std::clamp<std::size_t>(pairs_.size() / 4096, 1, 64);
+  // Chunks of ~1000 pairs: contacts cluster, so several chunks per thread keep the threads evenly loaded.
+  const std::size_t chunks = std::clamp<std::size_t>(pairs_.size() / 1024, 1, 64);
   contact_buffers_.resize(chunks);
   std::vector<ContactTotals> chunk_totals(chunks);
   parallel(chunks, [&](std::size_t c) {
@@ -430,21 +431,25 @@ void Dem::tangential_force(std::uint32_t i, std::uint32_t j, Vector3& history, c
   const Vector3 relative = (u_[j] - u_[i]) - cross(arm_i * w_pred_[i] + arm_j * w_pred_[j], normal);
   const Vector3 sliding = relative - dot(relative, normal) * normal;
   // The stored displacement, created with the contact, rotated into the current tangent plane (length kept).
-  Vector3 xi = history;  // zero for a new contact
-  const double length = norm(xi);
-  xi = xi - dot(xi, normal) * normal;
-  const double projected = norm(xi);
-  xi = projected > 0 ? (length / projected) * xi : Vector3{0, 0, 0};
+  Vector3 xi = history;  // zero for a new contact: nothing to rotate
+  if (xi[0] != 0 || xi[1] != 0 || xi[2] != 0) {
+    const double length = norm(xi);
+    xi = xi - dot(xi, normal) * normal;
+    const double projected = norm(xi);
+    xi = projected > 0 ? (length / projected) * xi : Vector3{0, 0, 0};
+  }
   if (!first_evaluation_) xi = xi + settings_.dt * sliding;
   // Tangential spring k_t = ratio · k_n, truncated at the Coulomb limit μ F_n (the history with it).
   const double kt = settings_.tangential_stiffness_ratio * normal_stiffness;
   Vector3 force = kt * xi;  // on i (dragged along j's sliding), −force on j
-  const double limit = settings_.friction * normal_force, size = norm(force);
+  const double limit = settings_.friction * normal_force;
+  double size = norm(force);
   if (size > limit) {
     force = size > 0 ? (limit / size) * force : Vector3{0, 0, 0};
     xi = (1 / kt) * force;
+    size = norm(force);
   }
-  if (limit > 0) totals.max_friction_ratio = std::max(totals.max_friction_ratio, norm(force) / limit);
+  if (limit > 0) totals.max_friction_ratio = std::max(totals.max_friction_ratio, size / limit);
   history = xi;
   out.tangential = force;  // on i; −force on j
   out.torque_i = cross(arm_i * normal, force);
