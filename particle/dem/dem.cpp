@@ -148,28 +148,29 @@ void Dem::for_each_near_pair(double range, std::size_t parts, Visit&& visit) con
   // Slabs of z cells as parts (on the worker pool when there is one).
   parts = std::clamp<std::size_t>(parts, 1, std::size_t(cells[2]));
   auto slab = [&](std::size_t part) {
-  for (std::int64_t cz = std::int64_t(part) * cells[2] / std::int64_t(parts), cz_end = std::int64_t(part + 1) * cells[2] / std::int64_t(parts); cz < cz_end; ++cz)
-    for (std::int64_t cy = 0; cy < cells[1]; ++cy)
-      for (std::int64_t cx = 0; cx < cells[0]; ++cx) {
-        const std::size_t c = std::size_t((cz * cells[1] + cy) * cells[0] + cx);
-        if (start[c] == start[c + 1]) continue;
-        for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
-          for (std::uint32_t b = a + 1; b < start[c + 1]; ++b) visit(part, std::min(order[a], order[b]), std::max(order[a], order[b]));
-        const std::int64_t own[3] = {cx, cy, cz};
-        for (const std::array<int, 3>& off : forward) {
-          std::int64_t other[3];
-          bool skip = false;
-          for (int d = 0; d < 3 && !skip; ++d) {
-            other[d] = own[d] + off[d];
-            if (periodic) other[d] = (other[d] + cells[d]) % cells[d];
-            else if (other[d] < 0 || other[d] >= cells[d]) skip = true;
-          }
-          if (skip) continue;
-          const std::size_t c2 = std::size_t((other[2] * cells[1] + other[1]) * cells[0] + other[0]);
+    const std::int64_t z0 = std::int64_t(part) * cells[2] / std::int64_t(parts), z1 = std::int64_t(part + 1) * cells[2] / std::int64_t(parts);
+    for (std::int64_t cz = z0; cz < z1; ++cz)
+      for (std::int64_t cy = 0; cy < cells[1]; ++cy)
+        for (std::int64_t cx = 0; cx < cells[0]; ++cx) {
+          const std::size_t c = std::size_t((cz * cells[1] + cy) * cells[0] + cx);
+          if (start[c] == start[c + 1]) continue;
           for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
-            for (std::uint32_t b = start[c2]; b < start[c2 + 1]; ++b) visit(part, std::min(order[a], order[b]), std::max(order[a], order[b]));
+            for (std::uint32_t b = a + 1; b < start[c + 1]; ++b) visit(part, std::min(order[a], order[b]), std::max(order[a], order[b]));
+          const std::int64_t own[3] = {cx, cy, cz};
+          for (const std::array<int, 3>& off : forward) {
+            std::int64_t other[3];
+            bool skip = false;
+            for (int d = 0; d < 3 && !skip; ++d) {
+              other[d] = own[d] + off[d];
+              if (periodic) other[d] = (other[d] + cells[d]) % cells[d];
+              else if (other[d] < 0 || other[d] >= cells[d]) skip = true;
+            }
+            if (skip) continue;
+            const std::size_t c2 = std::size_t((other[2] * cells[1] + other[1]) * cells[0] + other[0]);
+            for (std::uint32_t a = start[c]; a < start[c + 1]; ++a)
+              for (std::uint32_t b = start[c2]; b < start[c2 + 1]; ++b) visit(part, std::min(order[a], order[b]), std::max(order[a], order[b]));
+          }
         }
-      }
   };
   if (pool_ && parts > 1) pool_->run(parts, slab);
   else
