@@ -5,12 +5,10 @@
 
 #include <algorithm>
 #include <functional>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
-#include <thread>
 
 #include "particle/common/simd_clones.hpp"
 

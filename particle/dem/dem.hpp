@@ -22,7 +22,6 @@
 #include <cstddef>
 #include <array>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
