@@ -34,7 +34,13 @@ std::size_t WorkerPool::drain(std::uint32_t generation) {
     if (!ticket_.value.compare_exchange_weak(t, t - 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
     // Claimed: the run cannot finish before this job is done, so its fields stay put until then.
     const std::uint32_t jobs = jobs_;
-    invoke_(context_, jobs - std::uint32_t(t));
+    try {
+      invoke_(context_, jobs - std::uint32_t(t));
+    } catch (...) {
+      // Kept for the caller (the first one), which rethrows it once every job of the run is done.
+      std::lock_guard lock(error_mutex_);
+      if (!error_) error_ = std::current_exception();
+    }
     ++ran;
     if (done_.value.fetch_add(1) + 1 == jobs && caller_sleeps_.value.load()) done_.value.notify_all();
     t = ticket_.value.load(std::memory_order_acquire);
@@ -87,6 +93,11 @@ void WorkerPool::dispatch(std::size_t jobs, Invoke invoke, void* context) {
     caller_sleeps_.value.store(1);
     for (std::uint32_t d = done_.value.load(); d != jobs_; d = done_.value.load()) done_.value.wait(d);
     caller_sleeps_.value.store(0);
+  }
+  if (error_) {  // every job has finished: no worker touches error_ now
+    std::exception_ptr error = std::move(error_);
+    error_ = nullptr;
+    std::rethrow_exception(error);
   }
 }
 

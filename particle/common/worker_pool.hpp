@@ -2,7 +2,8 @@
 // A fixed set of worker threads for the parallel loops of one simulation step (the DEM's integration and
 // pair forces), kept alive between steps so that a step does not pay for thread creation. run(jobs, job)
 // calls job(k) for k = 0..jobs−1 spread over the workers and the calling thread, and returns when every job
-// is done. Which thread runs a job is not fixed: callers make each job's result independent of that (each
+// is done. A job that throws does not stop the others: run() rethrows the first exception once all have
+// finished. Which thread runs a job is not fixed: callers make each job's result independent of that (each
 // job writes only its own outputs) and combine the jobs' outputs in job order.
 //
 // A step has several parallel phases of 0.1–1 ms, so starting one must cost far less than a futex wake-up:
@@ -15,6 +16,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
+#include <mutex>
 #include <thread>
 #include <type_traits>
 #include <utility>
@@ -39,8 +42,16 @@ class WorkerPool {
   template <class Job>
   void run(std::size_t jobs, Job&& job) {
     using Callable = std::remove_reference_t<Job>;
-    if (workers_.empty() || jobs <= 1) {
-      for (std::size_t k = 0; k < jobs; ++k) job(k);
+    if (workers_.empty() || jobs <= 1) {  // on the calling thread, with the same rule for exceptions
+      std::exception_ptr error;
+      for (std::size_t k = 0; k < jobs; ++k) {
+        try {
+          job(k);
+        } catch (...) {
+          if (!error) error = std::current_exception();
+        }
+      }
+      if (error) std::rethrow_exception(error);
       return;
     }
     dispatch(jobs, [](void* context, std::size_t k) { (*static_cast<Callable*>(context))(k); },
@@ -69,6 +80,8 @@ class WorkerPool {
   void* context_ = nullptr;
   std::uint32_t jobs_ = 0, generation_ = 0;
   std::atomic<bool> stop_{false};
+  std::mutex error_mutex_;  // taken only when a job throws
+  std::exception_ptr error_;
 };
 
 }  // namespace aggkit

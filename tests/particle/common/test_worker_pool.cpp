@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cstddef>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -60,6 +62,24 @@ TEST_CASE("worker pool: jobs run on several threads and write their own outputs"
     while (arrived.load() < 2) std::this_thread::yield();
   });
   CHECK(arrived.load() == 2);
+}
+
+TEST_CASE("worker pool: a throwing job is rethrown after the others finished; the pool stays usable", "[common][worker_pool]") {
+  for (std::size_t threads : {1u, 3u}) {
+    WorkerPool pool(threads);
+    std::vector<std::atomic<int>> ran(20);
+    for (auto& r : ran) r.store(0);
+    CHECK_THROWS_WITH(pool.run(ran.size(),
+                               [&](std::size_t k) {
+                                 ran[k].fetch_add(1);
+                                 if (k == 7 || k == 12) throw std::runtime_error("job " + std::to_string(k));
+                               }),
+                      Catch::Contains("job"));
+    std::size_t once = 0;
+    for (auto& r : ran) once += r.load() == 1 ? 1 : 0;
+    CHECK(once == ran.size());  // every job ran (exactly once) before run() returned
+    check_runs(pool, 100, std::chrono::microseconds(0));
+  }
 }
 
 TEST_CASE("worker pool: destroyed with blocked workers", "[common][worker_pool]") {
