@@ -64,7 +64,7 @@ TEST_CASE("worker pool: jobs run on several threads and write their own outputs"
   CHECK(arrived.load() == 2);
 }
 
-TEST_CASE("worker pool: a throwing job is rethrown after the others finished; the pool stays usable", "[common][worker_pool]") {
+TEST_CASE("worker pool: a throwing job is rethrown after the others finished, and the pool stays usable", "[common][worker_pool]") {
   for (std::size_t threads : {1u, 3u}) {
     WorkerPool pool(threads);
     std::vector<std::atomic<int>> ran(20);
