@@ -1,10 +1,12 @@
 #include "validation/io/particle_snapshot.hpp"
 
+#include <bit>
 #include <charconv>
 #include <cstdlib>
 #include <limits>
 #include <string>
 #include <system_error>
+#include <type_traits>
 #include <vector>
 
 #include "analysis/input_error.hpp"
@@ -40,28 +42,55 @@ void check_sizes(const ParticleConfiguration& config, std::span<const std::uint3
       throw InputError("cluster", std::to_string(label), "labels are written as Int32 (at most 2^31 - 1)");
 }
 
-// Appends numbers in their shortest round-trip form, separated by spaces.
-class NumberWriter {
+// One DataArray in VTK's inline binary form [VTKFileFormats]: format="binary", its content the base64 encoding
+// (RFC 4648, '=' padded) of one byte stream: the byte count of the data as a UInt64 (header_type="UInt64")
+// followed by the values, both little-endian (byte_order="LittleEndian") — one encoding of header and data
+// together, as VTK's own writer does for uncompressed arrays.
+class BinaryArray {
  public:
-  explicit NumberWriter(std::ostream& out) : out_(out) {}
   template <class T>
-  void operator()(T value) {
-    char buffer[32];
-    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-    out_.write(buffer, end - buffer);
-    out_.put(' ');
+  void add(T value) {
+    static_assert(std::is_arithmetic_v<T>);
+    using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t,
+                 std::conditional_t<sizeof(T) == 4, std::uint32_t, std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>>;
+    append_little_endian(bytes_, std::bit_cast<Bits>(value));
+  }
+  // Writes the element, header included, and clears the values.
+  void write(std::ostream& out, const char* type, const char* name, int components) {
+    out << "        <DataArray type=\"" << type << "\"";
+    if (*name) out << " Name=\"" << name << "\"";
+    if (components > 1) out << " NumberOfComponents=\"" << components << "\"";
+    out << " format=\"binary\">\n          ";
+    std::vector<unsigned char> stream;
+    stream.reserve(8 + bytes_.size());
+    append_little_endian(stream, std::uint64_t(bytes_.size()));
+    stream.insert(stream.end(), bytes_.begin(), bytes_.end());
+    base64(stream, out);
+    out << "\n        </DataArray>\n";
+    bytes_.clear();
   }
 
  private:
-  std::ostream& out_;
+  template <class Bits>
+  static void append_little_endian(std::vector<unsigned char>& to, Bits bits) {
+    for (std::size_t b = 0; b < sizeof(Bits); ++b) to.push_back(static_cast<unsigned char>(bits >> (8 * b)));
+  }
+  static void base64(const std::vector<unsigned char>& in, std::ostream& out) {
+    static constexpr char digits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string text;
+    text.reserve((in.size() + 2) / 3 * 4);
+    for (std::size_t i = 0; i < in.size(); i += 3) {
+      const std::size_t left = in.size() - i;
+      const std::uint32_t group = std::uint32_t(in[i]) << 16 | (left > 1 ? std::uint32_t(in[i + 1]) << 8 : 0u) | (left > 2 ? in[i + 2] : 0u);
+      text += digits[group >> 18 & 63];
+      text += digits[group >> 12 & 63];
+      text += left > 1 ? digits[group >> 6 & 63] : '=';
+      text += left > 2 ? digits[group & 63] : '=';
+    }
+    out << text;
+  }
+  std::vector<unsigned char> bytes_;
 };
-
-void data_array_open(std::ostream& out, const char* type, const char* name, int components) {
-  out << "        <DataArray type=\"" << type << "\"";
-  if (*name) out << " Name=\"" << name << "\"";
-  if (components > 1) out << " NumberOfComponents=\"" << components << "\"";
-  out << " format=\"ascii\">\n";
-}
 
 std::filesystem::path cluster_plot_script() {
   return plot_script("AGGKIT_CLUSTER_PLOT_SCRIPT", AGGKIT_CLUSTER_PLOT_SCRIPT_BUILD, AGGKIT_CLUSTER_PLOT_SCRIPT_INSTALL);
@@ -76,39 +105,34 @@ void write_vtu_snapshot(const std::filesystem::path& path, const ParticleConfigu
   const std::size_t n = config.positions.size();
   AtomicFile file(path);
   std::ostream& out = file.stream();
-  NumberWriter number(out);
   out << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       << "  <UnstructuredGrid>\n"
       << "    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n"
       << "      <PointData Scalars=\"cluster\"" << (velocity.empty() ? "" : " Vectors=\"velocity\"") << ">\n";
-  data_array_open(out, "Int32", "cluster", 1);
-  for (std::uint32_t label : cluster) number(std::int32_t(label));
-  out << "\n        </DataArray>\n";
-  data_array_open(out, "Float64", "radius", 1);
-  for (std::size_t i = 0; i < n; ++i) number(radius.empty() ? config.radius : radius[i]);
-  out << "\n        </DataArray>\n";
+  BinaryArray array;
+  for (std::uint32_t label : cluster) array.add(std::int32_t(label));
+  array.write(out, "Int32", "cluster", 1);
+  for (std::size_t i = 0; i < n; ++i) array.add(radius.empty() ? config.radius : radius[i]);
+  array.write(out, "Float64", "radius", 1);
   const auto vectors = [&](const char* name, std::span<const std::array<double, 3>> values) {
     if (values.empty()) return;
-    data_array_open(out, "Float64", name, 3);
-    for (const auto& v : values) number(v[0]), number(v[1]), number(config.dimension == 3 ? v[2] : 0.0);
-    out << "\n        </DataArray>\n";
+    for (const auto& v : values) array.add(v[0]), array.add(v[1]), array.add(config.dimension == 3 ? v[2] : 0.0);
+    array.write(out, "Float64", name, 3);
   };
   vectors("velocity", velocity);
   vectors("angular_velocity", angular_velocity);
   out << "      </PointData>\n      <Points>\n";
-  data_array_open(out, "Float64", "", 3);
-  for (const auto& p : config.positions) number(p[0]), number(p[1]), number(config.dimension == 3 ? p[2] : 0.0);
-  out << "\n        </DataArray>\n      </Points>\n      <Cells>\n";
-  data_array_open(out, "Int64", "connectivity", 1);
-  for (std::size_t i = 0; i < n; ++i) number(std::int64_t(i));
-  out << "\n        </DataArray>\n";
-  data_array_open(out, "Int64", "offsets", 1);
-  for (std::size_t i = 1; i <= n; ++i) number(std::int64_t(i));
-  out << "\n        </DataArray>\n";
-  data_array_open(out, "UInt8", "types", 1);
-  for (std::size_t i = 0; i < n; ++i) out << "1 ";  // VTK_VERTEX
-  out << "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  for (const auto& p : config.positions) array.add(p[0]), array.add(p[1]), array.add(config.dimension == 3 ? p[2] : 0.0);
+  array.write(out, "Float64", "", 3);
+  out << "      </Points>\n      <Cells>\n";
+  for (std::size_t i = 0; i < n; ++i) array.add(std::int64_t(i));
+  array.write(out, "Int64", "connectivity", 1);
+  for (std::size_t i = 1; i <= n; ++i) array.add(std::int64_t(i));
+  array.write(out, "Int64", "offsets", 1);
+  for (std::size_t i = 0; i < n; ++i) array.add(std::uint8_t(1));  // VTK_VERTEX
+  array.write(out, "UInt8", "types", 1);
+  out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   file.commit();
 }
 

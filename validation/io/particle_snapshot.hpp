@@ -2,8 +2,9 @@
 // Output formats for the particle engines (ED, TS, DEM):
 //  * a VTK XML UnstructuredGrid file (.vtu, for ParaView): one VTK_VERTEX cell per particle, point data
 //    "cluster" (Int32), "radius" (Float64: per particle if given, else the configuration's one radius) and,
-//    if given, "velocity" and "angular_velocity" (3 components each); ASCII, written atomically
-//    (validation/io/atomic_file.hpp);
+//    if given, "velocity" and "angular_velocity" (3 components each); every DataArray in VTK's inline binary
+//    form (format="binary": base64 of a UInt64 byte count and the little-endian values, header_type="UInt64",
+//    as ParaView/VTK read it), written atomically (validation/io/atomic_file.hpp);
 //  * a PNG picture of the configuration, particles drawn as discs coloured by cluster (3-D: projected on
 //    the x-y plane), drawn by validation/io/plot_clusters.py under the plotting interpreter of
 //    validation/io/python_plotter.hpp. A failure to plot is reported (false + message), never thrown: the caller warns.
