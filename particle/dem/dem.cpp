@@ -71,6 +71,14 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   torque_.assign(n, {0, 0, 0});
   q_.assign(n, {1, 0, 0, 0});
   if (settings_.gravity_substeps < 1) settings_.gravity_substeps = 1;
+  {
+    // The largest γ_n dt/m* of a pair (m* ≥ m_min/2) or a wall (m* = m_i ≥ m_min).
+    const double lightest = *std::min_element(mass_.begin(), mass_.end());
+    const double x = settings_.dt * (settings_.damping_per_mass + settings_.damping / (0.5 * lightest));
+    implicit_dashpot_ = settings_.friction == 0 && x > 0 && x > settings_.implicit_dashpot_above;
+    if (implicit_dashpot_ && !(settings_.stiffness_per_mass > 0 || settings_.stiffness > 0))
+      throw std::invalid_argument("dem: the implicit dashpot needs a stiffness > 0");
+  }
   if (settings_.gravity && settings_.gravity_substeps > 1) {
     gravity_.assign(n, {0, 0, 0});
     gravity_forces(gravity_);
@@ -190,6 +198,40 @@ void Dem::compute_forces() {
   forces_cleared_ = false;
   contact_forces();
   if (settings_.gravity && settings_.gravity_substeps == 1) gravity_forces(f_);
+  if (implicit_dashpot_) integrate_dashpots();
+}
+
+void Dem::integrate_dashpots() {
+  // The contacts as the pair loop left them (springs in f_, dashpots pending), in pair order, then the walls.
+  std::vector<DashpotContact> dashpots;
+  std::vector<double> distance;  // centre distance of each pair (virial)
+  for (const auto& buffer : contact_buffers_)
+    for (const ContactForce& c : buffer) {
+      if (c.dashpot == 0) continue;
+      const double spring = norm(c.normal_force);
+      dashpots.push_back({c.i, c.j, (1 / spring) * c.normal_force, c.dashpot, spring, mass_[c.i] * mass_[c.j] / (mass_[c.i] + mass_[c.j])});
+      distance.push_back(c.virial / spring);
+    }
+  const std::size_t pairs = dashpots.size();
+  dashpots.insert(dashpots.end(), wall_dashpots_.begin(), wall_dashpots_.end());
+  if (dashpots.empty()) return;
+  DashpotSolve stats;
+  const std::vector<double> total = implicit_dashpot_forces(dashpots, mass_, v_, f_, settings_.dt, stats);
+  counters_.dashpot_solves += stats.solves;
+  counters_.dashpot_iterations += stats.iterations;
+  double virial = 0;
+  for (std::size_t c = 0; c < dashpots.size(); ++c) {
+    const DashpotContact& k = dashpots[c];
+    const Vector3 change = (total[c] - k.spring) * k.normal;  // on j, −it on i
+    f_[k.j] = f_[k.j] + change;
+    if (c < pairs) {
+      f_[k.i] = f_[k.i] - change;
+      virial += distance[c] * (total[c] - k.spring);
+    } else {
+      wall_force_ = wall_force_ + change;
+    }
+  }
+  if (!first_evaluation_) counters_.virial_integral += settings_.dt * virial;
 }
 
 void Dem::rebuild_pairs() {
@@ -338,6 +380,7 @@ Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end, std::vec
     const double reduced = mass_[i] * mass_[j] / (mass_[i] + mass_[j]);  // [Trivino2025, eq. 2]
     const double stiffness = pair_stiffness(reduced);
     double force = stiffness * spring;
+    double dashpot = 0;
     if (damped || friction) {
       const double separating = dot(u_[j] - u_[i], normal);
       // The dashpot switches on with a jump at the onset of a contact. Verlet weighs each force sample by dt
@@ -349,13 +392,15 @@ Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end, std::vec
         const double approach = -separating;
         weight = 0.5 + (approach > 0 ? std::min(1.0, overlap / (approach * settings_.dt)) : 1.0);
       }
-      // [Trivino2025, eq. 6], set to zero where it would attract.
-      force = std::max(0.0, force - weight * pair_damping(reduced) * separating);
+      // [Trivino2025, eq. 6], set to zero where it would attract; the implicit dashpot adds it later.
+      if (implicit_dashpot_) dashpot = weight * pair_damping(reduced);
+      else force = std::max(0.0, force - weight * pair_damping(reduced) * separating);
     }
     ContactForce& c = contacts.emplace_back();
     c.i = i, c.j = j;
     c.virial = r * force;  // r_ij · F_ij = (−d) · (−force n)
     c.normal_force = force * normal;  // on j; −it on i [Trivino2025, eq. 7]
+    c.dashpot = dashpot;
     if (friction) tangential_force(i, j, pairs_.history[p], normal, overlap, force, stiffness, totals, c);
   }
   return totals;
@@ -364,6 +409,7 @@ Dem::ContactTotals Dem::pair_forces(std::size_t begin, std::size_t end, std::vec
 void Dem::wall_forces() {
   // Walls: the same law with the wall as an infinite mass (m* = m_i).
   wall_force_ = {0, 0, 0};
+  wall_dashpots_.clear();
   if (box_.boundary != Boundary::reflecting) return;
   const double limit = settings_.overlap_limit * min_radius_;
   for (std::size_t i = 0; i < x_.size(); ++i)
@@ -378,7 +424,14 @@ void Dem::wall_forces() {
           ++counters_.clamped_contacts;
         }
         const double separating = side == 0 ? u_[i][d] : -u_[i][d];
-        const double force = std::max(0.0, pair_stiffness(mass_[i]) * spring - pair_damping(mass_[i]) * separating);
+        double force = pair_stiffness(mass_[i]) * spring;
+        if (implicit_dashpot_) {  // the dashpot added by integrate_dashpots()
+          Vector3 into{0, 0, 0};
+          into[d] = side == 0 ? 1.0 : -1.0;
+          wall_dashpots_.push_back({DashpotContact::wall, std::uint32_t(i), into, pair_damping(mass_[i]), force, mass_[i]});
+        } else {
+          force = std::max(0.0, force - pair_damping(mass_[i]) * separating);
+        }
         const double signed_force = side == 0 ? force : -force;
         f_[i][d] += signed_force;
         wall_force_[d] += signed_force;

@@ -7,7 +7,10 @@
 // walls, the wall as an infinite mass) or open boundaries.
 // The dashpot of step n+1 sees the predicted velocity v(n+½) + (dt/2) F(n)/m (second order): the half-step
 // velocity alone lags by dt/2. The dashpot's jump at the onset of a contact is integrated to second order
-// (dem.cpp: the first sample's weight); at walls it is not (first order in dt).
+// (dem.cpp: the first sample's weight); at walls it is not (first order in dt). That explicit dashpot is
+// stable only while x = γ_n dt/m* < 1 (it reverses an overdamped approach beyond); when some pair's x exceeds
+// `implicit_dashpot_above` (and there is no friction) every dashpot is integrated implicitly instead
+// (implicit_dashpot.hpp: unconditionally stable, exact relaxation e^{−x} of a pair, second order for small x).
 // Friction (μ > 0): Coulomb with a tangential spring k_t = 2/7 k_n (default) and a history per contact,
 // created and dropped with the contact, rotated into the current tangent plane (length kept) and truncated
 // at μ F_n; torques about lever arms R − δ/2 (they add up to the centre distance, so the angular momentum is
@@ -30,6 +33,7 @@
 #include "particle/common/particle_start.hpp"
 #include "particle/common/vector3.hpp"
 #include "particle/common/worker_pool.hpp"
+#include "particle/dem/implicit_dashpot.hpp"
 
 namespace aggkit {
 
@@ -52,6 +56,9 @@ struct DemSettings {
   // ends of each K contact steps; between those ends the velocities lack the second gravity half-kick.
   std::size_t gravity_substeps = 1;
   std::size_t force_threads = 1;
+  // The dashpots are integrated implicitly (implicit_dashpot.hpp) when the largest γ_n dt/m* over the pairs
+  // (and walls) exceeds this and friction is off; explicitly otherwise. 0: always implicit; +∞: never.
+  double implicit_dashpot_above = 0.2;
 };
 
 struct DemCounters {
@@ -67,6 +74,7 @@ struct DemCounters {
   // normal force |F_n| r; tangential forces are normal to r_ij) and ∫ Σ_i m_i |v_i|² dt (at the step ends).
   double virial_integral = 0;
   double kinetic_integral = 0;
+  std::uint64_t dashpot_solves = 0, dashpot_iterations = 0;  // implicit dashpot: linear solves, CG iterations
 };
 
 class Dem {
@@ -86,6 +94,7 @@ class Dem {
   const Box& box() const { return box_; }
   const DemSettings& settings() const { return settings_; }
   const DemCounters& counters() const { return counters_; }
+  bool implicit_dashpot() const { return implicit_dashpot_; }  // see DemSettings::implicit_dashpot_above
   double min_radius() const { return min_radius_; }
 
   Vector3 momentum() const;
@@ -146,10 +155,12 @@ class Dem {
     Vector3 normal_force;  // on j (−it on i)
     Vector3 tangential, torque_i, torque_j;  // friction: tangential force on i (−it on j), torques
     double virial;
+    double dashpot;  // implicit dashpot: γ_n (times the onset weight), its force not yet in normal_force; else 0
   };
 
   void compute_forces();
   void contact_forces();
+  void integrate_dashpots();  // implicit dashpot: the dashpots' forces from implicit_dashpot_forces()
   void rebuild_pairs();
   ContactTotals pair_forces(std::size_t begin, std::size_t end, std::vector<ContactForce>& contacts);
   // job(k) for k < jobs, on the worker pool when force_threads > 1.
@@ -188,6 +199,8 @@ class Dem {
   bool forces_cleared_ = false;     // step() has zeroed f_ and torque_ for the next evaluation
   std::vector<std::vector<ContactForce>> contact_buffers_;  // per chunk of the pair loop
   std::unique_ptr<WorkerPool> pool_;                        // force_threads > 1
+  bool implicit_dashpot_ = false;
+  std::vector<DashpotContact> wall_dashpots_;  // implicit dashpot: the walls' contacts of this evaluation
 };
 
 }  // namespace aggkit

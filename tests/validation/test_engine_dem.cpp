@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -228,33 +229,54 @@ TEST_CASE("dem: elastic gases in periodic and reflecting boxes keep energy and m
   }
 }
 
-// The values of one DataArray of a .vtu file (ASCII), or empty if it has none of that name.
+// The values of one Float64 DataArray of a binary .vtu file (validation/io/particle_snapshot.hpp: base64 of a
+// UInt64 little-endian byte count and the little-endian doubles), or empty if it has none of that name.
 std::vector<double> vtu_array(const std::filesystem::path& vtu, const std::string& name) {
   const std::string text = aggkit::testing::read_text(vtu);
   const std::size_t at = text.find("Name=\"" + name + "\"");
   if (at == std::string::npos) return {};
+  REQUIRE(text.substr(at, text.find('>', at) - at).find("format=\"binary\"") != std::string::npos);
   const std::size_t begin = text.find('>', at) + 1, end = text.find("</DataArray>", begin);
-  std::istringstream in(text.substr(begin, end - begin));
+  const std::string digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<unsigned char> bytes;
+  std::uint32_t group = 0;
+  int bits = 0;
+  for (std::size_t k = begin; k < end; ++k) {
+    const std::size_t digit = digits.find(text[k]);
+    if (digit == std::string::npos) continue;  // whitespace, '=' padding
+    group = group << 6 | std::uint32_t(digit);
+    if ((bits += 6) >= 8) bytes.push_back(static_cast<unsigned char>(group >> (bits -= 8)));
+  }
+  auto little_endian = [&](std::size_t offset) {
+    std::uint64_t value = 0;
+    for (int b = 7; b >= 0; --b) value = value << 8 | bytes.at(offset + std::size_t(b));
+    return value;
+  };
+  REQUIRE(bytes.size() >= 8);
+  REQUIRE(little_endian(0) == bytes.size() - 8);  // the header: the data's byte count
   std::vector<double> values;
-  for (double v; in >> v;) values.push_back(v);
+  for (std::size_t offset = 8; offset + 8 <= bytes.size(); offset += 8) values.push_back(std::bit_cast<double>(little_endian(offset)));
   return values;
 }
 
-TEST_CASE("dem: the default step resolves the dashpot's time when the contact is overdamped", "[dem]") {
-  // k̃_n = 10^6, m_eff = m/2: t_c = π √(0.5/10^6) = 2.22e-3; γ_n = 500 (ζ = 0.35): dt = t_c/50;
-  // γ_n = 2·10^4 (ζ = 14): dt = m_eff/(5 γ_n) = 5e-6, below t_c/50 = 4.44e-5.
-  const auto dt_of = [](const std::string& damping) {
-    const Scene scene = aggkit::testing::parse_checked(
-        dem_scene("stiffness_normalized = 1e6\ndamping = " + damping + "\ngravity = { G = 1.0 }\n"));
-    return build_engine(scene, 0)->describe();
+TEST_CASE("dem: an overdamped contact keeps the default step t_c/50 (implicit dashpot) unless friction makes it explicit", "[dem]") {
+  // k̃_n = 10^6, m_eff = m/2: t_c = π √(0.5/10^6) = 2.22e-3; γ_n = 500 (ζ = 0.35, γ dt/m* = 0.044): dt = t_c/50,
+  // explicit dashpot; γ_n = 2·10^4 (ζ = 14, γ dt/m* = 1.8): dt = t_c/50 still, the dashpot implicit.
+  const auto describe = [](const std::string& keys) {
+    return build_engine(aggkit::testing::parse_checked(dem_scene(keys + "gravity = { G = 1.0 }\n")), 0)->describe();
   };
-  CHECK_THAT(dt_of("500.0"), Catch::Contains("dt " + format_value(M_PI * std::sqrt(0.5e-6) / 50)));
-  CHECK_THAT(dt_of("2e4"), Catch::Contains("dt " + format_value(0.5 / 2e4 / 5)));
-  CHECK_THAT(dt_of("2e4"), !Catch::Contains("WARNING"));
-  // A step given above it is warned about.
-  const Scene coarse = aggkit::testing::parse_checked(
-      dem_scene("stiffness_normalized = 1e6\ndamping = 2e4\ngravity = { G = 1.0 }\ndt = 4e-5\n"));
-  CHECK_THAT(build_engine(coarse, 0)->describe(), Catch::Contains("WARNING dt > m_eff/(5 γ_n)"));
+  const double tc = M_PI * std::sqrt(0.5e-6);
+  CHECK_THAT(describe("stiffness_normalized = 1e6\ndamping = 500.0\n"), Catch::Contains("dt " + format_value(tc / 50)));
+  CHECK_THAT(describe("stiffness_normalized = 1e6\ndamping = 500.0\n"), !Catch::Contains("implicit dashpot"));
+  const std::string stiff = describe("stiffness_normalized = 1e6\ndamping = 2e4\n");
+  CHECK_THAT(stiff, Catch::Contains("dt " + format_value(tc / 50)));
+  CHECK_THAT(stiff, Catch::Contains("implicit dashpot (γ_n dt/m_eff " + format_value(4e4 * (tc / 50)) + ")"));
+  CHECK_THAT(stiff, !Catch::Contains("WARNING"));
+  // With friction the dashpot stays explicit: the default step resolves m_eff/γ_n with 5 steps, a larger
+  // given step is warned about.
+  CHECK_THAT(describe("stiffness_normalized = 1e6\ndamping = 2e4\nfriction = 0.5\n"), Catch::Contains("dt " + format_value(0.5 / 2e4 / 5)));
+  CHECK_THAT(describe("stiffness_normalized = 1e6\ndamping = 2e4\nfriction = 0.5\ndt = 4e-5\n"), Catch::Contains("WARNING dt > m_eff/(5 γ_n)"));
+  CHECK_THAT(describe("stiffness_normalized = 1e6\ndamping = 2e4\ndt = 4e-5\n"), !Catch::Contains("WARNING"));
 }
 
 TEST_CASE("dem: a cloud with friction collapses, the Coulomb limit holds, the snapshot has angular velocities",

@@ -15,8 +15,9 @@
 // adhesive_fraction (particle/dem/dem.hpp: contact episodes still open at the end over all with an overlap),
 // aggregation_time (NaN when the largest cluster never held the threshold), max_friction_ratio (with
 // friction), energy_drift (elastic runs: no damping), and with gravity potential_energy (−Σ G m_i m_j / r_ij,
-// unsoftened), virial_ratio (K/|P|), free_fall_time and aggregation_time_ff. `gravity_substeps` K > 1
-// evaluates gravity every K contact steps (impulse splitting, particle/dem/dem.hpp).
+// unsoftened), virial_ratio (K/|P|), free_fall_time and aggregation_time_ff, and dashpot_solves and
+// dashpot_iterations when the dashpots are integrated implicitly (particle/dem/implicit_dashpot.hpp).
+// `gravity_substeps` K > 1 evaluates gravity every K contact steps (impulse splitting, particle/dem/dem.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -156,6 +157,10 @@ class DemSimulation final : public ParticleSimulation {
                                                        {"max_overlap", c.max_overlap},
                                                        {"realised_restitution", settings_.realised_restitution}};
     if (settings_.dem.friction > 0) values.emplace_back("max_friction_ratio", c.max_friction_ratio);  // max |F_t|/(μ F_n) ≤ 1
+    if (dem_.implicit_dashpot()) {  // the implicit dashpot's cost: linear solves and conjugate-gradient iterations
+      values.emplace_back("dashpot_solves", double(c.dashpot_solves));
+      values.emplace_back("dashpot_iterations", double(c.dashpot_iterations));
+    }
     if (settings_.dem.gravity) {
       // P = −Σ_{i<j} G m_i m_j / r_ij and K/|P| [Trivino2025, Sec. on energies]: the unsoftened potential.
       const auto& x = dem_.positions();
@@ -305,11 +310,13 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   // The dashpot's own time m_eff/γ_n (fastest for the lightest pair): the explicit dashpot relaxes a contact's
   // normal velocity by a factor 1 − γ_n dt/m* per step, which overshoots and reverses it once γ_n dt/m* > 1 —
   // an overdamped collision then rebounds instead of sticking (measured: γ_n = 2·10^4 at k̃_n = 10^6 with
-  // dt = t_c/50 left the whole cloud unaggregated). The default step resolves it with 5 steps: it is below
-  // t_c/50 only when ζ > 50/(10π) ≈ 1.6.
+  // dt = t_c/50 left the whole cloud unaggregated). Without friction the engine integrates such dashpots
+  // implicitly (particle/dem/implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50;
+  // with friction the dashpot stays explicit and the default step resolves it with 5 steps.
   const double damping_rate = by_restitution ? dem.damping_per_mass : dem.damping / reference_reduced;  // 1/time
   const double damping_time = damping_rate > 0 ? 1 / damping_rate : std::numeric_limits<double>::infinity();
-  dem.dt = given.has("dt") ? given.number("dt", 0.0) : std::min(contact_time / 50, damping_time / 5);
+  const bool explicit_dashpot = dem.friction > 0;
+  dem.dt = given.has("dt") ? given.number("dt", 0.0) : explicit_dashpot ? std::min(contact_time / 50, damping_time / 5) : contact_time / 50;
   if (dem.dt > contact_time / 2)
     given.fail("dt", "dt <= t_c/2 = " + format_value(contact_time / 2) + " (a contact must span several steps)");
   std::string warning;
@@ -317,11 +324,12 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
     warning = "; WARNING dt > t_c/20 = " + format_value(contact_time / 20) + " [Trivino2025, eq. 8]";
     std::cerr << "warning: engine dem: dt = " << format_value(dem.dt) << " > t_c/20 = " << format_value(contact_time / 20) << '\n';
   }
-  if (dem.dt > damping_time / 5) {
+  if (explicit_dashpot && dem.dt > damping_time / 5) {
     warning += "; WARNING dt > m_eff/(5 γ_n) = " + format_value(damping_time / 5) + " (the dashpot is under-resolved)";
     std::cerr << "warning: engine dem: dt = " << format_value(dem.dt) << " > m_eff/(5 γ_n) = " << format_value(damping_time / 5)
               << ": an overdamped contact may rebound\n";
   }
+  const bool implicit = !explicit_dashpot && damping_rate * dem.dt > dem.implicit_dashpot_above;  // as Dem decides
   dem.contact_tolerance = given.number("contact_tolerance", dem.contact_tolerance);
   dem.force_threads = std::size_t(given.integer("force_threads", 1));
   dem.gravity_substeps = std::size_t(given.integer("gravity_substeps", 1));
@@ -338,6 +346,7 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
                             (dem.friction > 0 ? ", friction μ " + format_value(dem.friction) : "") + (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G) +
                                                (dem.gravity_substeps > 1 ? " every " + std::to_string(dem.gravity_substeps) + " steps" : "")
                                          : ", no gravity") +
+                            (implicit ? ", implicit dashpot (γ_n dt/m_eff " + format_value(damping_rate * dem.dt) + ")" : "") +
                             (settings.stop_aggregated ? ", stop when aggregated" : ", stop at time.end") + warning;
   return {[system, settings, box](std::size_t r) { return std::make_unique<DemSimulation>(box, system.initial_state(r), settings); },
           description};
