@@ -4,9 +4,12 @@ measured cost per step and measured aggregation times.
 
   /usr/bin/python3 bench/dem_campaign_cost.py SECONDS_PER_STEP T_FF ZETA:TAGG_OVER_TFF ... [--end 40]
       [--gammas 10,100,...] [--stiffness 1e5,...] [--realizations 3] [--ranks 2] [--zeta-min Z]
+      [--dashpot implicit|explicit] [--implicit-factor F]
 
 Units G = m = R = 1, 650 equal spheres, m_eff = 1/2. A run's steps are min(T_agg, end)/dt with the engine's
-default dt = min(t_c/50, m_eff/(5 γ_n)), t_c = π √(m_eff/k_n). T_agg/t_ff is interpolated (log ζ) from the
+default dt, t_c = π √(m_eff/k_n): t_c/50 with the implicit dashpot (the engine's default without friction; its
+steps cost --implicit-factor times an explicit one where γ_n dt/m_eff > 0.2, where the engine switches it on),
+min(t_c/50, m_eff/(5 γ_n)) with the explicit one (--dashpot explicit: the engine before the implicit dashpot). T_agg/t_ff is interpolated (log ζ) from the
 measured (ζ, T_agg/t_ff) pairs, ζ = γ_n/(2 √(k_n m_eff)) the damping ratio: the measurements at k̃_n = 10^5,
 10^6 and 10^7 fall on one curve of ζ (bench/log/dem-campaign.md). Below --zeta-min the cloud does not
 aggregate and the run lasts to --end. Prints the CPU seconds of the campaign and its wall time on --ranks
@@ -27,6 +30,9 @@ def main():
     p.add_argument("--realizations", type=int, default=3)
     p.add_argument("--ranks", type=int, default=2)
     p.add_argument("--zeta-min", type=float, required=True)
+    p.add_argument("--dashpot", choices=["implicit", "explicit"], default="implicit")
+    p.add_argument("--implicit-factor", type=float, default=1.0,
+                   help="cost of an implicit-dashpot step over an explicit one (measured: bench/log/dem-campaign.md)")
     a = p.parse_args()
     pairs = sorted((float(z), float(t)) for z, t in (m.split(":") for m in a.measured))
     zs = [math.log(z) for z, _ in pairs]
@@ -49,12 +55,13 @@ def main():
     for g in (float(v) for v in a.gammas.split(",")):
         for k in (float(v) for v in a.stiffness.split(",")):
             t_c = math.pi * math.sqrt(m_eff / k)
-            dt = min(t_c / 50, m_eff / (5 * g))
+            implicit = a.dashpot == "implicit" and g * (t_c / 50) / m_eff > 0.2
+            dt = t_c / 50 if a.dashpot == "implicit" else min(t_c / 50, m_eff / (5 * g))
             zeta = g / (2 * math.sqrt(k * m_eff))
             tt = t_agg(zeta)
             duration = a.end if tt is None else min(tt * a.t_ff, a.end)
             steps = duration / dt
-            cpu = steps * a.seconds_per_step
+            cpu = steps * a.seconds_per_step * (a.implicit_factor if implicit else 1.0)
             total += cpu * a.realizations
             print("%8.3g %8.3g %8.3g %10s %10.3g %8.0f" % (g, k, zeta, "none" if tt is None else "%.3g" % tt, steps, cpu))
     print("campaign: %d runs, %.0f CPU s = %.2f h; on %d ranks %.2f h" % (

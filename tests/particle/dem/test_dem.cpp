@@ -198,6 +198,14 @@ TEST_CASE("dem: the implicit dashpot returns the calibrated restitution", "[dem]
       CHECK(head_on(s, 1.0, 1.0, 3.7, phase).restitution == Approx(e).margin(1e-3));
     }
   }
+  // A dissipative collision never raises the energy (kinetic + spring) above its start, with either dashpot.
+  for (double e : {0.1, 0.5, 0.9})
+    for (double above : {0.0, std::numeric_limits<double>::infinity()}) {
+      INFO("e = " << e << ", implicit_dashpot_above = " << above);
+      DemSettings s = calibrated(e, tc, true);
+      s.implicit_dashpot_above = above;
+      CHECK(head_on_energy(s, 1.0).worst_energy_ratio <= 1.0);
+    }
   // Second order: four times smaller steps, at least eight times smaller error.
   DemSettings fine = calibrated(0.1, tc, true);
   fine.implicit_dashpot_above = 0;
