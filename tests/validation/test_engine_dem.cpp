@@ -160,6 +160,23 @@ TEST_CASE("dem: the same seed gives the same results for any thread counts", "[d
   CHECK(serial == run("threads = 3\nforce_threads = 4\n"));
 }
 
+TEST_CASE("dem: the implicit dashpot gives the same results for any thread counts", "[dem][harness]") {
+  // ζ = 14 at t_c/50 (γ_n dt/m_eff = 1.8): the dashpots are solved implicitly, serially in pair order.
+  auto run = [](const std::string& threads) {
+    const auto out = aggkit::testing::scratch_folder("dem-implicit-threads-" + threads);
+    run_scene(aggkit::testing::parse_checked(dem_scene("stiffness_normalized = 1e4\ndamping = 2e3\ngravity = { G = 1.0 }\n" + threads,
+                                                       "realizations = 2\nseed = 9\n", "4.0")),
+              aggkit::testing::quiet_run(out));
+    nlohmann::json final = final_json(out);
+    final.erase("wall_seconds");
+    final.erase("wall_seconds_stderr");
+    return final;
+  };
+  const nlohmann::json serial = run("");
+  CHECK(serial["dashpot_solves"].get<double>() > 0);
+  CHECK(serial == run("threads = 2\nforce_threads = 3\n"));
+}
+
 TEST_CASE("dem: an elastic run reports a small energy drift", "[dem][harness]") {
   const auto out = aggkit::testing::scratch_folder("dem-elastic");
   run_scene(aggkit::testing::parse_checked(dem_scene("restitution = 1.0\ncontact_time = 0.05\ngravity = { G = 1.0 }\n", "", "8.0")),

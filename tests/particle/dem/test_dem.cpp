@@ -216,7 +216,8 @@ TEST_CASE("dem: the implicit dashpot returns the calibrated restitution", "[dem]
 
 TEST_CASE("dem: the implicit dashpot relaxes a pure dashpot's relative velocity by exactly e^-x per step", "[dem]") {
   // Two spheres (m* = 0.6) approaching, springs left out (spring = 0 in the contact): one step's force
-  // changes their relative velocity from w to w e^{−x}, x = γ dt/m*, to round-off, for x from 10^-4 to 40.
+  // changes their relative velocity from w to w e^{−x}, x = γ dt/m*, to the solver's tolerance, for x from
+  // 10^-4 to 40.
   for (double x : {1e-4, 0.01, 0.2, 1.0, 5.0, 40.0}) {
     INFO("x = " << x);
     const std::vector<double> masses{1.0, 1.5};
@@ -227,7 +228,7 @@ TEST_CASE("dem: the implicit dashpot relaxes a pure dashpot's relative velocity 
     const std::vector<double> total = implicit_dashpot_forces(contact, masses, velocity, force, dt, stats);
     const double w = velocity[1][0] - velocity[0][0];
     const double w_after = w + dt * total[0] * (1 / masses[1] + 1 / masses[0]);
-    CHECK(w_after == Approx(w * std::exp(-x)).margin(1e-14));
+    CHECK(w_after == Approx(w * std::exp(-x)).margin(1e-11));  // the solve's relative residual is 1e-12
   }
   CHECK(dashpot_theta(0) == 0.5);
   CHECK(dashpot_theta(1e-3 * (1 - 1e-12)) == Approx(dashpot_theta(1e-3 * (1 + 1e-12))).epsilon(1e-12));  // series meets the formula
