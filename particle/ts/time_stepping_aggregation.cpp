@@ -40,6 +40,7 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       velocity_(velocities.begin(), velocities.end()),
       flown_(positions.size(), Vector3{0, 0, 0}),
       reflected_(positions.size(), 0),
+      before_(positions.size()),
       links_(positions.size()) {
   if (positions.size() != velocities.size() || positions.size() < 2)
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
@@ -92,9 +93,10 @@ void TimeSteppingAggregation::for_near(std::uint32_t i, double reach, F&& f) con
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::overlaps_between_clusters(
-    std::span<const std::uint32_t> among, bool swept, double* safe) const {
+    std::span<const std::uint32_t> among, bool swept, double* safe, std::vector<double>* nearest) const {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> found;
   if (safe) *safe = 0;
+  if (nearest) nearest->clear();  // empty: not computed (the pass below fills it)
   const double contact2 = 4.0 * radius_ * radius_;
   const double same_cluster2 = contact2 * (1 - same_cluster_tolerance) * (1 - same_cluster_tolerance);
   // A swept pair touched during the flight if the segment of its separations, from d − w to d (w the
@@ -141,6 +143,24 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     // Gaps less a margin far above the round-off the positions gather over the quiet flights.
     const double contact_margin = 2.0 * radius_ * (1.0 + 1e-6);
     const double far_gap = narrowest - contact_margin;
+    const std::size_t workers = cells >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
+    // Nearest other-cluster distance per sphere (near re-check): a pair updates both spheres, which other
+    // workers' cells may hold, so with several workers the minimum is taken atomically.
+    double* close = nullptr;
+    if (nearest) {
+      nearest->assign(x_.size(), std::numeric_limits<double>::infinity());
+      close = nearest->data();
+    }
+    auto closer = [&](std::uint32_t p, double distance) {
+      if (workers <= 1) {
+        close[p] = std::min(close[p], distance);
+        return;
+      }
+      std::atomic_ref<double> slot(close[p]);
+      double now = slot.load(std::memory_order_relaxed);
+      while (distance < now && !slot.compare_exchange_weak(now, distance, std::memory_order_relaxed)) {
+      }
+    };
     auto pass = [&](std::size_t from, std::size_t to, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out,
                     double& soonest) {
       for (std::size_t here = from; here < to; ++here) {
@@ -156,17 +176,23 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
               if (cj == ci) continue;
               const Vector3 d = grid_.stencil_image(x_[j] - x_[i], o);
               if (touched(d, i, j)) out.emplace_back(std::min(i, j), std::max(i, j));
-              if (bound) {
-                const double closing = speed_[ci] + speed_[cj];
-                const double gap = std::sqrt(dot(d, d)) - contact_margin;
-                if (gap < soonest * closing) soonest = std::max(gap, 0.0) / closing;
+              if (bound || close) {
+                const double distance = std::sqrt(dot(d, d));
+                if (close) {
+                  closer(i, distance);
+                  closer(j, distance);
+                }
+                if (bound) {
+                  const double closing = speed_[ci] + speed_[cj];
+                  const double gap = distance - contact_margin;
+                  if (gap < soonest * closing) soonest = std::max(gap, 0.0) / closing;
+                }
               }
             }
           }
         }
       }
     };
-    const std::size_t workers = cells >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
     const double inf = std::numeric_limits<double>::infinity();
     const double far = far_gap > 0 && fastest > 0 ? far_gap / (2.0 * fastest) : (far_gap > 0 ? inf : 0.0);
     std::vector<double> soonest(std::max<std::size_t>(workers, 1), far);
@@ -436,8 +462,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
     // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones.
     for (const std::uint32_t c : {members_.cluster_of(i), members_.cluster_of(j)})
-      for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p))
+      for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p)) {
+        before_[p] = x_[p];
         x_[p] = x_[p] - (1.0 - tau) * flown_[p];
+      }
     link(i, j);
     const std::uint32_t c = members_.cluster_of(i);
     const Vector3 rest_of_flight = ((1.0 - tau) * dt) * velocity_[c];
@@ -448,11 +476,24 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     reflect(c);
     ++counters_.contact_time_merges;
   }
+  double farthest = 0;  // the largest displacement of a moved sphere from where the pass saw it
   for (const std::uint32_t p : moved) {
     x_[p] = box_.wrap(x_[p]);
     const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
     if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+    before_[p] = box_.minimum_image(x_[p] - before_[p]);
+    farthest = std::max(farthest, norm(before_[p]));
   }
+  // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
+  // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
+  // same-cluster tolerance, which a full re-check of the moved spheres would link again).
+  if (settings_.near_recheck && nearest_.size() == x_.size() && counters_.round_cap_hits == 0) {
+    double narrowest = grid_.cell_side()[0];
+    for (int d = 1; d < box_.dimension; ++d) narrowest = std::min(narrowest, grid_.cell_side()[d]);
+    const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
+    std::erase_if(moved, [&](std::uint32_t p) { return std::min(nearest_[p], narrowest) >= reach + norm(before_[p]); });
+  }
+  counters_.rechecked_spheres += moved.size();
   // What the merged clusters now overlap is left to the minimisation, with the other contacts.
   for (const auto& pr : overlaps_between_clusters(moved)) rest.push_back(pr);
   std::sort(rest.begin(), rest.end());
@@ -554,7 +595,7 @@ void TimeSteppingAggregation::step(double dt) {
       continue;
     }
     double safe = 0;
-    auto found = overlaps_between_clusters({}, true, &safe);
+    auto found = overlaps_between_clusters({}, true, &safe, settings_.contact_time ? &nearest_ : nullptr);
     if (found.empty()) {
       // Nothing moves before the next flight: the pass's safe time holds from here (a margin for the
       // round-off of the positions flown meanwhile).
