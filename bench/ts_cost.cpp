@@ -138,7 +138,8 @@ int main(int argc, char** argv) {
   }
   if (ts_only && ns.size() >= 3) {
     double e_ts = 0;
-    std::printf("# cost exponent (CPU seconds, least squares in log-log over all N): TS %.3f ± %.3f\n", exponent(ns, ts_times, e_ts), e_ts);
+    const double x_ts = exponent(ns, ts_times, e_ts);
+    std::printf("# cost exponent (CPU seconds, least squares in log-log over all N): TS %.3f ± %.3f\n", x_ts, e_ts);
   } else if (ns.size() >= 3) {
     double e_ts = 0, e_ed = 0;
     const double x_ts = exponent(ns, ts_times, e_ts), x_ed = exponent(ns, ed_times, e_ed);

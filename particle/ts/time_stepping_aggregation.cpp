@@ -477,11 +477,12 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     ++counters_.contact_time_merges;
   }
   double farthest = 0;  // the largest displacement of a moved sphere from where the pass saw it
+  const bool periodic = box_.boundary == Boundary::periodic;  // wrap and minimum image: identities otherwise
   for (const std::uint32_t p : moved) {
-    x_[p] = box_.wrap(x_[p]);
+    if (periodic) x_[p] = box_.wrap(x_[p]);
     const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
     if (cell != cells_.cell_of(p)) cells_.move(p, cell);
-    before_[p] = box_.minimum_image(x_[p] - before_[p]);
+    before_[p] = periodic ? box_.minimum_image(x_[p] - before_[p]) : x_[p] - before_[p];
     farthest = std::max(farthest, norm(before_[p]));
   }
   // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
