@@ -103,9 +103,14 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
   // relative displacement), passes within 2R: d + s w' with w' = −w, s ∈ [0, 1], closest at s = d·w / |w|².
   const double reach = 2.0 * radius_ + (swept ? 2.0 * longest_flight_ : 0.0);
   // Different clusters at separation d (from i to j): overlapping now, or (swept) touched in the flight.
+  // Farther apart than 2R plus the two longest flights (a margin for round-off): not touched, without the
+  // swept test.
+  const double apart = reach * (1.0 + 1e-9);
+  const double apart2 = apart * apart;
   auto touched = [&](const Vector3& d, std::uint32_t i, std::uint32_t j) {
     double closest2 = dot(d, d);
     if (swept && closest2 >= contact2) {
+      if (closest2 >= apart2) return false;
       const Vector3 w = flown_[j] - flown_[i];
       const double ww = dot(w, w);
       if (ww > 0) {
