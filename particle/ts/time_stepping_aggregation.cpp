@@ -461,34 +461,43 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   for (const auto& e : earliest) keys.push_back(e.first);
   std::sort(keys.begin(), keys.end());
   std::vector<std::uint32_t> moved;
+  double farthest = 0;  // the largest displacement of a moved sphere from where the pass saw it
+  const bool periodic = box_.boundary == Boundary::periodic;  // wrap and minimum image: identities otherwise
+  const double inf = std::numeric_limits<double>::infinity();
   for (const std::uint32_t key : keys) {
     const auto& [tau, pr] = earliest[key];
     const auto [i, j] = pr;
     // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
-    // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones.
-    for (const std::uint32_t c : {members_.cluster_of(i), members_.cluster_of(j)})
-      for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p)) {
-        before_[p] = x_[p];
-        x_[p] = x_[p] - (1.0 - tau) * flown_[p];
-      }
+    // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones. (The
+    // merge changes velocities only, so it goes first and every sphere is moved in one pass, which also
+    // gathers reflect's bounds: reflect is called only when the cluster crosses a wall.)
     link(i, j);
     const std::uint32_t c = members_.cluster_of(i);
     const Vector3 rest_of_flight = ((1.0 - tau) * dt) * velocity_[c];
+    Vector3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+    const std::size_t from = moved.size();
     for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p)) {
+      before_[p] = x_[p];
+      x_[p] = x_[p] - (1.0 - tau) * flown_[p];
       x_[p] = x_[p] + rest_of_flight;
+      for (int d = 0; d < box_.dimension; ++d) {
+        lo[d] = std::min(lo[d], x_[p][d] - radius_);
+        hi[d] = std::max(hi[d], x_[p][d] + radius_);
+      }
       moved.push_back(p);
     }
-    reflect(c);
+    bool inside = true;
+    for (int d = 0; d < box_.dimension; ++d) inside = inside && lo[d] >= 0 && hi[d] <= box_.side[d];
+    if (!inside) reflect(c);
     ++counters_.contact_time_merges;
-  }
-  double farthest = 0;  // the largest displacement of a moved sphere from where the pass saw it
-  const bool periodic = box_.boundary == Boundary::periodic;  // wrap and minimum image: identities otherwise
-  for (const std::uint32_t p : moved) {
-    if (periodic) x_[p] = box_.wrap(x_[p]);
-    const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
-    if (cell != cells_.cell_of(p)) cells_.move(p, cell);
-    before_[p] = periodic ? box_.minimum_image(x_[p] - before_[p]) : x_[p] - before_[p];
-    farthest = std::max(farthest, norm(before_[p]));
+    for (std::size_t k = from; k < moved.size(); ++k) {
+      const std::uint32_t p = moved[k];
+      if (periodic) x_[p] = box_.wrap(x_[p]);
+      const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
+      if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+      before_[p] = periodic ? box_.minimum_image(x_[p] - before_[p]) : x_[p] - before_[p];
+      farthest = std::max(farthest, norm(before_[p]));
+    }
   }
   // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
   // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
