@@ -269,6 +269,7 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
     }
     if (!specular) jumped_ = true;
     ++counters_.wall_contacts;
+    if (!reflected_[cluster]) reflected_list_.push_back(cluster);
     reflected_[cluster] = 1;
     for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) {
       x_[p][d] += shift;
@@ -288,31 +289,34 @@ void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
 }
 
 bool TimeSteppingAggregation::flight(double dt) {
-  std::fill(reflected_.begin(), reflected_.end(), 0);
+  for (const std::uint32_t c : reflected_list_) reflected_[c] = 0;
+  reflected_list_.clear();
   jumped_ = false;
-  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t) {
+  // One streaming pass: every sphere flies (wrapped on periodic boxes) and, with walls, the clusters with a
+  // sphere past one are noted (the test is reflect's own, sphere by sphere); they are then reflected in
+  // increasing cluster order, as a walk through every cluster's members per axis would.
+  const bool walls = box_.boundary == Boundary::reflecting, periodic = box_.boundary == Boundary::periodic;
+  std::vector<std::vector<std::uint32_t>> past(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1));
+  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
     for (std::size_t p = from; p < to; ++p) {
-      flown_[p] = dt * velocity_[members_.cluster_of(std::uint32_t(p))];
+      const std::uint32_t c = members_.cluster_of(std::uint32_t(p));
+      flown_[p] = dt * velocity_[c];
       x_[p] = x_[p] + flown_[p];
+      if (periodic) x_[p] = box_.wrap(x_[p]);
+      if (walls)
+        for (int d = 0; d < box_.dimension; ++d)
+          if (x_[p][d] - radius_ < 0 || x_[p][d] + radius_ > box_.side[d]) {
+            past[w].push_back(c);
+            break;
+          }
     }
   });
-  if (box_.boundary == Boundary::reflecting) {
-    // Only the clusters with a sphere past a wall have anything to reflect (the test is reflect's own,
-    // sphere by sphere), in increasing cluster order as before: one streaming pass instead of a walk
-    // through every cluster's members per axis.
-    std::vector<std::uint32_t>& past = new_cell_;  // scratch until locate()
-    past.clear();
-    for (std::uint32_t p = 0; p < x_.size(); ++p)
-      for (int d = 0; d < box_.dimension; ++d)
-        if (x_[p][d] - radius_ < 0 || x_[p][d] + radius_ > box_.side[d]) {
-          past.push_back(members_.cluster_of(p));
-          break;
-        }
-    std::sort(past.begin(), past.end());
-    past.erase(std::unique(past.begin(), past.end()), past.end());
-    for (const std::uint32_t c : past) reflect(c);
-  } else {
-    for (Vector3& x : x_) x = box_.wrap(x);
+  if (walls) {
+    std::vector<std::uint32_t>& all = past[0];
+    for (std::size_t w = 1; w < past.size(); ++w) all.insert(all.end(), past[w].begin(), past[w].end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    for (const std::uint32_t c : all) reflect(c);
   }
   // Within the safe time of the last detection pass (header): nothing to detect, cells updated later.
   if (settings_.quiet_flights && !jumped_ && dt < safe_left_) {

@@ -193,7 +193,7 @@ class TimeSteppingAggregation {
   static constexpr std::uint32_t no_cell = 0xffffffffu;
   static constexpr std::size_t parallel_cells = 16384;  // fewer cells or spheres: one worker (thread start-up dominates)
   std::vector<std::uint32_t> half_neighbours_;
-  std::vector<std::uint32_t> new_cell_;  // scratch of flight
+  std::vector<std::uint32_t> new_cell_;  // scratch of locate
   // f(from, to, worker) over ranges of [0, n) on `threads` workers (one below parallel_cells items).
   template <class F>
   void for_ranges(std::size_t n, F&& f) const;  // per cell, its half-stencil neighbours (no_cell past a wall)
@@ -202,6 +202,7 @@ class TimeSteppingAggregation {
   std::vector<Vector3> velocity_;  // per cluster id
   std::vector<Vector3> flown_;     // per sphere: its displacement in the last flight (walls included)
   std::vector<char> reflected_;    // per cluster: reflected by a wall in the last flight
+  std::vector<std::uint32_t> reflected_list_;  // the clusters reflected_ marks
   std::vector<Vector3> before_;    // scratch of merge_binary_contacts: positions at the pass, then the moves
   double longest_flight_ = 0;      // the largest |flown_|
   std::vector<double> speed_;      // per cluster id: |velocity_|, set at the start of a step
