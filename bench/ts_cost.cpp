@@ -124,6 +124,7 @@ int main(int argc, char** argv) {
                 ts_only ? 0.0 : ts.cpu / ed_cpu, (unsigned long long)c.quiet_flights, (unsigned long long)c.rechecked_spheres);
     std::fflush(stdout);
     if (ts_only) {
+      figures.add(setup + " N=" + bench::Figures::text(double(n)), "ts_cpu_seconds", ts.cpu, "s");
       ns.push_back(double(n));
       ts_times.push_back(std::max(ts.cpu, 1e-3));
       continue;
