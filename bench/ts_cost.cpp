@@ -3,9 +3,11 @@
 // setup; R = 1/2 here, lengths scale), run to one cluster by TS and then by ED (interleaved per N).
 //   bench_ts_cost cost DT_FACTOR NU N1 [N2 ...]      one line per N, then the cost exponents (log-log fits)
 //   bench_ts_cost threads DT_FACTOR NU N REPEATS     cluster_threads 1 and 2 alternated, REPEATS times each
+//   bench_ts_cost ts DT_FACTOR NU N1 [N2 ...]        as cost, TS only (ED columns 0): for A/B runs of TS builds
 // Per N: TS seconds, steps, substeps, merges, minimisation iterations per merge, free spheres per
 // minimisation, merges found after a minimisation (secondary), ED seconds and events, TS/ED, and the
-// flights within a safe time, which skip contact detection (quiet).
+// flights within a safe time, which skip contact detection (quiet), and the spheres re-checked after
+// contact-time merges (recheck).
 // Iterations per merge and free spheres per minimisation flat in N mean the minimisation work follows the
 // new contacts, not N [Degond2024, Sec. 3.3]; the rest of a step (flight and contact detection) is O(N)
 // per flight (detection and the cell update skipped in quiet flights).
@@ -44,6 +46,8 @@ TsRun run_ts(std::size_t n, double nu, double dt_factor, std::size_t threads, st
   TsSettings settings;
   settings.dt_factor = dt_factor;
   settings.threads = threads;
+  // A/B switch for the near re-check (same run either way): AGGKIT_TS_NEAR_RECHECK=0 re-checks every moved sphere.
+  if (const char* near = std::getenv("AGGKIT_TS_NEAR_RECHECK")) settings.near_recheck = std::strcmp(near, "0") != 0;
   TimeSteppingAggregation ts(box, radius, lattice_positions(box, n, radius),
                              initial_velocities(2, n, VelocityLaw::fixed_speed, 1.0, seed), settings);
   const auto start = std::chrono::steady_clock::now();
@@ -72,8 +76,9 @@ double exponent(const std::vector<double>& n, const std::vector<double>& t, doub
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 5 || (std::strcmp(argv[1], "cost") != 0 && std::strcmp(argv[1], "threads") != 0)) {
-    std::fprintf(stderr, "usage: %s cost DT_FACTOR NU N1 [N2 ...] | threads DT_FACTOR NU N REPEATS\n", argv[0]);
+  const bool ts_only = argc >= 2 && std::strcmp(argv[1], "ts") == 0;
+  if (argc < 5 || (std::strcmp(argv[1], "cost") != 0 && std::strcmp(argv[1], "threads") != 0 && !ts_only)) {
+    std::fprintf(stderr, "usage: %s cost|ts DT_FACTOR NU N1 [N2 ...] | threads DT_FACTOR NU N REPEATS\n", argv[0]);
     return 2;
   }
   const double dt_factor = std::atof(argv[2]), nu = std::atof(argv[3]);
@@ -98,25 +103,32 @@ int main(int argc, char** argv) {
   }
   std::printf("# 2-D reflecting, square lattice, unit speed, nu %g, TS dt_factor %g, to one cluster; TS then ED per N\n", nu,
               dt_factor);
-  std::printf("%9s %9s %9s %8s %9s %8s %9s %9s %9s %9s %9s %10s %9s %9s\n", "N", "ts_cpu_s", "ts_wall_s", "steps", "substeps",
-              "merges", "iter/mrg", "free/min", "secondary", "ed_cpu_s", "ed_wall_s", "ed_events", "ts/ed_cpu", "quiet");
+  std::printf("%9s %9s %9s %8s %9s %8s %9s %9s %9s %9s %9s %10s %9s %9s %10s\n", "N", "ts_cpu_s", "ts_wall_s", "steps",
+              "substeps", "merges", "iter/mrg", "free/min", "secondary", "ed_cpu_s", "ed_wall_s", "ed_events", "ts/ed_cpu",
+              "quiet", "recheck");
   std::vector<double> ns, ts_times, ed_times;
   for (int k = 4; k < argc; ++k) {
     const auto n = std::size_t(std::atof(argv[k]));
     const TsRun ts = run_ts(n, nu, dt_factor, 1);
-    auto ed = bench::make_ed(2, n, nu, Boundary::reflecting, true, 1);
+    auto ed = bench::make_ed(2, ts_only ? 2 : n, nu, Boundary::reflecting, true, 1);
     const auto start = std::chrono::steady_clock::now();
     const double cpu0 = cpu_seconds();
-    ed.advance(1e30, 1);
+    if (!ts_only) ed.advance(1e30, 1);
     const double ed_seconds = bench::seconds_since(start), ed_cpu = cpu_seconds() - cpu0;
     const TsCounters& c = ts.counters;
-    std::printf("%9zu %9.3f %9.3f %8llu %9llu %8llu %9.1f %9.1f %9llu %9.3f %9.3f %10llu %9.2f %9llu\n", n, ts.cpu, ts.seconds,
+    std::printf("%9zu %9.3f %9.3f %8llu %9llu %8llu %9.1f %9.1f %9llu %9.3f %9.3f %10llu %9.2f %9llu %10llu\n", n, ts.cpu, ts.seconds,
                 (unsigned long long)c.steps, (unsigned long long)c.substeps, (unsigned long long)c.merges,
                 double(c.minimisation_iterations) / double(std::max<std::uint64_t>(c.merges, 1)),
                 double(c.free_spheres) / double(std::max<std::uint64_t>(c.minimisations, 1)),
                 (unsigned long long)c.secondary_merges, ed_cpu, ed_seconds, (unsigned long long)ed.counters().events(),
-                ts.cpu / ed_cpu, (unsigned long long)c.quiet_flights);
+                ts_only ? 0.0 : ts.cpu / ed_cpu, (unsigned long long)c.quiet_flights, (unsigned long long)c.rechecked_spheres);
     std::fflush(stdout);
+    if (ts_only) {
+      figures.add(setup + " N=" + bench::Figures::text(double(n)), "ts_cpu_seconds", ts.cpu, "s");
+      ns.push_back(double(n));
+      ts_times.push_back(std::max(ts.cpu, 1e-3));
+      continue;
+    }
     const std::string at = setup + " N=" + bench::Figures::text(double(n));
     figures.add(at, "ts_cpu_seconds", ts.cpu, "s");
     figures.add(at, "ed_cpu_seconds", ed_cpu, "s");
@@ -125,7 +137,11 @@ int main(int argc, char** argv) {
     ts_times.push_back(std::max(ts.cpu, 1e-3));  // clock() resolution
     ed_times.push_back(std::max(ed_cpu, 1e-3));
   }
-  if (ns.size() >= 3) {
+  if (ts_only && ns.size() >= 3) {
+    double e_ts = 0;
+    const double x_ts = exponent(ns, ts_times, e_ts);
+    std::printf("# cost exponent (CPU seconds, least squares in log-log over all N): TS %.3f ± %.3f\n", x_ts, e_ts);
+  } else if (ns.size() >= 3) {
     double e_ts = 0, e_ed = 0;
     const double x_ts = exponent(ns, ts_times, e_ts), x_ed = exponent(ns, ed_times, e_ed);
     std::printf("# cost exponent (CPU seconds, least squares in log-log over all N): TS %.3f ± %.3f, ED %.3f ± %.3f\n", x_ts, e_ts, x_ed, e_ed);

@@ -34,14 +34,6 @@ CellGrid::CellGrid(const Box& box, double min_side, std::size_t target_cells) : 
       for (int x = -1; x <= 1; ++x) stencil_.push_back({x, y, z});
 }
 
-CellCoords CellGrid::coords_of(const Vector3& position) const {
-  const Vector3 p = box_.wrap(position);
-  CellCoords c{0, 0, 0};
-  for (int d = 0; d < box_.dimension; ++d)
-    c[d] = std::clamp(int(std::floor(p[d] / cell_side_[d])), 0, counts_[d] - 1);
-  return c;
-}
-
 CellCoords CellGrid::coords(std::size_t index) const {
   CellCoords c;
   c[0] = int(index % std::size_t(counts_[0]));

@@ -2,6 +2,7 @@
 // A regular grid of cells over the box, each at least `min_side` wide along every axis, so that two
 // particles closer than min_side always sit in the same or in neighbouring cells (the 3^d stencil).
 // Periodic axes need at least 3 cells so that the stencil cells are distinct.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -27,7 +28,13 @@ class CellGrid {
   std::size_t size() const { return size_; }
 
   // The cell of a position (wrapped onto periodic axes, clamped onto the grid along reflecting ones).
-  CellCoords coords_of(const Vector3& position) const;
+  CellCoords coords_of(const Vector3& position) const {  // inline: called per particle per step by the engines
+    const Vector3 p = box_.boundary == Boundary::periodic ? box_.wrap(position) : position;
+    CellCoords c{0, 0, 0};
+    for (int d = 0; d < box_.dimension; ++d)
+      c[d] = std::clamp(int(std::floor(p[d] / cell_side_[d])), 0, counts_[d] - 1);
+    return c;
+  }
   std::size_t index(const CellCoords& c) const { return std::size_t(c[0]) + std::size_t(counts_[0]) * (std::size_t(c[1]) + std::size_t(counts_[1]) * std::size_t(c[2])); }
   CellCoords coords(std::size_t index) const;
   // The cell at c + offset: wrapped along periodic axes, std::nullopt past a reflecting wall.

@@ -40,6 +40,7 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       velocity_(velocities.begin(), velocities.end()),
       flown_(positions.size(), Vector3{0, 0, 0}),
       reflected_(positions.size(), 0),
+      before_(positions.size()),
       links_(positions.size()) {
   if (positions.size() != velocities.size() || positions.size() < 2)
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
@@ -92,18 +93,24 @@ void TimeSteppingAggregation::for_near(std::uint32_t i, double reach, F&& f) con
 }
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::overlaps_between_clusters(
-    std::span<const std::uint32_t> among, bool swept, double* safe) const {
+    std::span<const std::uint32_t> among, bool swept, double* safe, std::vector<double>* nearest) const {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> found;
   if (safe) *safe = 0;
+  if (nearest) nearest->clear();  // empty: not computed (the pass below fills it)
   const double contact2 = 4.0 * radius_ * radius_;
   const double same_cluster2 = contact2 * (1 - same_cluster_tolerance) * (1 - same_cluster_tolerance);
   // A swept pair touched during the flight if the segment of its separations, from d − w to d (w the
   // relative displacement), passes within 2R: d + s w' with w' = −w, s ∈ [0, 1], closest at s = d·w / |w|².
   const double reach = 2.0 * radius_ + (swept ? 2.0 * longest_flight_ : 0.0);
   // Different clusters at separation d (from i to j): overlapping now, or (swept) touched in the flight.
+  // Farther apart than 2R plus the two longest flights (a margin for round-off): not touched, without the
+  // swept test.
+  const double apart = reach * (1.0 + 1e-9);
+  const double apart2 = apart * apart;
   auto touched = [&](const Vector3& d, std::uint32_t i, std::uint32_t j) {
     double closest2 = dot(d, d);
     if (swept && closest2 >= contact2) {
+      if (closest2 >= apart2) return false;
       const Vector3 w = flown_[j] - flown_[i];
       const double ww = dot(w, w);
       if (ww > 0) {
@@ -141,6 +148,24 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     // Gaps less a margin far above the round-off the positions gather over the quiet flights.
     const double contact_margin = 2.0 * radius_ * (1.0 + 1e-6);
     const double far_gap = narrowest - contact_margin;
+    const std::size_t workers = cells >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
+    // Nearest other-cluster distance per sphere (near re-check): a pair updates both spheres, which other
+    // workers' cells may hold, so with several workers the minimum is taken atomically.
+    double* close = nullptr;
+    if (nearest) {
+      nearest->assign(x_.size(), std::numeric_limits<double>::infinity());
+      close = nearest->data();
+    }
+    auto closer = [&](std::uint32_t p, double distance) {
+      if (workers <= 1) {
+        close[p] = std::min(close[p], distance);
+        return;
+      }
+      std::atomic_ref<double> slot(close[p]);
+      double now = slot.load(std::memory_order_relaxed);
+      while (distance < now && !slot.compare_exchange_weak(now, distance, std::memory_order_relaxed)) {
+      }
+    };
     auto pass = [&](std::size_t from, std::size_t to, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out,
                     double& soonest) {
       for (std::size_t here = from; here < to; ++here) {
@@ -156,17 +181,23 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
               if (cj == ci) continue;
               const Vector3 d = grid_.stencil_image(x_[j] - x_[i], o);
               if (touched(d, i, j)) out.emplace_back(std::min(i, j), std::max(i, j));
-              if (bound) {
-                const double closing = speed_[ci] + speed_[cj];
-                const double gap = std::sqrt(dot(d, d)) - contact_margin;
-                if (gap < soonest * closing) soonest = std::max(gap, 0.0) / closing;
+              if (bound || close) {
+                const double distance = std::sqrt(dot(d, d));
+                if (close) {
+                  closer(i, distance);
+                  closer(j, distance);
+                }
+                if (bound) {
+                  const double closing = speed_[ci] + speed_[cj];
+                  const double gap = distance - contact_margin;
+                  if (gap < soonest * closing) soonest = std::max(gap, 0.0) / closing;
+                }
               }
             }
           }
         }
       }
     };
-    const std::size_t workers = cells >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
     const double inf = std::numeric_limits<double>::infinity();
     const double far = far_gap > 0 && fastest > 0 ? far_gap / (2.0 * fastest) : (far_gap > 0 ? inf : 0.0);
     std::vector<double> soonest(std::max<std::size_t>(workers, 1), far);
@@ -238,6 +269,7 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
     }
     if (!specular) jumped_ = true;
     ++counters_.wall_contacts;
+    if (!reflected_[cluster]) reflected_list_.push_back(cluster);
     reflected_[cluster] = 1;
     for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) {
       x_[p][d] += shift;
@@ -257,31 +289,34 @@ void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
 }
 
 bool TimeSteppingAggregation::flight(double dt) {
-  std::fill(reflected_.begin(), reflected_.end(), 0);
+  for (const std::uint32_t c : reflected_list_) reflected_[c] = 0;
+  reflected_list_.clear();
   jumped_ = false;
-  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t) {
+  // One streaming pass: every sphere flies (wrapped on periodic boxes) and, with walls, the clusters with a
+  // sphere past one are noted (the test is reflect's own, sphere by sphere); they are then reflected in
+  // increasing cluster order, as a walk through every cluster's members per axis would.
+  const bool walls = box_.boundary == Boundary::reflecting, periodic = box_.boundary == Boundary::periodic;
+  std::vector<std::vector<std::uint32_t>> past(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1));
+  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
     for (std::size_t p = from; p < to; ++p) {
-      flown_[p] = dt * velocity_[members_.cluster_of(std::uint32_t(p))];
+      const std::uint32_t c = members_.cluster_of(std::uint32_t(p));
+      flown_[p] = dt * velocity_[c];
       x_[p] = x_[p] + flown_[p];
+      if (periodic) x_[p] = box_.wrap(x_[p]);
+      if (walls)
+        for (int d = 0; d < box_.dimension; ++d)
+          if (x_[p][d] - radius_ < 0 || x_[p][d] + radius_ > box_.side[d]) {
+            past[w].push_back(c);
+            break;
+          }
     }
   });
-  if (box_.boundary == Boundary::reflecting) {
-    // Only the clusters with a sphere past a wall have anything to reflect (the test is reflect's own,
-    // sphere by sphere), in increasing cluster order as before: one streaming pass instead of a walk
-    // through every cluster's members per axis.
-    std::vector<std::uint32_t>& past = new_cell_;  // scratch until locate()
-    past.clear();
-    for (std::uint32_t p = 0; p < x_.size(); ++p)
-      for (int d = 0; d < box_.dimension; ++d)
-        if (x_[p][d] - radius_ < 0 || x_[p][d] + radius_ > box_.side[d]) {
-          past.push_back(members_.cluster_of(p));
-          break;
-        }
-    std::sort(past.begin(), past.end());
-    past.erase(std::unique(past.begin(), past.end()), past.end());
-    for (const std::uint32_t c : past) reflect(c);
-  } else {
-    for (Vector3& x : x_) x = box_.wrap(x);
+  if (walls) {
+    std::vector<std::uint32_t>& all = past[0];
+    for (std::size_t w = 1; w < past.size(); ++w) all.insert(all.end(), past[w].begin(), past[w].end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    for (const std::uint32_t c : all) reflect(c);
   }
   // Within the safe time of the last detection pass (header): nothing to detect, cells updated later.
   if (settings_.quiet_flights && !jumped_ && dt < safe_left_) {
@@ -430,29 +465,54 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   for (const auto& e : earliest) keys.push_back(e.first);
   std::sort(keys.begin(), keys.end());
   std::vector<std::uint32_t> moved;
+  double farthest = 0;  // the largest displacement of a moved sphere from where the pass saw it
+  const bool periodic = box_.boundary == Boundary::periodic;  // wrap and minimum image: identities otherwise
+  const double inf = std::numeric_limits<double>::infinity();
   for (const std::uint32_t key : keys) {
     const auto& [tau, pr] = earliest[key];
     const auto [i, j] = pr;
     // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
-    // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones.
-    for (const std::uint32_t c : {members_.cluster_of(i), members_.cluster_of(j)})
-      for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p))
-        x_[p] = x_[p] - (1.0 - tau) * flown_[p];
+    // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones. (The
+    // merge changes velocities only, so it goes first and every sphere is moved in one pass, which also
+    // gathers reflect's bounds: reflect is called only when the cluster crosses a wall.)
     link(i, j);
     const std::uint32_t c = members_.cluster_of(i);
     const Vector3 rest_of_flight = ((1.0 - tau) * dt) * velocity_[c];
+    Vector3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+    const std::size_t from = moved.size();
     for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p)) {
+      before_[p] = x_[p];
+      x_[p] = x_[p] - (1.0 - tau) * flown_[p];
       x_[p] = x_[p] + rest_of_flight;
+      for (int d = 0; d < box_.dimension; ++d) {
+        lo[d] = std::min(lo[d], x_[p][d] - radius_);
+        hi[d] = std::max(hi[d], x_[p][d] + radius_);
+      }
       moved.push_back(p);
     }
-    reflect(c);
+    bool inside = true;
+    for (int d = 0; d < box_.dimension; ++d) inside = inside && lo[d] >= 0 && hi[d] <= box_.side[d];
+    if (!inside) reflect(c);
     ++counters_.contact_time_merges;
+    for (std::size_t k = from; k < moved.size(); ++k) {
+      const std::uint32_t p = moved[k];
+      if (periodic) x_[p] = box_.wrap(x_[p]);
+      const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
+      if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+      before_[p] = periodic ? box_.minimum_image(x_[p] - before_[p]) : x_[p] - before_[p];
+      farthest = std::max(farthest, norm(before_[p]));
+    }
   }
-  for (const std::uint32_t p : moved) {
-    x_[p] = box_.wrap(x_[p]);
-    const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
-    if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+  // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
+  // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
+  // same-cluster tolerance, which a full re-check of the moved spheres would link again).
+  if (settings_.near_recheck && nearest_.size() == x_.size() && counters_.round_cap_hits == 0) {
+    double narrowest = grid_.cell_side()[0];
+    for (int d = 1; d < box_.dimension; ++d) narrowest = std::min(narrowest, grid_.cell_side()[d]);
+    const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
+    std::erase_if(moved, [&](std::uint32_t p) { return std::min(nearest_[p], narrowest) >= reach + norm(before_[p]); });
   }
+  counters_.rechecked_spheres += moved.size();
   // What the merged clusters now overlap is left to the minimisation, with the other contacts.
   for (const auto& pr : overlaps_between_clusters(moved)) rest.push_back(pr);
   std::sort(rest.begin(), rest.end());
@@ -554,7 +614,7 @@ void TimeSteppingAggregation::step(double dt) {
       continue;
     }
     double safe = 0;
-    auto found = overlaps_between_clusters({}, true, &safe);
+    auto found = overlaps_between_clusters({}, true, &safe, settings_.contact_time ? &nearest_ : nullptr);
     if (found.empty()) {
       // Nothing moves before the next flight: the pass's safe time holds from here (a margin for the
       // round-off of the positions flown meanwhile).

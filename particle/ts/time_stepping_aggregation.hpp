@@ -43,6 +43,16 @@
 // and finding nothing. Anything that can move a cluster faster than its speed (a merge, a minimisation, a
 // wall correction other than a specular reflection) ends the safe time.
 //
+// Near re-check: a contact-time merge moves the two clusters off the positions the detection pass saw (by
+// D = |their displacement|, for most spheres of a large cluster that absorbs a small one a tiny fraction
+// of the flight); the spheres that can now touch another cluster are re-checked. The pass records, for
+// every sphere, the distance to the nearest sphere of another cluster it examined (every pair closer than
+// the narrowest cell side is examined); a sphere whose nearest such distance is at least 2R + its own D +
+// the largest D of the flight (and a margin) cannot touch any sphere that was then in another cluster, and
+// the pairs within one of the merged clusters keep their separations (a rigid shift): re-checking only the
+// others finds the same pairs as re-checking every moved sphere, for O(those spheres) instead of
+// O(size of the merged cluster) neighbour searches.
+//
 // Time step: Δt^n = Δt(0) (2 − ln M^n / ln N), Δt(0) = dt_factor · L / max_i |V_i(0)| (L the largest box
 // side) [Degond2024, Table 1]: Δt(0) with N clusters, 2Δt(0) with one, growing with ln of the number of
 // merges so far (the cluster count falls like a power of t in ballistic aggregation, so the step grows
@@ -71,12 +81,15 @@ struct TsSettings {
   bool contact_time = true;        // binary collisions merged at their contact (see the header)
   double substep_displacement = 0.25;  // largest flight of a cluster in one substep, in diameters 2R
   bool quiet_flights = true;       // skip detection within a pass's safe time (see the header); same run
+  bool near_recheck = true;        // after contact-time merges re-check only the spheres that can meet
+                                   // another cluster (see the header); same run
 };
 
 struct TsCounters {
   std::uint64_t steps = 0;
   std::uint64_t substeps = 0;           // flights (≥ 1 per step; more when a cluster would fly too far)
   std::uint64_t quiet_flights = 0;      // flights within a safe time (no detection pass needed)
+  std::uint64_t rechecked_spheres = 0;  // spheres re-checked after contact-time merges
   std::uint64_t merges = 0;
   std::uint64_t contact_time_merges = 0;  // binary collisions merged at their contact time
   std::uint64_t secondary_merges = 0;  // merges found after a minimisation of the same step (not in flight)
@@ -156,7 +169,8 @@ class TimeSteppingAggregation {
   // pass took a path that does not bound it).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among,
                                                                                bool swept = false,
-                                                                               double* safe = nullptr) const;
+                                                                               double* safe = nullptr,
+                                                                               std::vector<double>* nearest = nullptr) const;
   void link(std::uint32_t a, std::uint32_t b);
   // Writes only the group's free spheres; `largest_move`: the largest displacement of one of them.
   DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move);
@@ -179,7 +193,7 @@ class TimeSteppingAggregation {
   static constexpr std::uint32_t no_cell = 0xffffffffu;
   static constexpr std::size_t parallel_cells = 16384;  // fewer cells or spheres: one worker (thread start-up dominates)
   std::vector<std::uint32_t> half_neighbours_;
-  std::vector<std::uint32_t> new_cell_;  // scratch of flight
+  std::vector<std::uint32_t> new_cell_;  // scratch of locate
   // f(from, to, worker) over ranges of [0, n) on `threads` workers (one below parallel_cells items).
   template <class F>
   void for_ranges(std::size_t n, F&& f) const;  // per cell, its half-stencil neighbours (no_cell past a wall)
@@ -188,11 +202,14 @@ class TimeSteppingAggregation {
   std::vector<Vector3> velocity_;  // per cluster id
   std::vector<Vector3> flown_;     // per sphere: its displacement in the last flight (walls included)
   std::vector<char> reflected_;    // per cluster: reflected by a wall in the last flight
+  std::vector<std::uint32_t> reflected_list_;  // the clusters reflected_ marks
+  std::vector<Vector3> before_;    // scratch of merge_binary_contacts: positions at the pass, then the moves
   double longest_flight_ = 0;      // the largest |flown_|
   std::vector<double> speed_;      // per cluster id: |velocity_|, set at the start of a step
   double safe_left_ = 0;           // time left of the safe time of the last detection pass
   bool jumped_ = false;            // a cluster was moved by a wall other than by a specular reflection
   std::vector<std::vector<std::uint32_t>> links_;  // per sphere: its linked partners
+  std::vector<double> nearest_;    // per sphere: nearest other-cluster distance of the last pass (near re-check)
   double time_ = 0, dt0_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
   TsCounters counters_;
