@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <thread>
 #include <unordered_map>
 
 #include "analysis/input_error.hpp"
@@ -33,6 +32,7 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       radius_(radius),
       scale_(paper_radius / radius),
       settings_(settings),
+      pool_(settings.threads > 1 ? std::make_unique<WorkerPool>(std::min<std::size_t>(settings.threads, 64)) : nullptr),
       grid_(box, detection_cell_side(box, radius, settings.substep_displacement), positions.size()),
       cells_(grid_.size(), positions.size()),
       members_(positions.size()),
@@ -205,11 +205,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
       pass(0, cells, found, soonest[0]);
     } else {
       std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(workers);
-      std::vector<std::thread> pool;
-      for (std::size_t w = 1; w < workers; ++w)
-        pool.emplace_back([&, w] { pass(cells * w / workers, cells * (w + 1) / workers, parts[w], soonest[w]); });
-      pass(0, cells / workers, parts[0], soonest[0]);
-      for (auto& t : pool) t.join();
+      pool_->run(workers, [&](std::size_t w) { pass(cells * w / workers, cells * (w + 1) / workers, parts[w], soonest[w]); });
       for (const auto& part : parts) found.insert(found.end(), part.begin(), part.end());
     }
     std::sort(found.begin(), found.end());
@@ -282,10 +278,7 @@ template <class F>
 void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
   const std::size_t workers = n >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
   if (workers <= 1) return f(std::size_t(0), n, std::size_t(0));
-  std::vector<std::thread> pool;
-  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back([&, w] { f(n * w / workers, n * (w + 1) / workers, w); });
-  f(std::size_t(0), n / workers, std::size_t(0));
-  for (auto& t : pool) t.join();
+  pool_->run(workers, [&](std::size_t w) { f(n * w / workers, n * (w + 1) / workers, w); });
 }
 
 bool TimeSteppingAggregation::flight(double dt) {
@@ -552,13 +545,7 @@ void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::
       for (std::size_t g = 0; g < groups.size(); ++g) results[g] = minimise(groups[g], moved[g], moves[g]);
     } else {
       // Separate clusters: disjoint free spheres, each group reads only its own cluster.
-      std::atomic<std::size_t> next{0};
-      std::vector<std::thread> pool;
-      for (std::size_t w = 0; w < workers; ++w)
-        pool.emplace_back([&] {
-          for (std::size_t g; (g = next++) < groups.size();) results[g] = minimise(groups[g], moved[g], moves[g]);
-        });
-      for (auto& t : pool) t.join();
+      pool_->run(groups.size(), [&](std::size_t g) { results[g] = minimise(groups[g], moved[g], moves[g]); });
     }
     std::vector<std::uint32_t> check;
     for (std::size_t g = 0; g < groups.size(); ++g) {

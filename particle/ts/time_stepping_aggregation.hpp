@@ -60,6 +60,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -67,6 +68,7 @@
 #include "particle/common/cell_grid.hpp"
 #include "particle/common/cell_list.hpp"
 #include "particle/common/cluster_membership.hpp"
+#include "particle/common/worker_pool.hpp"
 #include "particle/ts/daha.hpp"
 
 namespace aggkit {
@@ -187,6 +189,7 @@ class TimeSteppingAggregation {
   double radius_;
   double scale_;
   TsSettings settings_;
+  std::unique_ptr<WorkerPool> pool_;  // the `threads` workers, kept between steps (null for one thread)
   CellGrid grid_;
   CellList cells_;
   std::vector<CellCoords> half_stencil_;  // the offset 0 and one of each ± pair of the 3^d stencil
