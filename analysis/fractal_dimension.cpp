@@ -8,6 +8,7 @@
 #include <string>
 
 #include "analysis/input_error.hpp"
+#include "analysis/least_squares.hpp"
 
 namespace aggkit {
 
@@ -21,24 +22,14 @@ void check_arguments(std::size_t, int dimension, double radius) {
     throw InputError("radius", format_value(radius), "must be positive and finite");
 }
 
-// Least-squares line through (x_k, y_k), k in [first, last]: slope and its standard error
-// sqrt(Σ residual² / (n - 2) / Σ (x - x̄)²).
+// Least-squares line through (x_k, y_k), k in [first, last] (analysis/least_squares.hpp, gsl_fit_linear):
+// slope and its standard error sqrt(Σ residual² / (n - 2) / Σ (x - x̄)²).
 void fit_log_log(const std::vector<double>& x, const std::vector<double>& y, std::size_t first, std::size_t last,
                  double sign, FractalFit& fit) {
   const std::size_t n = last - first + 1;
-  double mx = 0, my = 0;
-  for (std::size_t k = first; k <= last; ++k) mx += x[k], my += y[k];
-  mx /= double(n), my /= double(n);
-  double sxx = 0, sxy = 0;
-  for (std::size_t k = first; k <= last; ++k) sxx += (x[k] - mx) * (x[k] - mx), sxy += (x[k] - mx) * (y[k] - my);
-  const double slope = sxy / sxx;
-  double residual2 = 0;
-  for (std::size_t k = first; k <= last; ++k) {
-    const double r = y[k] - my - slope * (x[k] - mx);
-    residual2 += r * r;
-  }
-  fit.dimension = sign * slope;
-  fit.standard_error = std::sqrt(residual2 / double(n - 2) / sxx);
+  const LineFit line = fit_line(std::span(x).subspan(first, n), std::span(y).subspan(first, n));
+  fit.dimension = sign * line.slope;
+  fit.standard_error = line.slope_error;
   fit.fit_points = int(n);
 }
 

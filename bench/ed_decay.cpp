@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "analysis/least_squares.hpp"
 #include "bench/ed_common.hpp"
 #include "bench/figures.hpp"
 
@@ -18,22 +19,13 @@ struct Fit {
   double slope, error;
 };
 
+// Least squares in log-log (analysis/least_squares.hpp, gsl_fit_linear): slope and its standard error
+// sqrt(Σ residual² / (n - 2) / Σ (x - x̄)²).
 Fit fit_loglog(const std::vector<double>& x, const std::vector<double>& y) {
-  const std::size_t n = x.size();
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < n; ++i) mx += std::log(x[i]) / n, my += std::log(y[i]) / n;
-  double sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    sxx += (std::log(x[i]) - mx) * (std::log(x[i]) - mx);
-    sxy += (std::log(x[i]) - mx) * (std::log(y[i]) - my);
-  }
-  const double slope = sxy / sxx;
-  double rss = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double r = std::log(y[i]) - my - slope * (std::log(x[i]) - mx);
-    rss += r * r;
-  }
-  return {slope, std::sqrt(rss / double(n - 2) / sxx)};
+  std::vector<double> lx(x.size()), ly(y.size());
+  for (std::size_t i = 0; i < x.size(); ++i) lx[i] = std::log(x[i]), ly[i] = std::log(y[i]);
+  const LineFit f = fit_line(lx, ly);
+  return {f.slope, f.slope_error};
 }
 
 }  // namespace

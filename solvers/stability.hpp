@@ -58,7 +58,7 @@ struct HopfPoint {
   double a = 0;
   bool found = false;            // false: no crossing in [lambda_lo, lambda_hi] (note says which side)
   double lambda_crit = 0;        // the rightmost complex pair crosses Re = 0 here
-  double lambda_tolerance = 0;   // |lambda_crit - true crossing| bound of the bisection/secant
+  double lambda_tolerance = 0;   // |lambda_crit - true crossing| bound of the root bracket
   double omega = 0;              // Im of the crossing pair: oscillation period 2π/ω
   std::string note;
   // Added beyond the shared interface:
@@ -73,9 +73,9 @@ struct HopfOptions {
 
 // λ_crit for the brownian kernel (i/j)^a + (j/i)^a with the other settings of `base` (size N,
 // truncation, initial mass). Sustained oscillations for λ < λ_crit. The growth rate g(λ) = Re μ of the
-// rightmost complex pair is bracketed on [lambda_lo, lambda_hi] and the root is found by the Illinois
-// variant of regula falsi in ln λ (a secant method that keeps a bracket) until the bracket is narrower
-// than relative_tolerance · λ; each steady state starts from the nearest one already found
+// rightmost complex pair is bracketed on [lambda_lo, lambda_hi] and the root is found by Brent's method
+// in ln λ (gsl_root_fsolver_brent; solvers/hopf.cpp) until the bracket is narrower than
+// relative_tolerance · λ; each steady state starts from the nearest one already found
 // (continuation in λ). Throws InputError for a ∉ [0, 1] or a bad λ range. If no steady state exists at
 // lambda_lo (too short a truncation for that λ), found = false and the note says so.
 HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "analysis/fractal_dimension.hpp"
+#include "analysis/least_squares.hpp"
 #include "analysis/oscillation.hpp"
 #include "analysis/shape.hpp"
 #include "validation/observables/observable.hpp"
@@ -114,7 +115,7 @@ FractalFit centre_of_mass_dimension(const ParticleConfiguration& c, std::span<co
   }
   std::sort(distance.begin(), distance.end());
   const double r90 = distance[std::min(n - 1, std::size_t(std::ceil(0.9 * double(n))) - 1)];
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  std::vector<double> log_scale, log_count;  // the scales holding at least one particle
   for (int k = 2;; ++k) {
     const double r = c.radius * std::pow(2.0, 0.5 * k);
     if (r > r90) break;
@@ -122,23 +123,17 @@ FractalFit centre_of_mass_dimension(const ParticleConfiguration& c, std::span<co
     fit.scale.push_back(r);
     fit.count.push_back(count);
     if (count < 1) continue;
-    const double x = std::log(r), y = std::log(count);
-    sx += x, sy += y, sxx += x * x, sxy += x * y;
+    log_scale.push_back(std::log(r));
+    log_count.push_back(std::log(count));
     if (fit.fit_points++ == 0) fit.fit_min = r;
     fit.fit_max = r;
   }
-  const double m = fit.fit_points;
   if (fit.fit_points < 3) return fit;
-  const double sxx_c = sxx - sx * sx / m;
-  fit.dimension = (sxy - sx * sy / m) / sxx_c;
-  const double intercept = (sy - fit.dimension * sx) / m;
-  double residual = 0;
-  for (std::size_t k = 0; k < fit.scale.size(); ++k) {
-    if (fit.count[k] < 1) continue;
-    const double e = std::log(fit.count[k]) - intercept - fit.dimension * std::log(fit.scale[k]);
-    residual += e * e;
-  }
-  fit.standard_error = fit.fit_points > 2 ? std::sqrt(residual / (m - 2) / sxx_c) : nan;
+  // Least squares with the slope's standard error sqrt(Σ residual² / (n - 2) / Σ (x - x̄)²)
+  // (analysis/least_squares.hpp, gsl_fit_linear).
+  const LineFit line = fit_line(log_scale, log_count);
+  fit.dimension = line.slope;
+  fit.standard_error = line.slope_error;
   return fit;
 }
 
