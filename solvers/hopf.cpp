@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <exception>
 #include <limits>
 #include <new>
@@ -42,7 +43,15 @@ class GrowthRate {
     for (const Sample& s : samples_)
       if (!nearest || std::abs(s.x - x) < std::abs(nearest->x - x)) nearest = &s;
     SteadyStateResult steady;
-    if (nearest) steady = solve_steady_state(model, options_.steady, nearest->n);
+    if (nearest) {
+      steady = solve_steady_state(model, options_.steady, nearest->n);
+    } else if (!options_.start.empty()) {
+      // The caller's state at a nearby (a, λ), cut or extended to this N.
+      const std::size_t N = model.size;
+      std::vector<double> guess = options_.start.size() >= N ? std::vector<double>(options_.start.begin(), options_.start.begin() + std::ptrdiff_t(N))
+                                                             : extend_steady_state(options_.start, N);
+      steady = solve_steady_state(model, options_.steady, guess);
+    }
     if (!steady.converged) steady = solve_steady_state(model, options_.steady);
     ++point.evaluations;
     if (!steady.converged)
@@ -81,6 +90,7 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
 HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,
                       double relative_tolerance, const HopfOptions& options) {
   const auto started = std::chrono::steady_clock::now();
+  const std::clock_t cpu_started = std::clock();
   if (!(lambda_lo > 0.0) || !std::isfinite(lambda_lo))
     throw InputError("lambda_lo", format_value(lambda_lo), "a finite shattering rate > 0");
   if (!(lambda_hi > lambda_lo) || !std::isfinite(lambda_hi))
@@ -93,26 +103,47 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
   // Stable end first: its steady state is the easiest start (CVODE relaxes to it).
   auto finish = [&] {
     point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    point.cpu_seconds = double(std::clock() - cpu_started) / CLOCKS_PER_SEC;
     return point;
   };
   Sample upper = growth.at(std::log(lambda_hi), point);
+  // Crossing above the bracket: step it up (the old upper end becomes the lower one), keeping the stable
+  // end's steady state as the next start.
+  const double span = std::log(lambda_hi / lambda_lo);
+  int steps = 0;
   Sample lower;
-  try {
-    lower = growth.at(std::log(lambda_lo), point);
-  } catch (const std::runtime_error& e) {
-    // Small λ with a short truncation: the quasi-steady state may have no positive root (a larger N is
-    // needed); the bracket cannot be closed, which is a result, not a failure of the search.
-    point.note += std::string("no steady state at lambda_lo (raise lambda_lo or N): ") + e.what();
-    return finish();
+  bool have_lower = false;
+  while (upper.growth >= 0.0 && steps < options.bracket_steps) {
+    ++steps;
+    lower = upper;
+    have_lower = true;
+    upper = growth.at(lower.x + span, point);
   }
   if (upper.growth >= 0.0) {
-    point.note += "unstable at lambda_hi = " + format_value(lambda_hi) + ": lambda_crit > lambda_hi";
+    point.note += "unstable at lambda_hi = " + format_value(std::exp(upper.x)) + ": lambda_crit > that";
     return finish();
+  }
+  if (!have_lower) {
+    try {
+      lower = growth.at(std::log(lambda_lo), point);
+      // Crossing below the bracket: step it down.
+      while (lower.growth < 0.0 && steps < options.bracket_steps) {
+        ++steps;
+        upper = lower;
+        lower = growth.at(upper.x - span, point);
+      }
+    } catch (const std::runtime_error& e) {
+      // Small λ with a short truncation: the quasi-steady state may have no positive root (a larger N is
+      // needed); the bracket cannot be closed, which is a result, not a failure of the search.
+      point.note += std::string("no steady state at lambda_lo (raise lambda_lo or N): ") + e.what();
+      return finish();
+    }
   }
   if (lower.growth < 0.0) {
-    point.note += "stable at lambda_lo = " + format_value(lambda_lo) + ": lambda_crit < lambda_lo (or no Hopf point)";
+    point.note += "stable at lambda_lo = " + format_value(std::exp(lower.x)) + ": lambda_crit < that (or no Hopf point)";
     return finish();
   }
+  if (steps > 0) point.note += "bracket stepped " + std::to_string(steps) + " times; ";
   // Brent's method (gsl_root_fsolver_brent: inverse quadratic interpolation and secant steps, bisection
   // whenever they do not shrink the bracket fast enough) on g(ln λ): lower has g ≥ 0, upper g < 0. Every
   // iterate keeps a bracket [x_lower, x_upper] of evaluated points around the crossing; it is narrowed
@@ -189,6 +220,7 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
   point.lambda_crit = std::exp(lower.x + t * (upper.x - lower.x));
   point.lambda_tolerance = std::exp(upper.x) - std::exp(lower.x);
   point.omega = lower.omega + t * (upper.omega - lower.omega);
+  point.steady_state = upper.n;
   if (upper.x - lower.x > width) point.note += "bracket not narrowed to the tolerance in 60 steps; ";
   return finish();
 }

@@ -69,7 +69,7 @@ class ShiftInvertOperator {
     check_petsc(KSPCreate(PETSC_COMM_SELF, &ksp_), "KSPCreate");
     check_petsc(KSPSetOperators(ksp_, matrix_, matrix_), "KSPSetOperators");
     check_petsc(KSPSetType(ksp_, KSPGMRES), "KSPSetType");
-    check_petsc(KSPGMRESSetRestart(ksp_, 100), "KSPGMRESSetRestart");
+    check_petsc(KSPGMRESSetRestart(ksp_, options.krylov_restart), "KSPGMRESSetRestart");
     check_petsc(KSPSetPCSide(ksp_, PC_RIGHT), "KSPSetPCSide");
     check_petsc(KSPSetTolerances(ksp_, options.linear_tolerance, 1e-300, PETSC_DEFAULT, 5000), "KSPSetTolerances");
     PC pc = nullptr;

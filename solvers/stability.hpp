@@ -32,6 +32,7 @@ struct StabilityOptions {
   int krylov_eigenvalues = 16;        // how many eigenvalues nearest σ Arnoldi computes (≥ count)
   double eigen_tolerance = 1e-10;     // Spectra's relative tolerance on the Ritz values of (A - σI)^{-1}
   double linear_tolerance = 1e-12;    // relative GMRES tolerance of each shift-invert solve
+  int krylov_restart = 100;           // GMRES restart length of the shift-invert solves
   double lowrank_tolerance = 1e-12;   // kernels without an exact factorisation
 };
 
@@ -64,20 +65,29 @@ struct HopfPoint {
   // Added beyond the shared interface:
   int evaluations = 0;           // steady state + spectrum computations
   double seconds = 0;
+  double cpu_seconds = 0;        // process CPU time (the machine may be shared)
+  std::vector<double> steady_state;  // the steady state at the final bracket's stable end (found only)
 };
 
 struct HopfOptions {
   SteadyStateOptions steady;
   StabilityOptions stability;
+  // A steady state at a nearby (a, λ), of any size: the first Newton guess (cut to N, or extended to N
+  // by extend_steady_state). Empty: the steady-state solver's own start.
+  std::vector<double> start;
+  // When [lambda_lo, lambda_hi] does not hold the crossing, step the bracket towards it (each step
+  // moves it by its own width in ln λ, the known end becoming the new inner end) up to this many times.
+  int bracket_steps = 0;
 };
 
 // λ_crit for the brownian kernel (i/j)^a + (j/i)^a with the other settings of `base` (size N,
 // truncation, initial mass). Sustained oscillations for λ < λ_crit. The growth rate g(λ) = Re μ of the
-// rightmost complex pair is bracketed on [lambda_lo, lambda_hi] and the root is found by Brent's method
-// in ln λ (gsl_root_fsolver_brent; solvers/hopf.cpp) until the bracket is narrower than
-// relative_tolerance · λ; each steady state starts from the nearest one already found
-// (continuation in λ). Throws InputError for a ∉ [0, 1] or a bad λ range. If no steady state exists at
-// lambda_lo (too short a truncation for that λ), found = false and the note says so.
+// rightmost complex pair is bracketed on [lambda_lo, lambda_hi] (moved up to options.bracket_steps
+// times if it does not hold the crossing) and the root is found by Brent's method in ln λ
+// (gsl_root_fsolver_brent; solvers/hopf.cpp) until the bracket is narrower than relative_tolerance · λ; each steady state
+// starts from the nearest one already found (continuation in λ), the first from options.start if
+// given. Throws InputError for a ∉ [0, 1] or a bad λ range. If no steady state exists at the lower end
+// (too short a truncation for that λ), found = false and the note says so.
 HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,
                       double relative_tolerance = 1e-3);
 HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, double lambda_hi,

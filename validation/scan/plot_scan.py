@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Phase diagram of an aggkit scan: the regime of every (a, lambda) point (scan.csv) and the lambda_crit(a)
-curve with its error bars (lambda_crit.csv). Called by `aggkit scan`; runs with Debian's python3-matplotlib."""
+curve with its error bars (lambda_crit.csv: bracket plus the N -> 2N change). Called by `aggkit scan`; runs with Debian's python3-matplotlib."""
 import argparse
 import csv
 import math
@@ -54,8 +54,12 @@ def main():
     if rows:
         a = [number(r["a"]) for r in rows]
         lc = [number(r["lambda_crit"]) for r in rows]
-        err = [number(r["lambda_crit_error"]) for r in rows]
-        err = [0.0 if math.isnan(e) else e for e in err]
+        # Error bar: the bracket of the estimate plus, where lambda_crit was also found at 2N, the change
+        # N -> 2N (the truncation error; change_2N is relative).
+        err = []
+        for r, value in zip(rows, lc):
+            bracket, change = number(r["lambda_crit_error"]), number(r.get("change_2N", ""))
+            err.append((0.0 if math.isnan(bracket) else bracket) + (0.0 if math.isnan(change) else change * value))
         method = rows[0]["method"]
         ax.errorbar(a, lc, yerr=err, color="black", lw=1.5, capsize=3,
                     label="lambda_crit(a) (%s)" % method)

@@ -1,0 +1,151 @@
+// locate_hopf_converged and hopf_curve (solvers/hopf_curve.hpp): λ_crit(a) converged in the truncation
+// N by doubling it, and the curve by continuation in a.
+#include "solvers/hopf_curve.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <stdexcept>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+void HopfCurveOptions::validate() const {
+  auto in_range = [](const char* key, double v, double lo, double hi, const char* allowed) {
+    if (!(v > lo && v < hi)) throw InputError(key, format_value(v), allowed);
+  };
+  in_range("relative_tolerance", relative_tolerance, 0.0, 0.1, "a number in (0, 0.1)");
+  in_range("convergence", convergence, 0.0, 1.0, "a number in (0, 1)");
+  in_range("bracket", bracket, 0.0, 10.0, "a number in (0, 10)");
+  if (bracket_steps < 0) throw InputError("bracket_steps", std::to_string(bracket_steps), "an integer >= 0");
+  if (min_size < 8) throw InputError("min_size", std::to_string(min_size), "an integer >= 8");
+  if (max_size < 2 * min_size)
+    throw InputError("max_size", std::to_string(max_size), "an integer >= 2 min_size = " + std::to_string(2 * min_size));
+  if (!(size_per_inverse_lambda >= 0.0) || !std::isfinite(size_per_inverse_lambda))
+    throw InputError("size_per_inverse_lambda", format_value(size_per_inverse_lambda), "a finite number >= 0");
+  if (!std::isfinite(log_slope)) throw InputError("log_slope", format_value(log_slope), "a finite number");
+}
+
+namespace {
+
+std::size_t power_of_two_at_least(double x) {
+  std::size_t n = 1;
+  while (double(n) < x && n < (std::size_t(1) << 40)) n *= 2;
+  return n;
+}
+
+bool no_steady_state(const HopfPoint& p) { return p.note.find("no steady state") != std::string::npos; }
+
+}  // namespace
+
+ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a, double lambda_guess, std::size_t size,
+                                         const HopfCurveOptions& options, std::span<const double> start) {
+  options.validate();
+  if (!(lambda_guess > 0.0) || !std::isfinite(lambda_guess))
+    throw InputError("lambda_guess", format_value(lambda_guess), "a finite shattering rate > 0");
+  const auto started = std::chrono::steady_clock::now();
+  const std::clock_t cpu_started = std::clock();
+  ConvergedHopfPoint result;
+  result.a = a;
+  // The first N: the caller's, at least min_size and size_per_inverse_lambda / λ (a tail of ~10 decay
+  // lengths), at most max_size / 2 so that one doubling remains possible.
+  std::size_t N = power_of_two_at_least(std::max({double(size), double(options.min_size),
+                                                   options.size_per_inverse_lambda / lambda_guess}));
+  N = std::min(N, options.max_size / 2);
+  HopfOptions hopf = options.hopf;
+  hopf.bracket_steps = options.bracket_steps;
+  hopf.start.assign(start.begin(), start.end());
+  double guess = lambda_guess, half_width = options.bracket;
+  std::size_t previous = 0;  // 1 + index in by_size of the last λ_crit found at N / 2 (0: none)
+  for (; N <= options.max_size; N *= 2) {
+    AggregationModel model = base;
+    model.size = N;
+    model.initial.resize(N, 0.0);  // a longer table's entries beyond N must be zero (validate() says so)
+    const double lo = guess / (1.0 + half_width), hi = guess * (1.0 + half_width);
+    try {
+      result.by_size.push_back(locate_hopf(model, a, lo, hi, options.relative_tolerance, hopf));
+    } catch (const std::runtime_error& e) {
+      // A failed steady state at either end (not only at lambda_lo): this N is too short as well.
+      HopfPoint failed;
+      failed.a = a;
+      failed.note = std::string("no steady state: ") + e.what();
+      result.by_size.push_back(failed);
+    }
+    result.sizes.push_back(N);
+    const HopfPoint& p = result.by_size.back();
+    result.evaluations += p.evaluations;
+    if (!p.found) {
+      // No positive quasi-steady state near λ at this N: the truncation is too short; double it.
+      if (no_steady_state(p)) {
+        previous = 0;
+        continue;
+      }
+      result.note += "N = " + std::to_string(N) + ": " + p.note + "; ";
+      break;
+    }
+    result.lambda_crit = p.lambda_crit;
+    result.omega = p.omega;
+    result.size = N;
+    result.bracket = p.lambda_tolerance;
+    if (previous) {
+      const double half = result.by_size[previous - 1].lambda_crit;
+      result.lambda_crit_half = half;
+      result.change = std::abs(p.lambda_crit - half) / p.lambda_crit;
+      if (result.change <= options.convergence) {
+        result.converged = true;
+        break;
+      }
+    }
+    previous = result.by_size.size();
+    // The next N starts from this one: its λ_crit ± the convergence tolerance (a crossing inside shows the
+    // change is within it) and its steady state.
+    guess = p.lambda_crit;
+    half_width = options.convergence;
+    hopf.start = p.steady_state;
+  }
+  if (!result.converged) {
+    if (result.size == 0)
+      result.note += "no lambda_crit found up to N = " + std::to_string(options.max_size) + "; ";
+    else
+      result.note += "not converged in N up to " + std::to_string(std::min(N, options.max_size)) + "; ";
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  result.cpu_seconds = double(std::clock() - cpu_started) / CLOCKS_PER_SEC;
+  return result;
+}
+
+std::vector<ConvergedHopfPoint> hopf_curve(const AggregationModel& base, std::span<const double> a_values,
+                                           double lambda_guess, std::size_t size, const HopfCurveOptions& options,
+                                           const std::function<void(const ConvergedHopfPoint&)>& on_point) {
+  options.validate();
+  std::vector<ConvergedHopfPoint> curve;
+  std::vector<const ConvergedHopfPoint*> converged;
+  curve.reserve(a_values.size());  // no reallocation: the pointers stay valid
+  for (double a : a_values) {
+    double guess = lambda_guess;
+    std::size_t N = size;
+    std::vector<double> start;
+    if (!converged.empty()) {
+      const ConvergedHopfPoint& last = *converged.back();
+      guess = last.lambda_crit * std::exp(options.log_slope * (a - last.a));
+      if (converged.size() >= 2) {
+        // ln λ_crit linear in a through the last two converged points.
+        const ConvergedHopfPoint& before = *converged[converged.size() - 2];
+        if (last.a != before.a)
+          guess = std::exp(std::log(last.lambda_crit) +
+                           (a - last.a) * (std::log(last.lambda_crit) - std::log(before.lambda_crit)) / (last.a - before.a));
+      }
+      // N ∝ 1/λ: the smaller N of the last converged pair, scaled.
+      N = std::size_t(std::ceil(double(last.size / 2) * last.lambda_crit / guess));
+      start = last.by_size.back().steady_state;
+    }
+    curve.push_back(locate_hopf_converged(base, a, guess, N, options, start));
+    if (curve.back().converged) converged.push_back(&curve.back());
+    if (on_point) on_point(curve.back());
+  }
+  return curve;
+}
+
+}  // namespace aggkit
