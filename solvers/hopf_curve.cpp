@@ -137,8 +137,9 @@ std::vector<ConvergedHopfPoint> hopf_curve(const AggregationModel& base, std::sp
           guess = std::exp(std::log(last.lambda_crit) +
                            (a - last.a) * (std::log(last.lambda_crit) - std::log(before.lambda_crit)) / (last.a - before.a));
       }
-      // N ∝ 1/λ: the smaller N of the last converged pair, scaled.
-      N = std::size_t(std::ceil(double(last.size / 2) * last.lambda_crit / guess));
+      // N from the guess alone (options.size_per_inverse_lambda / λ, the tail's decay length): scaling the
+      // last pair's N instead would ratchet it up by the power-of-two rounding at every a.
+      N = options.min_size;
       start = last.by_size.back().steady_state;
     }
     curve.push_back(locate_hopf_converged(base, a, guess, N, options, start));

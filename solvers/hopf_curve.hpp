@@ -4,10 +4,10 @@
 // Why N must grow as λ falls: for a > 1/2 and small λ a large cluster grows mostly by taking up monomers
 // and small clusters (K_kj ≈ (k/j)^a for j ≪ k) and is shattered at λ times its collision rate, so the
 // steady-state tail obeys the drift–loss balance d/dk (A k^a n_k) = -λ B k^a n_k with A = Σ j^{1-a} n_j,
-// B = Σ j^{-a} n_j, i.e. n_k ∝ k^{-a} e^{-c k} with c = λ B / A [Brilliantov2018]. Measured (bench/log/
-// lambda-crit-curve.md): c ≈ 0.6 λ … 0.7 λ near λ_crit for a = 0.75 … 0.9. A truncation at N drops or
-// distorts what lies beyond c N decay lengths, so N must grow like 1/λ; below N c ≈ 5 the quasi-steady
-// state of the truncated system has no positive root at all.
+// B = Σ j^{-a} n_j, i.e. n_k ∝ k^{-a} e^{-c k} with c = λ B / A (model of [Kalinov2022, eq. 4]; the
+// balance is derived in bench/log/lambda-crit-curve.md, where c ≈ 0.62 λ … 0.67 λ is measured near
+// λ_crit at a = 0.75 and 0.8). A truncation at N cuts the tail where it has fallen by e^{-cN}, so N must
+// grow like 1/λ; below c N ≈ 4 … 5 the quasi-steady state of the truncated system has no positive root.
 //
 // locate_hopf_converged finds λ_crit at N and at 2N (doubling further while the relative change exceeds
 // `convergence`): the value reported is the one at the largest N, with |λ(2N) - λ(N)| as its
@@ -18,8 +18,9 @@
 //
 // hopf_curve walks a list of a values (from the top, a = 1, downwards: λ_crit falls steeply towards
 // a = 1/2), guessing each λ_crit by extrapolating ln λ_crit linearly in a from the two previous points and
-// scaling the starting N by λ_prev / λ_guess (N ∝ 1/λ), so no a starts with a blind bracket or an N
-// too short for a steady state. Spectra as in locate_hopf ([Kalinov2022, Sec. 5.2]).
+// starting at N = size_per_inverse_lambda / λ_guess (N ∝ 1/λ), so no a starts with a blind bracket or an
+// N too short for a steady state (an N that is, all the same, is doubled). Spectra as in locate_hopf
+// ([Kalinov2022, Sec. 5.2]).
 #include <cstddef>
 #include <functional>
 #include <span>
