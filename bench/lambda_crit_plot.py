@@ -6,7 +6,7 @@
 Reads the Markdown rows `| a | lambda_crit | N | lambda_crit(N/2) | change | bracket | omega | ...` of the
 bench's output (one or more logs; rows marked NOT CONVERGED are left out), writes them as the scan's
 lambda_crit.csv (validation/scan/scan_output.cpp: size = N/2, lambda_crit = its value, lambda_crit_2N = the
-value at N, change_2N = the relative change, error = the Brent bracket) beside OUTPUT, and calls
+value at N, change_2N = the relative change, error = the Brent bracket) in a temporary folder, and calls
 validation/scan/plot_scan.py with an empty scan.csv: the curve with error bars bracket + change, log lambda.
 """
 import csv
@@ -14,6 +14,7 @@ import math
 import os
 import subprocess
 import sys
+import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COLUMNS = ["a", "lambda_crit", "lambda_crit_error", "method", "lambda_sustained", "lambda_relaxing", "period", "N",
@@ -49,19 +50,18 @@ def main():
     if not rows:
         print("no converged rows in " + " ".join(sys.argv[2:]), file=sys.stderr)
         return 1
-    folder = os.path.dirname(os.path.abspath(output))
-    crit = os.path.join(folder, "lambda_crit.csv")
-    with open(crit, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=COLUMNS)
-        w.writeheader()
-        w.writerows(rows)
-    scan = os.path.join(folder, "scan_empty.csv")
-    with open(scan, "w") as f:
-        f.write("a,lambda,regime,converged\n")
-    return subprocess.call(["/usr/bin/python3", os.path.join(ROOT, "validation", "scan", "plot_scan.py"), "--scan", scan,
-                            "--lambda-crit", crit, "--output", output, "--log-lambda", "--title",
-                            "lambda_crit(a), brownian kernel, converged in N (bench_lambda_crit_curve)"])
-
+    with tempfile.TemporaryDirectory() as folder:
+        crit = os.path.join(folder, "lambda_crit.csv")
+        with open(crit, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=COLUMNS)
+            w.writeheader()
+            w.writerows(rows)
+        scan = os.path.join(folder, "scan.csv")
+        with open(scan, "w") as f:
+            f.write("a,lambda,regime,converged\n")
+        return subprocess.call(["/usr/bin/python3", os.path.join(ROOT, "validation", "scan", "plot_scan.py"), "--scan",
+                                scan, "--lambda-crit", crit, "--output", os.path.abspath(output), "--log-lambda",
+                                "--title", "lambda_crit(a), brownian kernel, converged in N (bench_lambda_crit_curve)"])
 
 if __name__ == "__main__":
     sys.exit(main())
