@@ -71,9 +71,10 @@ outputs = [1.0]
 series = ["M0"]
 [[engine]]
 name = "snes"
-start_time = 20.0
+start_time = 1.0
 )";
-  // -snes_max_it 1 stops Newton after one step, far from the 1e-10 tolerance: the engine fails and says why.
+  // -snes_max_it 1 stops Newton after one step from the CVODE state at t = 1 (a start far from the steady
+  // state, which one step cannot reach to the 1e-10 tolerance): the engine fails and says why.
   const auto out = aggkit::testing::scratch_folder("engine-snes-petsc") / "out";
   const RunResult stopped =
       run_scene(aggkit::testing::parse_checked(scene + "petsc_options = \"-snes_max_it 1\"\n"), aggkit::testing::quiet_run(out));
