@@ -3,7 +3,9 @@
 // the mass-constrained equations (solvers/mass_constrained_system.hpp): F_k = f_k (k < N), F_N = Σ k n_k - M.
 // J·v is the exact bilinear form of the fast O(N R log N) rates (a MatShell, no differencing); GMRES is
 // right-preconditioned by the monomer-attachment lower-triangular part of J_F (O(N) per application);
-// backtracking line search; Eisenstat–Walker forcing terms [Eisenstat1996]. Without an initial guess the
+// backtracking line search; Eisenstat–Walker forcing terms [Eisenstat1996] (the first one tightened to
+// about tolerance / residual when the start is within 4 orders of the tolerance: one accurate step then
+// replaces several loose ones). Without an initial guess the
 // start is the state of a short CVODE run from the model's initial state (retried with a longer run if
 // Newton fails or lands on a root with negative densities). Natural-parameter continuation in λ or in the
 // brownian exponent a reuses (secant-extrapolates) the previous solutions.
@@ -40,12 +42,13 @@ struct SteadyStateOptions {
   double start_rtol = 1e-4;
   int start_retries = 2;
   // Coarse-to-fine start (without a guess, when N > coarse_start_above and the initial state lies within
-  // the first N / 4 sizes): the steady state at N / 4 (found the same way, recursively), its tail beyond
-  // N / 8 replaced by a fit ln n_k = a + b ln k + c k over N / 32 ... N / 8 and extended to N. Newton then
-  // solves the size-N system to the same tolerance, so the result does not depend on the start; the
-  // start saves the CVODE run at full size and most of Newton's damped steps. If Newton fails from it,
-  // the CVODE start follows. 0 disables.
-  std::size_t coarse_start_above = 16384;
+  // the first N / 4 sizes): the steady state at N / 4 (found the same way, recursively, down to a CVODE
+  // start at N ≤ coarse_start_above), kept up to N / 8 and beyond replaced by a fit
+  // ln n_k = a + b ln k + c k over N / 32 ... N / 8, extended to N. Newton then solves the size-N system
+  // to the same tolerance, so the result does not depend on the start; the start saves the CVODE run at
+  // full size and most of Newton's damped steps. If Newton fails from it, the CVODE start follows.
+  // 0 disables.
+  std::size_t coarse_start_above = 4096;
   // PETSc options-database entries for the SNES and its KSP/PC ("-snes_rtol 1e-12 -ksp_type bcgs"),
   // applied after the settings above (they override them); the command line's (solvers/petsc_options.hpp)
   // come after these.
@@ -78,10 +81,10 @@ SteadyStateResult solve_steady_state(const AggregationModel& model, const Steady
                                      std::span<const double> initial_guess = {});
 
 // The coarse-to-fine start's extension of a steady state `coarse` (sizes 1..Nc) to sizes 1..N: n_k for
-// k ≤ Nc / 8, beyond that exp(a + b ln k + c k) with a, b, c the least-squares fit of ln n_k over
-// Nc / 32 < k ≤ Nc / 8 (the form of a power law with an exponential cut-off; c clamped to ≤ 0; the edge
-// region near Nc, distorted by the truncation, is not used). Where the fitted region holds non-positive
-// densities the extension is zero.
+// k ≤ Nc / 2, beyond that exp(a + b ln k + c k) with a, b, c the least-squares fit of ln n_k over
+// Nc / 8 < k ≤ Nc / 2 (the form of a power law with an exponential cut-off; c clamped to ≤ 0; the edge
+// region beyond Nc / 2, distorted by the truncation, is not used). Where the fitted region holds
+// non-positive densities the extension is zero.
 std::vector<double> extend_steady_state(std::span<const double> coarse, std::size_t N);
 
 // Natural-parameter continuation: the steady states of `base` with λ = lambdas[i] (in the given order),
