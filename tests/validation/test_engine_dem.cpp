@@ -144,17 +144,28 @@ TEST_CASE("dem: a cold cloud collapses to one aggregate, final.json follows the 
   CHECK(final["virial_ratio"].get<double>() >= 0);
 }
 
+namespace {
+
+// final.json of a DEM scene run with the engine keys `engine` and the particle keys `particles`, less its
+// wall times (the one thing that may differ between thread counts).
+nlohmann::json final_without_wall_time(const std::string& folder, const std::string& engine,
+                                       const std::string& particles, const std::string& end) {
+  const auto out = aggkit::testing::scratch_folder(folder);
+  run_scene(aggkit::testing::parse_checked(dem_scene(engine, particles, end)), aggkit::testing::quiet_run(out));
+  nlohmann::json final = final_json(out);
+  final.erase("wall_seconds");
+  final.erase("wall_seconds_stderr");
+  return final;
+}
+
+}  // namespace
+
 TEST_CASE("dem: the same seed gives the same results for any thread counts", "[dem][harness]") {
   auto run = [](const std::string& threads) {
-    const auto out = aggkit::testing::scratch_folder("dem-threads-" + threads);
-    run_scene(aggkit::testing::parse_checked(
-                  dem_scene("restitution = 0.3\ncontact_time = 0.05\ngravity = { G = 1.0, softening = 0.01 }\n" + threads,
-                            "realizations = 3\nseed = 9\n", "6.0")),
-              aggkit::testing::quiet_run(out));
-    nlohmann::json final = final_json(out);
-    final.erase("wall_seconds");
-    final.erase("wall_seconds_stderr");
-    return final;
+    return final_without_wall_time(
+        "dem-threads-" + threads,
+        "restitution = 0.3\ncontact_time = 0.05\ngravity = { G = 1.0, softening = 0.01 }\n" + threads,
+        "realizations = 3\nseed = 9\n", "6.0");
   };
   const nlohmann::json serial = run("");
   CHECK(serial == run("threads = 3\nforce_threads = 4\n"));
@@ -163,14 +174,9 @@ TEST_CASE("dem: the same seed gives the same results for any thread counts", "[d
 TEST_CASE("dem: the implicit dashpot gives the same results for any thread counts", "[dem][harness]") {
   // ζ = 14 at t_c/50 (γ_n dt/m_eff = 1.8): the dashpots are solved implicitly, serially in pair order.
   auto run = [](const std::string& threads) {
-    const auto out = aggkit::testing::scratch_folder("dem-implicit-threads-" + threads);
-    run_scene(aggkit::testing::parse_checked(dem_scene("stiffness_normalized = 1e4\ndamping = 2e3\ngravity = { G = 1.0 }\n" + threads,
-                                                       "realizations = 2\nseed = 9\n", "4.0")),
-              aggkit::testing::quiet_run(out));
-    nlohmann::json final = final_json(out);
-    final.erase("wall_seconds");
-    final.erase("wall_seconds_stderr");
-    return final;
+    return final_without_wall_time("dem-implicit-threads-" + threads,
+                                   "stiffness_normalized = 1e4\ndamping = 2e3\ngravity = { G = 1.0 }\n" + threads,
+                                   "realizations = 2\nseed = 9\n", "4.0");
   };
   const nlohmann::json serial = run("");
   CHECK(serial["dashpot_solves"].get<double>() > 0);

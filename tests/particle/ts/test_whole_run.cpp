@@ -11,6 +11,14 @@ using namespace aggkit;
 
 namespace {
 
+// A whole-run case: lattice start of `count` spheres at volume fraction `nu`.
+struct Case {
+  int dimension;
+  std::size_t count;
+  double nu;
+  Boundary boundary;
+};
+
 TimeSteppingAggregation make_run(int dimension, std::size_t count, double nu, Boundary boundary, double dt_factor,
                                  std::size_t threads = 1, bool contact_time = true, bool quiet_flights = true,
                                  bool near_recheck = true) {
@@ -101,12 +109,6 @@ TEST_CASE("ts: quiet flights (detection skipped within a safe time) give the sam
   // The safe time is a proof that a skipped pass would have found nothing: the runs must agree to the
   // bit, through the end phase (few slow clusters: most flights quiet), with both kinds of walls, in 2-D
   // and 3-D.
-  struct Case {
-    int dimension;
-    std::size_t count;
-    double nu;
-    Boundary boundary;
-  };
   for (const Case k : {Case{2, 400, 0.3, Boundary::reflecting}, Case{2, 300, 0.1, Boundary::periodic},
                        Case{3, 216, 0.2, Boundary::reflecting}, Case{3, 125, 0.1, Boundary::periodic}}) {
     auto quiet = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01);
@@ -132,12 +134,6 @@ TEST_CASE("ts: re-checking only the spheres that can meet another cluster after 
   // spheres left out find nothing: the runs must agree to the bit, to one cluster, with both kinds of
   // walls, in 2-D and 3-D; and over 30 steps of 20 000 discs with 2 threads (the distances then gathered
   // from the workers' cells atomically).
-  struct Case {
-    int dimension;
-    std::size_t count;
-    double nu;
-    Boundary boundary;
-  };
   for (const Case k : {Case{2, 900, 0.3, Boundary::reflecting}, Case{2, 400, 0.2, Boundary::periodic},
                        Case{3, 343, 0.2, Boundary::reflecting}, Case{3, 216, 0.1, Boundary::periodic}}) {
     auto near = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01);
