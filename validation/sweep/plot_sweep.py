@@ -108,7 +108,7 @@ def main():
         axes[g // cols][g % cols].axis("off")
     fig.colorbar(image, ax=axes, label=args.column + " (mean)")
     fig.suptitle(args.title)
-    fig.savefig(args.output, dpi=120, format="png")
+    fig.savefig(args.output, dpi=120, format="png", bbox_inches="tight")  # keep the axis labels whole
 
 
 if __name__ == "__main__":
