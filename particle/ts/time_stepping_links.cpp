@@ -1,0 +1,259 @@
+// Links and their resolution in the time-stepping engine: clusters merged with momentum-weighted velocities,
+// binary contacts merged at their contact time, and the damped Arrow–Hurwicz minimisation of the clusters
+// that changed [Degond2024, Sec. 3, steps (b)-(d)].
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "particle/ts/time_stepping_aggregation.hpp"
+#include "particle/ts/time_stepping_neighbours.hpp"
+
+namespace aggkit {
+
+void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {
+  if (std::find(links_[a].begin(), links_[a].end(), b) == links_[a].end()) {
+    links_[a].push_back(b);
+    links_[b].push_back(a);
+  }
+  std::uint32_t ca = members_.cluster_of(a), cb = members_.cluster_of(b);
+  if (ca == cb) return;
+  if (members_.size(ca) < members_.size(cb)) std::swap(ca, cb);
+  const double na = double(members_.size(ca)), nb = double(members_.size(cb));
+  // Momentum-weighted velocity of the merged cluster [Degond2024, eq. 2.9 and Sec. 3, step 3b].
+  velocity_[ca] = (1.0 / (na + nb)) * (na * velocity_[ca] + nb * velocity_[cb]);
+  velocity_[cb] = {0, 0, 0};
+  members_.merge(ca, cb, [](std::uint32_t) {});
+  ++counters_.merges;
+}
+
+DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move) {
+  const double range = settings_.interaction_range * radius_;       // Δ_W
+  const double constrained = std::max(range, 6.0 * radius_);        // constraint pairs closer than this
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  std::vector<std::uint32_t> order;  // local index → particle
+  auto add = [&](std::uint32_t p) {
+    if (local.emplace(p, std::uint32_t(order.size())).second) order.push_back(p);
+  };
+  if (settings_.global) {
+    for (std::uint32_t p = members_.first(group.cluster); p != ClusterMembership::none; p = members_.next(p)) add(p);
+  } else {
+    for (const std::uint32_t s : group.seeds) add(s);
+    for (const std::uint32_t s : group.seeds)
+      for_near(s, range, [&](std::uint32_t j) {
+        if (members_.cluster_of(j) == group.cluster && norm(sep(s, j)) <= range) add(j);
+      });
+    std::sort(order.begin(), order.end());  // deterministic local order
+    for (std::uint32_t k = 0; k < order.size(); ++k) local[order[k]] = k;
+  }
+  const std::size_t free = order.size();
+  DahaProblem problem;
+  problem.dimension = box_.dimension;
+  problem.contact = 2.0 * radius_ * scale_;
+  problem.free = free;
+  auto pair_of = [&](std::uint32_t i, std::uint32_t j) {
+    const Vector3 raw = x_[j] - x_[i];
+    const Vector3 image = box_.minimum_image(raw);
+    const bool linked = std::find(links_[i].begin(), links_[i].end(), j) != links_[i].end();
+    const bool attract = linked && (settings_.global || norm(image) <= range);  // eq. 3.30
+    if (local.find(j) == local.end()) add(j);
+    problem.pairs.push_back({local.at(i), local.at(j), attract, scale_ * (image - raw)});
+  };
+  if (settings_.global) {
+    for (std::uint32_t a = 0; a < free; ++a)
+      for (std::uint32_t b = a + 1; b < free; ++b) pair_of(order[a], order[b]);
+  } else {
+    for (std::uint32_t a = 0; a < free; ++a) {
+      const std::uint32_t i = order[a];
+      std::vector<std::uint32_t> near;
+      for_near(i, constrained, [&](std::uint32_t j) {
+        if (members_.cluster_of(j) != group.cluster || norm(sep(i, j)) >= constrained) return;
+        const auto it = local.find(j);
+        if (it != local.end() && it->second < free && it->second <= a) return;  // free pairs once
+        near.push_back(j);
+      });
+      std::sort(near.begin(), near.end());
+      for (const std::uint32_t j : near) pair_of(i, j);
+    }
+  }
+  problem.x.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) problem.x[k] = scale_ * x_[order[k]];
+  const DahaResult result = aggkit::minimise(problem, settings_.daha);
+  for (std::size_t k = 0; k < free; ++k) {
+    const Vector3 to = (1.0 / scale_) * problem.x[k];
+    largest_move = std::max(largest_move, norm(to - x_[order[k]]));
+    x_[order[k]] = to;
+  }
+  moved.assign(order.begin(), order.begin() + std::ptrdiff_t(free));
+  return result;
+}
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::merge_binary_contacts(
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> found, double dt) {
+  const double contact2 = 4.0 * radius_ * radius_;
+  // The fraction τ ∈ [0, 1] of the flight at which a swept pair first touched: |d0 + τ w| = 2R with
+  // d0 = d − w the separation before the flight.
+  auto first_touch = [&](std::uint32_t i, std::uint32_t j) {
+    const Vector3 d = sep(i, j), w = flown_[j] - flown_[i], d0 = d - w;
+    const double a = dot(w, w), b = 2.0 * dot(d0, w), c = dot(d0, d0) - contact2;
+    if (c <= 0 || a <= 0) return 0.0;
+    const double disc = b * b - 4.0 * a * c;
+    if (disc < 0) return 1.0;
+    return std::clamp((-b - std::sqrt(disc)) / (2.0 * a), 0.0, 1.0);
+  };
+  // Partner clusters of each cluster over the found pairs; a pair of clusters that only met each other
+  // (and no wall) in this flight is a binary collision.
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> partners;
+  for (const auto& [i, j] : found) {
+    const std::uint32_t ci = members_.cluster_of(i), cj = members_.cluster_of(j);
+    auto add = [&](std::uint32_t c, std::uint32_t other) {
+      auto& list = partners[c];
+      if (std::find(list.begin(), list.end(), other) == list.end()) list.push_back(other);
+    };
+    add(ci, cj);
+    add(cj, ci);
+  }
+  auto binary = [&](std::uint32_t ci, std::uint32_t cj) {
+    return partners[ci].size() == 1 && partners[cj].size() == 1 && !reflected_[ci] && !reflected_[cj];
+  };
+  // Earliest touching pair of each binary collision (found is sorted: deterministic).
+  std::unordered_map<std::uint32_t, std::pair<double, std::pair<std::uint32_t, std::uint32_t>>> earliest;  // by lower cluster
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> rest;
+  for (const auto& pr : found) {
+    const std::uint32_t ci = members_.cluster_of(pr.first), cj = members_.cluster_of(pr.second);
+    if (!binary(ci, cj)) {
+      rest.push_back(pr);
+      continue;
+    }
+    const double tau = first_touch(pr.first, pr.second);
+    const auto [it, fresh] = earliest.emplace(std::min(ci, cj), std::make_pair(tau, pr));
+    if (!fresh && tau < it->second.first) it->second = {tau, pr};
+  }
+  std::vector<std::uint32_t> keys;
+  for (const auto& e : earliest) keys.push_back(e.first);
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint32_t> moved;
+  double farthest = 0;  // the largest displacement of a moved sphere from where the pass saw it
+  const bool periodic = box_.boundary == Boundary::periodic;  // wrap and minimum image: identities otherwise
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const std::uint32_t key : keys) {
+    const auto& [tau, pr] = earliest[key];
+    const auto [i, j] = pr;
+    // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
+    // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones. (The
+    // merge changes velocities only, so it goes first and every sphere is moved in one pass, which also
+    // gathers reflect's bounds: reflect is called only when the cluster crosses a wall.)
+    link(i, j);
+    const std::uint32_t c = members_.cluster_of(i);
+    const Vector3 rest_of_flight = ((1.0 - tau) * dt) * velocity_[c];
+    Vector3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+    const std::size_t from = moved.size();
+    for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p)) {
+      before_[p] = x_[p];
+      x_[p] = x_[p] - (1.0 - tau) * flown_[p];
+      x_[p] = x_[p] + rest_of_flight;
+      for (int d = 0; d < box_.dimension; ++d) {
+        lo[d] = std::min(lo[d], x_[p][d] - radius_);
+        hi[d] = std::max(hi[d], x_[p][d] + radius_);
+      }
+      moved.push_back(p);
+    }
+    bool inside = true;
+    for (int d = 0; d < box_.dimension; ++d) inside = inside && lo[d] >= 0 && hi[d] <= box_.side[d];
+    if (!inside) reflect(c);
+    ++counters_.contact_time_merges;
+    for (std::size_t k = from; k < moved.size(); ++k) {
+      const std::uint32_t p = moved[k];
+      if (periodic) x_[p] = box_.wrap(x_[p]);
+      const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
+      if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+      before_[p] = periodic ? box_.minimum_image(x_[p] - before_[p]) : x_[p] - before_[p];
+      farthest = std::max(farthest, norm(before_[p]));
+    }
+  }
+  // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
+  // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
+  // same-cluster tolerance, which a full re-check of the moved spheres would link again).
+  if (settings_.near_recheck && nearest_.size() == x_.size() && counters_.round_cap_hits == 0) {
+    double narrowest = grid_.cell_side()[0];
+    for (int d = 1; d < box_.dimension; ++d) narrowest = std::min(narrowest, grid_.cell_side()[d]);
+    const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
+    std::erase_if(moved, [&](std::uint32_t p) { return std::min(nearest_[p], narrowest) >= reach + norm(before_[p]); });
+  }
+  counters_.rechecked_spheres += moved.size();
+  // What the merged clusters now overlap is left to the minimisation, with the other contacts.
+  for (const auto& pr : overlaps_between_clusters(moved)) rest.push_back(pr);
+  std::sort(rest.begin(), rest.end());
+  rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
+  return rest;
+}
+
+void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::uint32_t>> new_links) {
+  std::size_t rounds = 0;
+  while (!new_links.empty()) {
+    if (rounds++ >= settings_.max_rounds) {
+      ++counters_.round_cap_hits;
+      break;
+    }
+    ++counters_.rounds;
+    const std::uint64_t merges_before = counters_.merges;
+    for (const auto& [a, b] : new_links) link(a, b);
+    if (rounds > 1) counters_.secondary_merges += counters_.merges - merges_before;
+    std::vector<Group> groups;
+    std::unordered_map<std::uint32_t, std::size_t> group_of;
+    for (const auto& [a, b] : new_links) {
+      const std::uint32_t c = members_.cluster_of(a);
+      const auto [it, fresh] = group_of.emplace(c, groups.size());
+      if (fresh) groups.push_back({c, {}});
+      groups[it->second].seeds.push_back(a);
+      groups[it->second].seeds.push_back(b);
+    }
+    for (Group& g : groups) {
+      std::sort(g.seeds.begin(), g.seeds.end());
+      g.seeds.erase(std::unique(g.seeds.begin(), g.seeds.end()), g.seeds.end());
+    }
+    std::vector<DahaResult> results(groups.size());
+    std::vector<std::vector<std::uint32_t>> moved(groups.size());
+    std::vector<double> moves(groups.size(), 0.0);
+    const std::size_t workers = std::min(settings_.threads, groups.size());
+    if (workers <= 1) {
+      for (std::size_t g = 0; g < groups.size(); ++g) results[g] = minimise(groups[g], moved[g], moves[g]);
+    } else {
+      // Separate clusters: disjoint free spheres, each group reads only its own cluster.
+      pool_->run(groups.size(), [&](std::size_t g) { results[g] = minimise(groups[g], moved[g], moves[g]); });
+    }
+    std::vector<std::uint32_t> check;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const DahaResult& r = results[g];
+      ++counters_.minimisations;
+      counters_.minimisation_iterations += r.iterations;
+      counters_.free_spheres += moved[g].size();
+      if (!r.converged) ++counters_.iteration_cap_hits;
+      counters_.max_overlap = std::max(counters_.max_overlap, r.max_overlap);
+      counters_.largest_move = std::max(counters_.largest_move, moves[g]);
+      counters_.overlap_sum += r.mean_overlap;
+      last_mean_ = r.mean_overlap;
+      bool outside = false;
+      for (const std::uint32_t p : moved[g]) {
+        x_[p] = box_.wrap(x_[p]);
+        if (box_.boundary == Boundary::reflecting)
+          for (int d = 0; d < box_.dimension; ++d)
+            outside = outside || x_[p][d] < radius_ || x_[p][d] > box_.side[d] - radius_;
+      }
+      if (outside) {  // pushed past a wall by the minimisation: the cluster is moved back as a whole
+        reflect(groups[g].cluster);
+        for (std::uint32_t p = members_.first(groups[g].cluster); p != ClusterMembership::none; p = members_.next(p))
+          check.push_back(p);
+      } else {
+        check.insert(check.end(), moved[g].begin(), moved[g].end());
+      }
+    }
+    for (const std::uint32_t p : check) {
+      const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
+      if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+    }
+    new_links = overlaps_between_clusters(check);
+  }
+}
+
+}  // namespace aggkit
