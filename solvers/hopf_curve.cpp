@@ -160,13 +160,13 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
     hopf.start = p.steady_state;
     hopf.start_sizes = p.steady_sizes;
   }
-  if (!base.grid.uniform() && result.size > 0) refine_grid(base, a, options, hopf, result);
   if (!result.converged) {
     if (result.size == 0)
       result.note += "no lambda_crit found up to N = " + std::to_string(options.max_size) + "; ";
     else
       result.note += "not converged in N up to " + std::to_string(std::min(N, max_size)) + "; ";
   }
+  if (!base.grid.uniform() && result.size > 0) refine_grid(base, a, options, hopf, result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   result.cpu_seconds = double(std::clock() - cpu_started) / CLOCKS_PER_SEC;
   return result;

@@ -160,3 +160,69 @@ TEST_CASE("the graded grid's dense Jacobian is its exact J·v", "[graded]") {
   for (double& v : f) v *= 2.0;
   CHECK(max_relative_difference(jn, f) < 1e-13);
 }
+
+namespace {
+
+// M0 and M2 at time t of a monodisperse unit start on a graded grid (K = 8, N = 2^30, drop: nothing
+// reaches N by these times), CVODE at rtol 1e-10.
+std::pair<double, double> graded_moments(Kernel kernel, double lambda, double t, double r) {
+  AggregationModel model = model_of(std::move(kernel), lambda, std::size_t(1) << 30, Truncation::drop, graded(8, r));
+  IntegratorOptions options;
+  options.rtol = 1e-10;
+  const std::vector<double> x = model.pivots();
+  double m0 = 0, m2 = 0;
+  const double times[] = {t};
+  integrate(model, times, options, [&](double, std::span<const double> n, double) {
+    for (std::size_t i = 0; i < x.size(); ++i) m0 += n[i], m2 += x[i] * x[i] * n[i];
+  });
+  return {m0, m2};
+}
+
+}  // namespace
+
+TEST_CASE("graded grid against exact solutions: M0 exact, M2 second order in r - 1", "[graded]") {
+  // Fixed pivots keep number and mass, and for these kernels dM0/dt depends on M0 and M1 only, so M0 is
+  // exact on any grid (to the integrator's tolerance, rtol 1e-10: errors ≤ 1e-9 leave a factor 10). M2 is
+  // not kept: its error falls with r - 1; measured by bench/graded_grid_convergence.cpp at order 1.8–2.1
+  // (constant: 1.58e-2 at r = 1.2, 4.10e-3 at 1.1; sum: 0.189, 0.054). The test asks for order ≥ 1.5 between
+  // r = 1.2 and 1.1 and for the r = 1.1 error below 1e-2 (constant) and 0.1 (sum).
+  struct Exact {
+    const char* name;
+    Kernel kernel;
+    double t, finer_bound;
+  };
+  for (const Exact& c : {Exact{"constant", Kernel::constant(), 100.0, 1e-2}, Exact{"sum", Kernel::sum(), 3.0, 0.1}}) {
+    const double m0 = exact_moment(c.name, 0, c.t), m2 = exact_moment(c.name, 2, c.t);
+    const auto coarse = graded_moments(c.kernel, 0.0, c.t, 1.2), fine = graded_moments(c.kernel, 0.0, c.t, 1.1);
+    INFO(c.name << ": M2 errors " << coarse.second / m2 - 1 << " (r = 1.2), " << fine.second / m2 - 1 << " (r = 1.1)");
+    CHECK(std::abs(coarse.first / m0 - 1) < 1e-9);
+    CHECK(std::abs(fine.first / m0 - 1) < 1e-9);
+    const double order = std::log2(std::abs(coarse.second / m2 - 1) / std::abs(fine.second / m2 - 1));
+    CHECK(order > 1.5);
+    CHECK(std::abs(fine.second / m2 - 1) < c.finer_bound);
+  }
+  // K = 2 with λ = 0.1: the logistic M0 [exact_total_density_k2], exact on any grid (even r = 1.4).
+  for (double r : {1.4, 1.1}) {
+    const auto k2 = graded_moments(Kernel::brownian(0.0), 0.1, 50.0, r);
+    CHECK(std::abs(k2.first / exact_total_density_k2(0.1, 50.0) - 1) < 1e-9);
+  }
+}
+
+TEST_CASE("graded grid λ_crit against the converged uniform values", "[graded]") {
+  // Uniform-grid values converged in N (bench/log/lambda-crit-curve.md): λ_crit(0.8) = 0.00367756 (N = 16384,
+  // change 2.5e-6) and λ_crit(0.75) = 0.00159471 (N = 16384, change 9.7e-4). The graded grid K = 256,
+  // r = 1.005 is first order in r - 1 (the error is about the r - 1 halving change, ~8e-4 at a = 0.8), so
+  // 0.5 % is ~6× the expected error; a grid with K = 64, r = 1.05 is 8 % off at a = 0.8 and fails it.
+  HopfCurveOptions options;
+  AggregationModel base = model_of(Kernel::brownian(0.8), 0.0, 1024, Truncation::cutoff, graded(256, 1.005));
+  for (auto [a, reference] : {std::pair{0.8, 0.00367756}, std::pair{0.75, 0.00159471}}) {
+    const ConvergedHopfPoint p = locate_hopf_converged(base, a, reference * 1.02, 1024, options);
+    INFO("a = " << a << ": " << p.lambda_crit << " at N = " << p.size << " (" << p.unknowns << " classes), changes N "
+                << p.change << ", 2K " << p.change_K << ", (r-1)/2 " << p.change_ratio << "; " << p.note);
+    REQUIRE(p.lambda_crit > 0);
+    CHECK(std::abs(p.lambda_crit / reference - 1) < 5e-3);
+    CHECK(p.converged);
+    CHECK(p.change_K < 0.01);
+    CHECK(p.change_ratio < 0.01);
+  }
+}
