@@ -253,7 +253,8 @@ TEST_CASE("sweep cli: a key that is not a scene key is exit 2 naming it, with no
 namespace {
 
 // 100 cold self-gravitating DEM spheres (t_ff ≈ 6): at time.end = 2 no run has aggregated (T_agg undefined), at
-// 12 every one has; two restitutions, two realizations each.
+// 12 every one has; two restitutions, two realizations each (and a third key of one value: the full map has a
+// panel per value of it).
 const char* const collapse_sweep = R"(
 name = "collapse-sweep"
 [particles]
@@ -277,6 +278,7 @@ final = ["components_fraction", "fractal_dimension_com"]
 [sweep]
 "time.end" = [2.0, 12.0]
 "engine.restitution" = [0.1, 0.3]
+"engine.contact_time" = [0.05]
 realizations = 2
 group_by = ["engine.restitution", ["time.end"]]
 where_not_aggregated = { fractal_dimension_com = 0.0 }
