@@ -4,19 +4,39 @@
 errors over the runs of each cell, under each numerics (explicit dashpot at t_c/N; auto at t_c/50) and each
 definition (at T_agg, at k t_ff).
 
-  /usr/bin/python3 bench/dem_trends_table.py PAPER_DIR/sweep.csv CONVERGED_DIR/sweep.csv
+  /usr/bin/python3 bench/dem_trends_table.py PAPER_DIR CONVERGED_DIR
+
+Each DIR is an `aggkit sweep --out` folder of bench/scenes/dem-trends-paper.toml and -converged.toml; the
+finished runs are read from DIR/points/*.json (validation/sweep/sweep_record.hpp), so that a sweep stopped
+before its end is tabulated as far as it ran, or from DIR/sweep.csv (bench/log/dem-trends/paper, converged).
 
 A cell "m ± s (n)" is the mean over the n runs with a finite value and its standard error (sample sd/√n); a
 run that never aggregated has no T_agg and no value at T_agg; "F0" columns count such runs as F = 0 (the
 paper's map)."""
 import csv
+import glob
+import json
 import math
+import os
 import sys
 
 
-def read(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+def read(folder, keys):
+    """The finished runs of a sweep folder as rows {engine.<key>: value, realization, column: value}; from
+    DIR/sweep.csv when the folder has no points/ (the copies kept in bench/log/dem-trends/)."""
+    if not os.path.isdir(os.path.join(folder, "points")):
+        with open(os.path.join(folder, "sweep.csv"), newline="") as f:
+            return list(csv.DictReader(f))
+    rows = []
+    for path in sorted(glob.glob(os.path.join(folder, "points", "point*_r*.json"))):
+        with open(path) as f:
+            record = json.load(f)
+        row = {"engine." + k: str(v) for k, v in zip(keys, record["values"])}
+        row["realization"] = str(record["realization"])
+        for name, value in record["columns"]:
+            row[name] = "nan" if value is None else repr(value)
+        rows.append(row)
+    return rows
 
 
 def number(text):
@@ -60,7 +80,8 @@ def table(title, header, rows):
 
 
 def main():
-    paper, converged = read(sys.argv[1]), read(sys.argv[2])
+    paper = read(sys.argv[1], ["damping", "steps_per_contact", "stiffness_normalized"])
+    converged = read(sys.argv[2], ["damping", "stiffness_normalized"])
     both = legs(paper, converged)
     gammas = sorted({number(r["engine.damping"]) for r in converged + paper})
     stiffness = sorted({number(r["engine.stiffness_normalized"]) for r in converged + paper})
