@@ -27,6 +27,7 @@
 #include "analysis/input_error.hpp"
 #include "particle/common/particle_system.hpp"
 #include "particle/dem/contact_law.hpp"
+#include "particle/dem/dashpot_scheme.hpp"
 #include "particle/dem/dem.hpp"
 #include "particle/common/box_configuration.hpp"
 #include "validation/engines/particle_runner.hpp"
@@ -55,7 +56,7 @@ const OptionTable& dem_options() {
                     "reflecting walls)",
                     0.0, std::numeric_limits<double>::infinity()),
       number_option("tangential_stiffness_ratio", "2/7", "k_t / k_n of the tangential spring (with friction)", 0.0, 1e3, true),
-      number_option("dt", "min(t_c/50, m_eff/(5 γ_n))",
+      number_option("dt", "t_c/50; explicit dashpot: min(t_c/50, m_eff/(5 γ_n))",
                     "time step (refused above t_c/2, warned above t_c/20 [Trivino2025, eq. 8] and above m_eff/(5 γ_n))", 0.0,
                     std::numeric_limits<double>::infinity(), true),
       custom_option("gravity", "off", "self-gravity G m_i m_j/(r² + ε²) along each pair [Trivino2025, eq. 1]",
@@ -67,6 +68,14 @@ const OptionTable& dem_options() {
       number_option("contact_tolerance", "0.01", "contact graph: centre distance < R_i + R_j + contact_tolerance · R_min", 0.0, 1.0),
       integer_option("gravity_substeps", "1",
                      "impulse splitting: gravity evaluated every K contact steps, kicks of K dt/2 (r-RESPA)", 1, 100000),
+      number_option("steps_per_contact", "none",
+                    "N: dt = t_c/N with t_c of [Trivino2025, eq. 8] (instead of dt; for sweeps over the stiffness at a fixed "
+                    "resolution), N >= 2",
+                    2.0, 1e9),
+      word_option("dashpot", "auto",
+                  "normal dashpot: explicit (stable while x = γ_n dt/m* < 1, warned above), implicit (stable at any x), "
+                  "auto (implicit above x = 0.2 without friction) (particle/dem/dashpot_scheme.hpp)",
+                  {"auto", "explicit", "implicit"}),
       integer_option("force_threads", "1", "threads for the integration, contacts and gravity of one realization (results do not depend on it)", 1, 4096),
   };
   return table;
@@ -78,6 +87,9 @@ struct Settings {
   double threshold = 0.9;
   double realised_restitution = std::numeric_limits<double>::quiet_NaN();
   bool elastic = false;
+  // Runs that go on past T_agg record these observe.final observables (and K/|P|) at T_agg too, as
+  // <name>_at_agg (NaN where the run never aggregates).
+  std::vector<std::string> at_aggregation;
 };
 
 class DemSimulation final : public ParticleSimulation {
@@ -114,6 +126,13 @@ class DemSimulation final : public ParticleSimulation {
   }
 
   double time() const override { return dem_.time(); }
+  double free_fall_time() const override { return free_fall_; }
+  std::vector<std::pair<std::string, double>> state_values() const override {
+    if (!settings_.dem.gravity) return {};
+    const double potential = potential_energy();
+    return {{"virial_ratio", dem_.kinetic_energy() / std::abs(potential)},
+            {"largest_cluster_mass_fraction", dem_.largest_cluster_mass_fraction()}};
+  }
   ParticleConfiguration configuration() const override {
     double mean = 0;
     for (double r : dem_.radii()) mean += r;
@@ -162,12 +181,7 @@ class DemSimulation final : public ParticleSimulation {
       values.emplace_back("dashpot_iterations", double(c.dashpot_iterations));
     }
     if (settings_.dem.gravity) {
-      // P = −Σ_{i<j} G m_i m_j / r_ij and K/|P| [Trivino2025, Sec. on energies]: the unsoftened potential.
-      const auto& x = dem_.positions();
-      const auto& m = dem_.masses();
-      double potential = 0;
-      for (std::size_t i = 0; i < x.size(); ++i)
-        for (std::size_t j = i + 1; j < x.size(); ++j) potential -= settings_.dem.G * m[i] * m[j] / norm(x[j] - x[i]);
+      const double potential = potential_energy();
       values.emplace_back("potential_energy", potential);
       values.emplace_back("virial_ratio", dem_.kinetic_energy() / std::abs(potential));
       values.emplace_back("free_fall_time", free_fall_);
@@ -175,6 +189,11 @@ class DemSimulation final : public ParticleSimulation {
       values.emplace_back("aggregation_time_ff", aggregation_time_ / free_fall_);
     } else {
       values.emplace_back("aggregation_time", aggregation_time_);
+    }
+    if (!settings_.stop_aggregated && settings_.dem.gravity) {
+      for (const auto& [key, value] : at_aggregation_) values.emplace_back(key, value);
+      if (at_aggregation_.empty())  // never aggregated: the same entries, undefined
+        for (const auto& [key, value] : aggregation_snapshot()) values.emplace_back(key, nan);
     }
     if (settings_.elastic)
       values.emplace_back("energy_drift", energy_scale_ > 0 ? std::abs(dem_.total_energy() - energy0_) / energy_scale_ : nan);
@@ -188,7 +207,25 @@ class DemSimulation final : public ParticleSimulation {
  private:
   bool aggregated() const { return settings_.stop_aggregated && !std::isnan(aggregation_time_); }
   void check_aggregated() {
-    if (std::isnan(aggregation_time_) && dem_.largest_cluster_reaches(settings_.threshold)) aggregation_time_ = dem_.time();
+    if (std::isnan(aggregation_time_) && dem_.largest_cluster_reaches(settings_.threshold)) {
+      aggregation_time_ = dem_.time();
+      if (!settings_.stop_aggregated && settings_.dem.gravity) at_aggregation_ = aggregation_snapshot();
+    }
+  }
+  // The observe.final values and K/|P| of the current state, named <name>_at_agg.
+  std::vector<std::pair<std::string, double>> aggregation_snapshot() const {
+    std::vector<std::pair<std::string, double>> values = configuration_values(settings_.at_aggregation, ParticleView(*this), "_at_agg");
+    for (const auto& [key, value] : state_values()) values.emplace_back(key + "_at_agg", value);
+    return values;
+  }
+  // P = −Σ_{i<j} G m_i m_j / r_ij [Trivino2025, eq. 11]: the unsoftened potential of K/|P|.
+  double potential_energy() const {
+    const auto& x = dem_.positions();
+    const auto& m = dem_.masses();
+    double potential = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (std::size_t j = i + 1; j < x.size(); ++j) potential -= settings_.dem.G * m[i] * m[j] / norm(x[j] - x[i]);
+    return potential;
   }
   void report(const StatusSink& status) const {
     char line[96];
@@ -199,6 +236,7 @@ class DemSimulation final : public ParticleSimulation {
 
   Settings settings_;
   Dem dem_;
+  std::vector<std::pair<std::string, double>> at_aggregation_;  // aggregation_snapshot() at T_agg
   double free_fall_ = std::numeric_limits<double>::quiet_NaN();
   double aggregation_time_ = std::numeric_limits<double>::quiet_NaN();
   double energy0_ = 0, energy_scale_ = 0;
@@ -310,31 +348,45 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   // The dashpot's own time m_eff/γ_n (fastest for the lightest pair): the explicit dashpot relaxes a contact's
   // normal velocity by a factor 1 − γ_n dt/m* per step, which overshoots and reverses it once γ_n dt/m* > 1 —
   // an overdamped collision then rebounds instead of sticking (measured: γ_n = 2·10^4 at k̃_n = 10^6 with
-  // dt = t_c/50 left the whole cloud unaggregated). Without friction the engine integrates such dashpots
-  // implicitly (particle/dem/implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50;
-  // with friction the dashpot stays explicit and the default step resolves it with 5 steps.
+  // dt = t_c/50 left the whole cloud unaggregated). `dashpot = "auto"` integrates such dashpots implicitly
+  // without friction (particle/dem/implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50;
+  // an explicit dashpot (`dashpot = "explicit"`, or auto with friction) gets a default step that resolves it
+  // with 5 steps; a given step is taken as given, warned above t_c/20 or x > 1 (particle/dem/dashpot_scheme.hpp).
+  const DashpotScheme scheme = dashpot_scheme_from_word(given.word("dashpot", "auto"));
+  if (scheme == DashpotScheme::implicit && dem.friction > 0)
+    given.fail("dashpot", "\"auto\" or \"explicit\" with friction (the implicit dashpot has no tangential springs)");
+  dem.implicit_dashpot_above = implicit_dashpot_threshold(scheme);
   const double damping_rate = by_restitution ? dem.damping_per_mass : dem.damping / reference_reduced;  // 1/time
   const double damping_time = damping_rate > 0 ? 1 / damping_rate : std::numeric_limits<double>::infinity();
-  const bool explicit_dashpot = dem.friction > 0;
-  dem.dt = given.has("dt") ? given.number("dt", 0.0) : explicit_dashpot ? std::min(contact_time / 50, damping_time / 5) : contact_time / 50;
+  const bool explicit_dashpot = scheme == DashpotScheme::explicit_verlet || (scheme == DashpotScheme::automatic && dem.friction > 0);
+  if (given.has("dt") && given.has("steps_per_contact")) given.fail("steps_per_contact", "either dt or steps_per_contact, not both");
+  dem.dt = given.has("dt")                  ? given.number("dt", 0.0)
+           : given.has("steps_per_contact") ? contact_time / given.number("steps_per_contact", 50.0)
+           : explicit_dashpot               ? std::min(contact_time / 50, damping_time / 5)
+                                            : contact_time / 50;
   if (dem.dt > contact_time / 2)
     given.fail("dt", "dt <= t_c/2 = " + format_value(contact_time / 2) + " (a contact must span several steps)");
+  const DashpotStepCheck step_check = check_dashpot_step(scheme, damping_rate * dem.dt, dem.dt, contact_time, dem.friction > 0);
+  std::vector<std::string> warnings = step_check.warnings;
   std::string warning;
-  if (dem.dt > contact_time / 20) {
-    warning = "; WARNING dt > t_c/20 = " + format_value(contact_time / 20) + " [Trivino2025, eq. 8]";
-    std::cerr << "warning: engine dem: dt = " << format_value(dem.dt) << " > t_c/20 = " << format_value(contact_time / 20) << '\n';
-  }
+  if (dem.dt > contact_time / 20) warning = "; WARNING dt > t_c/20 = " + format_value(contact_time / 20) + " [Trivino2025, eq. 8]";
   if (explicit_dashpot && dem.dt > damping_time / 5) {
     warning += "; WARNING dt > m_eff/(5 γ_n) = " + format_value(damping_time / 5) + " (the dashpot is under-resolved)";
-    std::cerr << "warning: engine dem: dt = " << format_value(dem.dt) << " > m_eff/(5 γ_n) = " << format_value(damping_time / 5)
-              << ": an overdamped contact may rebound\n";
+    if (step_check.damping_factor <= 1)
+      warnings.push_back("dt = " + format_value(dem.dt) + " > m_eff/(5 γ_n) = " + format_value(damping_time / 5) +
+                         ": the explicit dashpot is under-resolved (x = γ_n dt/m* = " + format_value(step_check.damping_factor) + ")");
   }
-  const bool implicit = !explicit_dashpot && damping_rate * dem.dt > dem.implicit_dashpot_above;  // as Dem decides
+  if (!step_check.implicit && step_check.damping_factor > 1) warning += "; WARNING explicit dashpot above its stability limit x > 1";
+  const bool implicit = step_check.implicit;  // as Dem decides
   dem.contact_tolerance = given.number("contact_tolerance", dem.contact_tolerance);
   dem.force_threads = std::size_t(given.integer("force_threads", 1));
   dem.gravity_substeps = std::size_t(given.integer("gravity_substeps", 1));
   if (dem.gravity_substeps > 1 && !dem.gravity) given.fail("gravity_substeps", "1 without gravity");
   settings.threshold = given.number("aggregation_threshold", 0.9);
+  settings.at_aggregation = scene.observe.final_state;
+  if (!scene.observe.times_ff.empty() && !dem.gravity)
+    throw InputError("observe.times_ff", "[" + format_value(scene.observe.times_ff.front()) + ", ...]",
+                     "free-fall times need gravity = { G = ... } on engine dem (t_ff = √(R³/(G M)) [Trivino2025, eq. 9])");
   if (given.has("stop")) {
     const nlohmann::json& stop = given.value("stop");
     if (!stop.is_string() || stop.get<std::string>() != "aggregated") given.fail("stop", "\"aggregated\"");
@@ -346,10 +398,12 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
                             (dem.friction > 0 ? ", friction μ " + format_value(dem.friction) : "") + (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G) +
                                                (dem.gravity_substeps > 1 ? " every " + std::to_string(dem.gravity_substeps) + " steps" : "")
                                          : ", no gravity") +
-                            (implicit ? ", implicit dashpot (γ_n dt/m_eff " + format_value(damping_rate * dem.dt) + ")" : "") +
+                            (implicit ? ", implicit dashpot (γ_n dt/m_eff " + format_value(damping_rate * dem.dt) + ")"
+                             : scheme == DashpotScheme::explicit_verlet ? ", explicit dashpot (γ_n dt/m_eff " + format_value(damping_rate * dem.dt) + ")"
+                                                                        : "") +
                             (settings.stop_aggregated ? ", stop when aggregated" : ", stop at time.end") + warning;
   return {[system, settings, box](std::size_t r) { return std::make_unique<DemSimulation>(box, system.initial_state(r), settings); },
-          description};
+          description, warnings};
 }
 
 }  // namespace

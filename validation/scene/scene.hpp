@@ -40,6 +40,12 @@
 //                                                  of the run, [end/2, end])
 //   snapshots = true                               particle engines: the final configuration as
 //                                                  <engine>/final.vtu and <engine>/final.png (default false)
+//   times_ff = [1.0, 1.5, 2.0, 3.0]                particle engines with a free-fall time t_ff (dem with
+//                                                  gravity [Trivino2025, eq. 9]): the observe.final values
+//                                                  and the engine's own state values (K/|P|) also at
+//                                                  t = k t_ff of each realization, in final.json as
+//                                                  <name>_at_<k>tff (validation/engines/particle_runner.hpp);
+//                                                  increasing, each > 0 (default none)
 //   [sweep]                                        optional: the parameter sweep of `aggkit sweep`
 //                                                  (validation/sweep/sweep_plan.hpp); `aggkit run` ignores
 //                                                  it and runs the scene as written (its base point)
@@ -97,6 +103,7 @@ struct Observation {
                                            // and series measures (any engine, e.g. oscillation_period:M0)
   bool snapshots = false;                  // final configuration as .vtu and .png (particle engines)
   double window_start = 0, window_end = 0;  // observe.window: where the series measures are taken
+  std::vector<double> times_ff;            // observe.times_ff: multiples of the free-fall time (particle engines)
   bool has_series_measures() const;
 };
 

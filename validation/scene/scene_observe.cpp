@@ -106,7 +106,7 @@ std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vecto
 }  // namespace
 
 Observation read_observation(const SceneTable& observe, const Scene& scene) {
-  observe.allow_only({"series", "distributions", "final", "snapshots", "window"});
+  observe.allow_only({"series", "distributions", "final", "snapshots", "window", "times_ff"});
   Observation observation;
   const std::vector<std::string> names = observe.strings("series");
   if (names.empty()) observe.fail("series", "at least one observable: " + std::string(Observable::forms()));
@@ -142,6 +142,17 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
   read_window(observe, scene, observation);
   observation.snapshots = observe.optional_boolean("snapshots").value_or(false);
   if (observation.snapshots && !scene.particles) observe.fail("snapshots", "false: snapshots need a [particles] section");
+  if (observe.contains("times_ff")) {
+    // Multiples k of the free-fall time, increasing, each > 0 and at most 10^6.
+    const std::vector<double> k = observe.numbers("times_ff", Bound::finite);
+    if (!scene.particles) observe.fail("times_ff", "no times_ff without [particles] (free-fall times of particle engines)");
+    if (k.empty()) observe.fail("times_ff", "at least one multiple of t_ff, e.g. [1.0, 2.0]");
+    for (std::size_t i = 0; i < k.size(); ++i)
+      if (!(k[i] > 0 && k[i] <= 1e6) || (i > 0 && !(k[i] > k[i - 1])))
+        throw InputError(observe.key("times_ff") + "[" + std::to_string(i) + "]", shortest_text(k[i]),
+                         "increasing multiples of the free-fall time, each in (0, 1e6]");
+    observation.times_ff = k;
+  }
   return observation;
 }
 
