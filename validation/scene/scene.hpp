@@ -50,7 +50,8 @@
 //                                                  (validation/sweep/sweep_plan.hpp); `aggkit run` ignores
 //                                                  it and runs the scene as written (its base point)
 //   [compare]                                      optional
-//   reference = "exact"                            an engine label
+//   reference = "exact"                            an engine label (required unless every entry is a
+//                                                  final value with a stated `value`, below)
 //   tolerance = { M0 = 1e-6, M2 = 1e-6 }           max relative error over the output times, per series
 //                                                  observable; observables without one are reported only;
 //                                                  or { M0 = { relative = 0.01, stderr = 3 } }: at each time
@@ -61,6 +62,14 @@
 //                                                  means over the realizations; σ their standard errors),
 //                                                  e.g. TS against ED, which agree in distribution, or the
 //                                                  oscillation period of DSMC against CVODE
+//   final = { contacts_with_self = { value = 0.5, relative = 0.05 } }  a final value against a stated constant
+//                                                  (a published figure, an exact value): each engine's mean
+//                                                  x passes when |x - value| <= relative |value| + stderr σ,
+//                                                  σ its standard error. Such an entry may name any number of
+//                                                  the engines' final.json (aggregation_time_ff of dem, ...),
+//                                                  not only observe.final; an engine without it fails. A
+//                                                  [compare] whose entries all have a value needs no
+//                                                  reference (nor a second engine)
 //   distribution = { relative = 0.01, stderr = 3 }  the size distributions at observe.distributions: at each
 //                                                  such time E = ||n - n_ref||_2 over the sizes, allowed
 //                                                  relative ||n_ref||_2 + stderr sqrt(Σ_k σ_k²), σ_k the
@@ -108,15 +117,18 @@ struct Observation {
 };
 
 struct Tolerance {
-  std::string observable;  // a name in Observation::series
+  std::string observable;  // a name in Observation::series (or a final value)
   double relative_error;   // the largest allowed max-over-time relative error (0 if only `stderr` is given)
   // With `stderr = k`: at each output time |x - x_ref| may also use k combined standard errors
   // sqrt(σ² + σ_ref²) of the two engines' ensembles (allowed: relative_error |x_ref| + k σ).
   std::optional<double> standard_errors = std::nullopt;
+  // compare.final only: a stated constant (a published figure) that each engine's final value is checked
+  // against, instead of the reference engine's.
+  std::optional<double> value = std::nullopt;
 };
 
 struct ComparisonPlan {
-  std::string reference;  // an engine label
+  std::string reference;  // an engine label; empty when every entry is a final value against a stated value
   std::vector<Tolerance> tolerances;        // series observables
   std::vector<Tolerance> final_tolerances;  // observe.final values
   std::optional<Tolerance> distribution = std::nullopt;  // compare.distribution: the size distributions (observable "distribution")
