@@ -183,7 +183,7 @@ TEST_CASE("cli: run --help lists every engine option with its default, and every
     INFO(type.name);
     CHECK_THAT(help.out, Contains("  " + type.name + ": " + type.description));
     for (const aggkit::OptionSpec& option : type.options)
-      CHECK_THAT(help.out, Contains("    " + option.key + " (default " + option.default_text + "; " + option.allowed() + ")"));
+      CHECK_THAT(help.out, Contains("    " + option.key + " (default " + option.default_text() + "; " + option.allowed() + ")"));
   }
   for (const aggkit::ObservableType& type : aggkit::observable_types())
     CHECK_THAT(help.out, Contains("  " + type.form + ": "));

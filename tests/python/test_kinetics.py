@@ -120,3 +120,31 @@ def test_locate_hopf_finds_where_the_rightmost_pair_crosses():
     for factor, sign in [(0.9, 1), (1.5, -1)]:
         m = aggkit.Model("brownian", a=0.95, lam=h["lambda_crit"] * factor, size=512, truncation="cutoff")
         assert sign * aggkit.rightmost_eigenvalues(m, aggkit.steady_state(m), 2)[0].real > 0
+
+
+def test_keyword_defaults_are_the_option_tables():
+    # One declaration: the signature's default of every option is the table's value, and a keyword left out
+    # runs the engine's own default — DSMC's seed 1, as the command line.
+    import inspect
+    for function, engine in [(aggkit.integrate, "cvode"), (aggkit.steady_state, "snes"), (aggkit.dsmc, "dsmc"),
+                             (aggkit.ed, "ed"), (aggkit.ts, "ts"), (aggkit.dem, "dem")]:
+        parameters = inspect.signature(function).parameters
+        for row in aggkit.engine_options(engine):
+            if row["key"] in parameters and parameters[row["key"]].kind == inspect.Parameter.KEYWORD_ONLY:
+                assert parameters[row["key"]].default == row["value"], (engine, row["key"])
+    assert inspect.signature(aggkit.dsmc).parameters["seed"].default == 1
+    model = aggkit.Model("constant", size=100)
+    left_out = aggkit.dsmc(model, particles=2000, times=[1.0], observables=["M2"])
+    given = aggkit.dsmc(model, particles=2000, times=[1.0], observables=["M2"], seed=1)
+    other = aggkit.dsmc(model, particles=2000, times=[1.0], observables=["M2"], seed=0)
+    assert left_out.series["M2"][0] == given.series["M2"][0]
+    assert other.series["M2"][0] != given.series["M2"][0]
+
+
+def test_an_engine_without_a_function_of_its_own_gets_one_from_the_registry():
+    # The closed-form engine has no hand-written function: the registry gives aggkit.exact, against CVODE.
+    model = aggkit.Model("constant", size=4096)
+    exact = aggkit.exact(model, [1.0, 5.0], observables=["M0"])
+    cvode = aggkit.integrate(model, [1.0, 5.0], rtol=1e-10)
+    assert np.allclose(exact.series["M0"], cvode.moment(0), rtol=1e-8)
+    assert "exact" in aggkit.__all__

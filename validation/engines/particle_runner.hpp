@@ -62,6 +62,8 @@ struct ParticleEngineKind {
   struct Setup {
     std::function<std::unique_ptr<ParticleSimulation>(std::size_t realization)> start;
     std::string description;
+    nlohmann::json settings;  // option key -> the value the run uses (the rows' values of its settings)
+    std::vector<std::string> warnings;  // what the user should know about the run (EngineObserver::warning)
   };
   std::function<Setup(const EngineOptions& options, const Scene& scene)> setup;
   // What its states give the observables: the configuration, and for engines of colliding particles
