@@ -42,7 +42,10 @@ def _engine_keywords(function, engine):
     keyword-only parameters, their defaults those of the option table (None: none, or computed at run time as
     the table's `default` says; a keyword left out is not passed, so the run uses the engine's own default)."""
     signature = inspect.signature(function)
-    named = [p for p in signature.parameters.values() if p.kind != inspect.Parameter.VAR_KEYWORD]
+    values = {r["key"]: r["value"] for r in engine_options(engine)}
+    # A named parameter that is an option (dsmc's method, runs, seed) shows the table's default.
+    named = [p.replace(default=values[p.name]) if p.name in values and p.default is None else p
+             for p in signature.parameters.values() if p.kind != inspect.Parameter.VAR_KEYWORD]
     rest = [p for p in signature.parameters.values() if p.kind == inspect.Parameter.VAR_KEYWORD]
     taken = {p.name for p in named}
     options = [inspect.Parameter(r["key"], inspect.Parameter.KEYWORD_ONLY, default=r["value"])
@@ -171,13 +174,16 @@ class EnsembleSolution:
         self.statistics = raw["statistics"]
 
 
-def dsmc(model, particles, times, observables=("M0", "M1", "M2", "M3"), progress=None, **options):
-    engine = {"name": "dsmc", "particles": particles, **options}
+def dsmc(model, particles, times, method=None, runs=None, seed=None, observables=("M0", "M1", "M2", "M3"), progress=None,
+         **options):
+    # method, runs and seed keep their places; None (not given) leaves the engine's default.
+    given = {"method": method, "runs": runs, "seed": seed}
+    engine = {"name": "dsmc", "particles": particles, **{k: v for k, v in given.items() if v is not None}, **options}
     return EnsembleSolution(model._run(times, engine, observables, True, progress))
 
 
-dsmc.__doc__ = """dsmc(model, particles, times, observables=("M0", "M1", "M2", "M3"), progress=None, **options)
-     -> EnsembleSolution
+dsmc.__doc__ = """dsmc(model, particles, times, method="ar", runs=1, seed=1, observables=("M0", "M1", "M2", "M3"),
+     progress=None, **options) -> EnsembleSolution (the defaults are the option table's)
 
 Direct Simulation Monte Carlo of the model; with runs > 1 every observable gets its standard error.
 Options:

@@ -130,7 +130,7 @@ def test_keyword_defaults_are_the_option_tables():
                              (aggkit.ed, "ed"), (aggkit.ts, "ts"), (aggkit.dem, "dem")]:
         parameters = inspect.signature(function).parameters
         for row in aggkit.engine_options(engine):
-            if row["key"] in parameters and parameters[row["key"]].kind == inspect.Parameter.KEYWORD_ONLY:
+            if row["key"] in parameters and row["key"] != "particles":  # dsmc's particles is required
                 assert parameters[row["key"]].default == row["value"], (engine, row["key"])
     assert inspect.signature(aggkit.dsmc).parameters["seed"].default == 1
     model = aggkit.Model("constant", size=100)
@@ -139,6 +139,8 @@ def test_keyword_defaults_are_the_option_tables():
     other = aggkit.dsmc(model, particles=2000, times=[1.0], observables=["M2"], seed=0)
     assert left_out.series["M2"][0] == given.series["M2"][0]
     assert other.series["M2"][0] != given.series["M2"][0]
+    positional = aggkit.dsmc(model, 2000, [1.0], "ar", 1, 1, ["M2"])  # method, runs, seed keep their places
+    assert positional.series["M2"][0] == given.series["M2"][0]
 
 
 def test_an_engine_without_a_function_of_its_own_gets_one_from_the_registry():
