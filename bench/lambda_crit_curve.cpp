@@ -4,6 +4,9 @@
 // λ_crit at the largest N, that N, λ_crit at N/2 and the relative change (the truncation error bar), Brent's
 // bracket, ω, evaluations, wall and CPU seconds; then the totals and the load average.
 //   bench_lambda_crit_curve [--a A ...] [--guess L] [--size N] [--max-size N] [--convergence C] [--tol T] [--slope S]
+//                           [--resolved K --ratio R]
+// (--resolved/--ratio: the graded grid of solvers/size_grid.hpp; each λ_crit is then also repeated with K doubled
+// and with r - 1 halved, and the changes are printed beside the N/2 -> N one)
 // (--slope: d ln λ_crit/da for the second point's guess, e.g. 16.7 from the N = 8192 values at a = 0.75, 0.8)
 #include <chrono>
 #include <cmath>
@@ -33,6 +36,7 @@ int main(int argc, char** argv) {
   double guess = 0.015;  // λ_crit(1) at N = 8192 is 0.01538 (bench/RESULTS.md)
   std::size_t size = 1024;
   HopfCurveOptions options;
+  SizeGrid grid;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto next = [&] { return i + 1 < argc ? argv[++i] : (std::fprintf(stderr, "%s needs a value\n", arg.c_str()), std::exit(2), argv[0]); };
@@ -43,6 +47,8 @@ int main(int argc, char** argv) {
     else if (arg == "--convergence") options.convergence = std::atof(next());
     else if (arg == "--slope") options.log_slope = std::atof(next());
     else if (arg == "--tol") options.relative_tolerance = std::atof(next());
+    else if (arg == "--resolved") grid.resolved = std::strtoul(next(), nullptr, 10);
+    else if (arg == "--ratio") grid.ratio = std::atof(next());
     else {
       std::fprintf(stderr, "unknown argument %s\n", arg.c_str());
       return 2;
@@ -53,18 +59,21 @@ int main(int argc, char** argv) {
   AggregationModel base;
   base.size = size;
   base.truncation = Truncation::cutoff;
-  base.initial = monodisperse(size);
-  std::printf("cutoff, monodisperse, Brent tolerance %g, convergence %g, N <= %zu; load average at start %s\n",
-              options.relative_tolerance, options.convergence, options.max_size, load_average().c_str());
-  std::printf("| a | lambda_crit | N | lambda_crit(N/2) | change N/2 -> N | bracket | omega | evaluations | wall s | CPU s | note |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  base.initial = monodisperse(1);
+  base.grid = grid;
+  std::printf("cutoff, monodisperse, grid %s, Brent tolerance %g, convergence %g, N <= %zu; load average at start %s\n",
+              grid.describe().c_str(), options.relative_tolerance, options.convergence,
+              options.effective_max_size(grid), load_average().c_str());
+  std::printf("| a | lambda_crit | N | classes | lambda_crit(N/2) | change N/2 -> N | change 2K | change (r-1)/2 | bracket | omega | period | evaluations | wall s | CPU s | note |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::fflush(stdout);
   const auto started = std::chrono::steady_clock::now();
   const std::clock_t cpu_started = std::clock();
   const aggkit::bench::Figures figures("lambda_crit_curve", argc, argv);
   hopf_curve(base, as, guess, size, options, [&](const ConvergedHopfPoint& p) {
-    std::printf("| %.2f | %.6g | %zu | %.6g | %.2e | %.1e | %.5g | %d | %.1f | %.1f | %s%s |\n", p.a, p.lambda_crit, p.size,
-                p.lambda_crit_half, p.change, p.bracket, p.omega, p.evaluations, p.seconds, p.cpu_seconds,
+    std::printf("| %.2f | %.6g | %zu | %zu | %.6g | %.2e | %.2e | %.2e | %.1e | %.5g | %.4g | %d | %.1f | %.1f | %s%s |\n", p.a,
+                p.lambda_crit, p.size, p.unknowns, p.lambda_crit_half, p.change, p.change_K, p.change_ratio, p.bracket,
+                p.omega, p.omega > 0 ? 2 * M_PI / p.omega : NAN, p.evaluations, p.seconds, p.cpu_seconds,
                 p.converged ? "" : "NOT CONVERGED: ", p.note.c_str());
     for (std::size_t i = 0; i < p.by_size.size(); ++i)
       std::printf("|   | N = %zu: %s | %d evaluations, %.1f s CPU | %s |\n", p.sizes[i],
@@ -75,6 +84,10 @@ int main(int argc, char** argv) {
     figures.add(case_name, "lambda_crit", p.converged ? p.lambda_crit : NAN, "1");
     figures.add(case_name, "change_2N", p.converged ? p.change : NAN, "1");
     figures.add(case_name, "N", double(p.size), "1");
+    if (!grid.uniform()) {
+      figures.add(case_name, "change_2K", p.converged ? p.change_K : NAN, "1");
+      figures.add(case_name, "change_half_ratio", p.converged ? p.change_ratio : NAN, "1");
+    }
     figures.add(case_name, "cpu_seconds", p.cpu_seconds, "s");
   });
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

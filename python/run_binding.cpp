@@ -123,7 +123,9 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     if (n.ndim() != 1 || std::size_t(n.shape(0)) > scene.model.size)
       throw InputError("initial", std::to_string(n.size()) + " entries",
                        "a 1-D array of at most size = " + std::to_string(scene.model.size) + " densities");
-    scene.model.initial.assign(scene.model.size, 0.0);
+    // Padded with zeros to N on the uniform grid; a graded grid's N may be far too large for that (a
+    // shorter table means zeros beyond, solvers/model.hpp).
+    scene.model.initial.assign(scene.model.grid.uniform() ? scene.model.size : std::size_t(n.shape(0)), 0.0);
     std::copy(n.data(), n.data() + n.shape(0), scene.model.initial.begin());
     scene.model.validate(scene.time.end);  // keys as the Python arguments name them ("initial.n[3]")
   }
@@ -191,6 +193,11 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     }
     out["n"] = owned_array(std::move(n), {py::ssize_t(record.distributions.size()), py::ssize_t(width)});
     out["n_times"] = owned_array(std::move(times), {py::ssize_t(record.distributions.size())});
+    if (!record.distributions.front().sizes.empty()) {  // a graded grid: the classes' sizes (pivots)
+      std::vector<double> sizes = record.distributions.front().sizes;
+      const auto count = py::ssize_t(sizes.size());
+      out["sizes"] = owned_array(std::move(sizes), {count});
+    }
   }
   py::dict stats;
   for (const auto& s : statistics) std::visit([&](const auto& v) { stats[py::str(s.name)] = v; }, s.value);
@@ -251,8 +258,9 @@ py::array_t<std::complex<double>> rightmost_eigenvalues(const std::string& scene
                                                         const py::array_t<double, py::array::c_style | py::array::forcecast>& state,
                                                         int count) {
   const AggregationModel model = model_of(scene_text, kernel);
-  if (state.ndim() != 1 || std::size_t(state.shape(0)) != model.size)
-    throw InputError("state", std::to_string(state.size()) + " entries", "a 1-D array of size = " + std::to_string(model.size) + " densities");
+  if (state.ndim() != 1 || std::size_t(state.shape(0)) != model.unknowns())
+    throw InputError("state", std::to_string(state.size()) + " entries",
+                     "a 1-D array of one density per size class (" + std::to_string(model.unknowns()) + ")");
   if (count < 1) throw InputError("count", std::to_string(count), "an integer >= 1");
   const std::vector<double> n(state.data(), state.data() + state.shape(0));
   StabilityResult result;

@@ -63,6 +63,7 @@ struct Problem {
   const AggregationModel* model = nullptr;
   Rates* rates = nullptr;
   std::size_t N = 0;
+  std::vector<double> sizes;              // the classes' sizes (pivots; 1..N on the uniform grid)
   Rates::MonomerCoupling coupling;        // preconditioner: the O(N)-invertible part of J
   std::vector<double> inverse;            // 1/(1 - γ J_kk)
   double gamma = 0.0;
@@ -150,12 +151,12 @@ int dense_jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix J, vo
   return guarded(p, [&] {
     const std::size_t N = p->N;
     p->dense.resize(N * N);
-    dense_jacobian(*p->model, t, view(y, N), p->dense);
+    if (!p->rates->dense_jacobian(t, view(y, N), p->dense)) dense_jacobian(*p->model, t, view(y, N), p->dense);
     SUNMatZero(J);
     for (std::size_t i = 0; i < N; ++i)
       for (std::size_t j = 0; j < N; ++j) SM_ELEMENT_D(J, sunindextype(i), sunindextype(j)) = p->dense[i * N + j];
     p->dense.resize(N);
-    leak_gradient(*p->model, t, view(y, N), p->dense);
+    if (!p->rates->leak_gradient(view(y, N), p->dense)) leak_gradient(*p->model, t, view(y, N), p->dense);
     for (std::size_t j = 0; j < N; ++j) SM_ELEMENT_D(J, sunindextype(N), sunindextype(j)) = p->dense[j];
   });
 }
@@ -179,7 +180,7 @@ int dense_jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix J, vo
 // resolved sizes absorb it at O(rtol) relative change.
 void project_onto_mass_shell(const Problem& p, const double* y, double* correction, double* error) {
   const std::size_t size = p.N + 1;
-  auto g = [&](std::size_t i) { return i < p.N ? double(i + 1) : 1.0; };
+  auto g = [&](std::size_t i) { return i < p.N ? p.sizes[i] : 1.0; };
   double mass = 0.0, norm = 0.0;
   for (std::size_t i = 0; i < size; ++i) {
     // L itself is never corrected: it stays the integral of the leak rate (0 under cutoff).
@@ -272,7 +273,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
     if (!std::isfinite(output_times[i]) || output_times[i] < 0.0 || (i > 0 && !(output_times[i] > output_times[i - 1])))
       throw InputError("output_times[" + std::to_string(i) + "]", format_value(output_times[i]),
                        "output times must be finite, >= 0 and strictly increasing");
-  const std::size_t N = model.size;
+  const std::size_t N = model.unknowns();  // N on the uniform grid, the graded grid's classes otherwise
   if (options.method == IntegratorMethod::bdf_dense && N > options.dense_limit)
     throw InputError("method", "\"bdf-dense\"",
                      "a dense Jacobian is limited to N <= " + std::to_string(options.dense_limit) +
@@ -284,6 +285,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   problem.model = &model;
   problem.rates = rates.get();
   problem.N = N;
+  problem.sizes = model.pivots();
 
   Session s;
   if (SUNContext_Create(nullptr, &s.context) != 0) throw std::runtime_error("SUNContext_Create failed");
@@ -292,13 +294,14 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   double* y = N_VGetArrayPointer(s.y);
   double* abstol = N_VGetArrayPointer(s.abstol);
   double density_scale = 0.0;
+  const std::vector<double> initial = model.initial_state();
   for (std::size_t k = 0; k < N; ++k) {
-    y[k] = k < model.initial.size() ? model.initial[k] : 0.0;
+    y[k] = initial[k];
     density_scale = std::max(density_scale, y[k]);
-    problem.mass += double(k + 1) * y[k];
+    problem.mass += problem.sizes[k] * y[k];
   }
   for (std::size_t k = 0; k < N; ++k)
-    abstol[k] = std::max(options.effective_atol() * std::pow(double(k + 1), -options.atol_exponent),
+    abstol[k] = std::max(options.effective_atol() * std::pow(problem.sizes[k], -options.atol_exponent),
                          options.effective_atol_floor() * density_scale);
   y[N] = 0.0;
   if (options.negligible_fraction > 0.0) {  // the adaptive active range: ν_k = fraction · atol_k
@@ -388,7 +391,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
       if (x < -abstol[k]) {
         ++beyond;
         if (x < stats.most_negative_beyond_tolerance)
-          stats.most_negative_beyond_tolerance = x, stats.most_negative_size = k + 1, stats.most_negative_time = t_out;
+          stats.most_negative_beyond_tolerance = x, stats.most_negative_size = std::size_t(problem.sizes[k]), stats.most_negative_time = t_out;
       }
     }
     stats.negative_densities = std::max(stats.negative_densities, negatives);

@@ -46,10 +46,15 @@ class GrowthRate {
     if (nearest) {
       steady = solve_steady_state(model, options_.steady, nearest->n);
     } else if (!options_.start.empty()) {
-      // The caller's state at a nearby (a, λ), cut or extended to this N.
+      // The caller's state at a nearby (a, λ), cut or extended to this N (carried onto this grid's classes
+      // when either is graded).
       const std::size_t N = model.size;
-      std::vector<double> guess = options_.start.size() >= N ? std::vector<double>(options_.start.begin(), options_.start.begin() + std::ptrdiff_t(N))
-                                                             : extend_steady_state(options_.start, N);
+      std::vector<double> guess;
+      if (model.grid.uniform() && options_.start_sizes.empty())
+        guess = options_.start.size() >= N ? std::vector<double>(options_.start.begin(), options_.start.begin() + std::ptrdiff_t(N))
+                                           : extend_steady_state(options_.start, N);
+      else
+        guess = regrid(start_sizes(), options_.start, model.pivots());
       steady = solve_steady_state(model, options_.steady, guess);
     }
     if (!steady.converged) steady = solve_steady_state(model, options_.steady);
@@ -76,6 +81,13 @@ class GrowthRate {
 
  private:
   AggregationModel base_;
+  std::vector<double> start_sizes() const {
+    if (!options_.start_sizes.empty()) return options_.start_sizes;
+    std::vector<double> x(options_.start.size());
+    for (std::size_t k = 0; k < x.size(); ++k) x[k] = double(k + 1);
+    return x;
+  }
+
   HopfOptions options_;
   std::vector<Sample> samples_;
 };
@@ -221,6 +233,7 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
   point.lambda_tolerance = std::exp(upper.x) - std::exp(lower.x);
   point.omega = lower.omega + t * (upper.omega - lower.omega);
   point.steady_state = upper.n;
+  if (!base.grid.uniform()) point.steady_sizes = base.pivots();
   if (upper.x - lower.x > width) point.note += "bracket not narrowed to the tolerance in 60 steps; ";
   return finish();
 }

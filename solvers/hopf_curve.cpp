@@ -21,8 +21,9 @@ void HopfCurveOptions::validate() const {
   in_range("bracket", bracket, 0.0, 10.0, "a number in (0, 10)");
   if (bracket_steps < 0) throw InputError("bracket_steps", std::to_string(bracket_steps), "an integer >= 0");
   if (min_size < 8) throw InputError("min_size", std::to_string(min_size), "an integer >= 8");
-  if (max_size < 2 * min_size)
-    throw InputError("max_size", std::to_string(max_size), "an integer >= 2 min_size = " + std::to_string(2 * min_size));
+  if (max_size != 0 && max_size < 2 * min_size)
+    throw InputError("max_size", std::to_string(max_size),
+                     "0 (automatic) or an integer >= 2 min_size = " + std::to_string(2 * min_size));
   if (!(size_per_inverse_lambda >= 0.0) || !std::isfinite(size_per_inverse_lambda))
     throw InputError("size_per_inverse_lambda", format_value(size_per_inverse_lambda), "a finite number >= 0");
   if (!std::isfinite(log_slope)) throw InputError("log_slope", format_value(log_slope), "a finite number");
@@ -32,16 +33,66 @@ namespace {
 
 std::size_t power_of_two_at_least(double x) {
   std::size_t n = 1;
-  while (double(n) < x && n < (std::size_t(1) << 40)) n *= 2;
+  while (double(n) < x && n < (std::size_t(1) << 62)) n *= 2;
   return n;
 }
 
 bool no_steady_state(const HopfPoint& p) { return p.note.find("no steady state") != std::string::npos; }
 
+// The graded grid's two refinements at the final N: the resolved block doubled and r - 1 halved, each
+// searched in a bracket of ± convergence around λ_crit (stepped outwards if the crossing moved further)
+// from the final steady state carried onto the finer grid.
+void refine_grid(const AggregationModel& base, double a, const HopfCurveOptions& options, HopfOptions hopf,
+                 ConvergedHopfPoint& result) {
+  const HopfPoint& final = result.by_size.back();
+  hopf.start = final.steady_state;
+  hopf.start_sizes = final.steady_sizes;
+  result.resolved = base.grid.resolved;
+  result.ratio = base.grid.ratio;
+  result.unknowns = final.steady_state.size();
+  const bool converged_in_N = result.converged;
+  auto refined = [&](SizeGrid grid, const char* what, double& lambda, double& change) {
+    AggregationModel model = base;
+    model.size = result.size;
+    if (model.initial.size() > model.size) model.initial.resize(model.size);
+    model.grid = grid;
+    const double lo = result.lambda_crit / (1.0 + options.convergence), hi = result.lambda_crit * (1.0 + options.convergence);
+    HopfPoint p;
+    try {
+      p = locate_hopf(model, a, lo, hi, options.relative_tolerance, hopf);
+    } catch (const std::runtime_error& e) {
+      p.note = e.what();
+    }
+    result.by_size.push_back(p);
+    result.sizes.push_back(model.size);
+    result.evaluations += p.evaluations;
+    if (!p.found) {
+      result.converged = false;
+      result.note += std::string(what) + " (" + grid.describe() + "): " + p.note + "; ";
+      return;
+    }
+    lambda = p.lambda_crit;
+    change = std::abs(p.lambda_crit - result.lambda_crit) / result.lambda_crit;
+    if (change > options.convergence) {
+      result.converged = false;
+      result.note += std::string(what) + " moves lambda_crit by " + format_value(change) + " (> convergence " +
+                     format_value(options.convergence) + "); ";
+    }
+  };
+  SizeGrid twice = base.grid;
+  twice.resolved *= 2;
+  refined(twice, "K doubled", result.lambda_crit_2K, result.change_K);
+  SizeGrid finer = base.grid;
+  finer.ratio = 1.0 + 0.5 * (base.grid.ratio - 1.0);
+  refined(finer, "r - 1 halved", result.lambda_crit_fine_ratio, result.change_ratio);
+  result.converged = result.converged && converged_in_N;
+}
+
 }  // namespace
 
 ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a, double lambda_guess, std::size_t size,
-                                         const HopfCurveOptions& options, std::span<const double> start) {
+                                         const HopfCurveOptions& options, std::span<const double> start,
+                                         std::span<const double> start_sizes) {
   options.validate();
   if (!(lambda_guess > 0.0) || !std::isfinite(lambda_guess))
     throw InputError("lambda_guess", format_value(lambda_guess), "a finite shattering rate > 0");
@@ -53,16 +104,19 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
   // lengths), at most max_size / 2 so that one doubling remains possible.
   std::size_t N = power_of_two_at_least(std::max({double(size), double(options.min_size),
                                                    options.size_per_inverse_lambda / lambda_guess}));
-  N = std::min(N, options.max_size / 2);
+  const std::size_t max_size = options.effective_max_size(base.grid);
+  N = std::min(N, max_size / 2);
   HopfOptions hopf = options.hopf;
   hopf.bracket_steps = options.bracket_steps;
   hopf.start.assign(start.begin(), start.end());
+  hopf.start_sizes.assign(start_sizes.begin(), start_sizes.end());
   double guess = lambda_guess, half_width = options.bracket;
   std::size_t previous = 0;  // 1 + index in by_size of the last λ_crit found at N / 2 (0: none)
-  for (; N <= options.max_size; N *= 2) {
+  std::vector<double> last_sizes;  // pivots of the N that found the last λ_crit (graded grid)
+  for (; N <= max_size; N *= 2) {
     AggregationModel model = base;
     model.size = N;
-    model.initial.resize(N, 0.0);  // a longer table's entries beyond N must be zero (validate() says so)
+    if (model.initial.size() > N) model.initial.resize(N);  // entries beyond N must be zero (validate() says so)
     const double lo = guess / (1.0 + half_width), hi = guess * (1.0 + half_width);
     try {
       result.by_size.push_back(locate_hopf(model, a, lo, hi, options.relative_tolerance, hopf));
@@ -104,13 +158,15 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
     guess = p.lambda_crit;
     half_width = options.convergence;
     hopf.start = p.steady_state;
+    hopf.start_sizes = p.steady_sizes;
   }
   if (!result.converged) {
     if (result.size == 0)
       result.note += "no lambda_crit found up to N = " + std::to_string(options.max_size) + "; ";
     else
-      result.note += "not converged in N up to " + std::to_string(std::min(N, options.max_size)) + "; ";
+      result.note += "not converged in N up to " + std::to_string(std::min(N, max_size)) + "; ";
   }
+  if (!base.grid.uniform() && result.size > 0) refine_grid(base, a, options, hopf, result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   result.cpu_seconds = double(std::clock() - cpu_started) / CLOCKS_PER_SEC;
   return result;
@@ -126,7 +182,7 @@ std::vector<ConvergedHopfPoint> hopf_curve(const AggregationModel& base, std::sp
   for (double a : a_values) {
     double guess = lambda_guess;
     std::size_t N = size;
-    std::vector<double> start;
+    std::vector<double> start, start_sizes;
     if (!converged.empty()) {
       const ConvergedHopfPoint& last = *converged.back();
       guess = last.lambda_crit * std::exp(options.log_slope * (a - last.a));
@@ -141,8 +197,9 @@ std::vector<ConvergedHopfPoint> hopf_curve(const AggregationModel& base, std::sp
       // last pair's N instead would ratchet it up by the power-of-two rounding at every a.
       N = options.min_size;
       start = last.by_size.back().steady_state;
+      start_sizes = last.by_size.back().steady_sizes;
     }
-    curve.push_back(locate_hopf_converged(base, a, guess, N, options, start));
+    curve.push_back(locate_hopf_converged(base, a, guess, N, options, start, start_sizes));
     if (curve.back().converged) converged.push_back(&curve.back());
     if (on_point) on_point(curve.back());
   }

@@ -23,6 +23,7 @@
 // ([Kalinov2022, Sec. 5.2]).
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -48,7 +49,12 @@ struct HopfCurveOptions {
   double convergence = 0.01;         // accepted |λ(2N) - λ(N)| / λ(2N)
   double bracket = 0.05;             // half-width (relative) of the first bracket around a guess
   int bracket_steps = 12;            // how far a bracket may be stepped towards the crossing
-  std::size_t max_size = std::size_t(1) << 16;  // largest N tried (memory and time)
+  // Largest N tried (memory and time); 0: 2^16 on the uniform grid, 2^60 on a graded one (whose unknowns
+  // grow only by ln 2 / ln r per doubling).
+  std::size_t max_size = 0;
+  std::size_t effective_max_size(const SizeGrid& grid) const {
+    return max_size ? max_size : grid.uniform() ? std::size_t(1) << 16 : std::size_t(1) << 60;
+  }
   // Smallest N for a given λ guess: N ≥ size_per_inverse_lambda / λ (rounded up to a power of two),
   // i.e. c N ≥ ~5 with c ≈ 0.65 λ (the doubled N then has c N ≥ 10, where λ_crit moves by ~1e-4
   // relative per doubling, measured at a = 0.75 and 0.8); and never below min_size.
@@ -71,6 +77,16 @@ struct ConvergedHopfPoint {
   double bracket = 0;          // Brent's bracket width at `size` (absolute)
   std::vector<HopfPoint> by_size;  // every locate_hopf call, in order (a, N, λ_crit, note)
   std::vector<std::size_t> sizes;  // the N of each entry of by_size
+  // Graded grid (solvers/size_grid.hpp): λ_crit at the final N repeated with the resolved block doubled
+  // (2K) and with r - 1 halved; the changes relative to λ_crit are error bars like `change`, and
+  // `converged` needs all three within the tolerance. NaN on the uniform grid.
+  std::size_t resolved = 0;    // K of the reported value (0: uniform grid)
+  double ratio = 1.0;          // r of the reported value
+  std::size_t unknowns = 0;    // size classes at the reported N
+  double lambda_crit_2K = std::numeric_limits<double>::quiet_NaN();
+  double change_K = std::numeric_limits<double>::quiet_NaN();
+  double lambda_crit_fine_ratio = std::numeric_limits<double>::quiet_NaN();
+  double change_ratio = std::numeric_limits<double>::quiet_NaN();
   int evaluations = 0;
   double seconds = 0, cpu_seconds = 0;
   std::string note;
@@ -80,7 +96,8 @@ struct ConvergedHopfPoint {
 // and N = size (or larger, from options.size_per_inverse_lambda). `start`: a steady state near (a, λ_guess)
 // of any size (may be empty). Throws InputError on bad options.
 ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a, double lambda_guess, std::size_t size,
-                                         const HopfCurveOptions& options = {}, std::span<const double> start = {});
+                                         const HopfCurveOptions& options = {}, std::span<const double> start = {},
+                                         std::span<const double> start_sizes = {});
 
 // The curve over a_values (in the given order; start at the largest a), the first point from
 // lambda_guess and size. A point that does not converge stops the continuation's extrapolation from it

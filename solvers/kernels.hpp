@@ -43,6 +43,7 @@ class Kernel {
   static std::vector<std::string> names();
 
   double operator()(std::size_t i, std::size_t j) const { return function_(double(i), double(j)); }
+  double at(double x, double y) const { return function_(x, y); }  // at any sizes (pivots of a graded grid)
   const std::string& name() const { return name_; }
   const std::map<std::string, double>& parameters() const { return parameters_; }
   std::string describe() const;  // e.g. "brownian(a=0.95)"

@@ -13,8 +13,15 @@ double total_mass(std::span<const double> n) {
   return mass;
 }
 
+double total_mass(std::span<const double> n, std::span<const double> sizes) {
+  double mass = 0.0;
+  for (std::size_t k = 0; k < n.size(); ++k) mass += sizes[k] * n[k];
+  return mass;
+}
+
 MassConstrainedSystem::MassConstrainedSystem(const AggregationModel& model, RatesPath path, double lowrank_tolerance)
-    : N_(model.size), mass_row_(model.size - 1), cutoff_(model.truncation == Truncation::cutoff) {
+    : model_(model), N_(model.unknowns()), mass_row_(N_ - 1), cutoff_(model.truncation == Truncation::cutoff),
+      sizes_(model.pivots()) {
   model.validate(0.0);
   if (!model.lambda.is_constant())
     throw InputError("lambda", model.lambda.describe(), "a constant shattering rate for a steady state");
@@ -23,9 +30,8 @@ MassConstrainedSystem::MassConstrainedSystem(const AggregationModel& model, Rate
     if (N_ < 3) throw InputError("size", std::to_string(N_), "at least 3 for a cutoff steady state");
     mass_row_ = N_ - 2;
   }
-  std::vector<double> initial = model.initial;
-  initial.resize(N_, 0.0);
-  mass_ = total_mass(std::span<const double>(initial).first(mass_row_ + 1));
+  const std::vector<double> initial = model.initial_state();
+  mass_ = total_mass(std::span<const double>(initial).first(mass_row_ + 1), sizes_);
   if (!(mass_ > 0.0))
     throw InputError("initial", "no mass below the absorbing size N",
                      "a cutoff steady state needs mass in sizes < N");
@@ -41,14 +47,22 @@ MassConstrainedSystem::MassConstrainedSystem(const AggregationModel& model, Rate
 
 void MassConstrainedSystem::residual(std::span<const double> n, std::span<double> F) {
   rates_->evaluate(0.0, n, F);
-  F[mass_row_] = total_mass(n.first(mass_row_ + 1)) - mass_;
+  F[mass_row_] = total_mass(n.first(mass_row_ + 1), sizes_) - mass_;
   for (std::size_t k = mass_row_ + 1; k < N_; ++k) F[k] = n[k];
 }
 
 double MassConstrainedSystem::leak_rate(std::span<const double> n) {
   if (!cutoff_) return rates_->leak_rate(0.0, n);
   rates_->evaluate(0.0, n, dndt_);  // with n_N = 0, f_N is the gain of the absorbing class
-  return double(N_) * dndt_[N_ - 1];
+  return sizes_[N_ - 1] * dndt_[N_ - 1];
+}
+
+void MassConstrainedSystem::dense_jacobian(std::span<const double> n, std::span<double> J) {
+  const std::size_t N = N_;
+  if (!rates_->dense_jacobian(0.0, n, J)) aggkit::dense_jacobian(model_, 0.0, n, J);
+  for (std::size_t k = 0; k < N; ++k) J[mass_row_ * N + k] = k <= mass_row_ ? sizes_[k] : 0.0;
+  for (std::size_t r = mass_row_ + 1; r < N; ++r)
+    for (std::size_t k = 0; k < N; ++k) J[r * N + k] = r == k ? 1.0 : 0.0;
 }
 
 void MassConstrainedSystem::set_state(std::span<const double> n) {
@@ -59,7 +73,7 @@ void MassConstrainedSystem::set_state(std::span<const double> n) {
 void MassConstrainedSystem::apply(std::span<const double> v, std::span<double> out, double shift) {
   rates_->jacobian_times(0.0, state_, v, out);
   for (std::size_t k = 0; k < mass_row_; ++k) out[k] -= shift * v[k];
-  out[mass_row_] = total_mass(v.first(mass_row_ + 1));
+  out[mass_row_] = total_mass(v.first(mass_row_ + 1), sizes_);
   for (std::size_t k = mass_row_ + 1; k < N_; ++k) out[k] = v[k];
 }
 
@@ -76,9 +90,9 @@ void MassConstrainedSystem::precondition(std::span<const double> r, std::span<do
   double mass = z[0];
   for (std::size_t k = 1; k < mass_row_; ++k) {
     z[k] = (r[k] - C[k] * z[0] - S[k] * z[k - 1]) / pivot(k);
-    mass += double(k + 1) * z[k];
+    mass += sizes_[k] * z[k];
   }
-  z[mass_row_] = (r[mass_row_] - mass) / double(mass_row_ + 1);
+  z[mass_row_] = (r[mass_row_] - mass) / sizes_[mass_row_];
   for (std::size_t k = mass_row_ + 1; k < N_; ++k) z[k] = r[k];
 }
 

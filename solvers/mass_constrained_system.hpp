@@ -33,7 +33,11 @@ class MassConstrainedSystem {
   MassConstrainedSystem(const AggregationModel& model, RatesPath path = RatesPath::fast,
                         double lowrank_tolerance = 1e-12);
 
-  std::size_t size() const { return N_; }
+  std::size_t size() const { return N_; }  // unknowns: N, or the graded grid's classes
+  const std::vector<double>& sizes() const { return sizes_; }  // the classes' sizes (1..N uniform)
+  // Graded grids use Newton and shift-invert with a dense LU of J_F (a few hundred to a few thousand
+  // unknowns); the uniform grid keeps the matrix-free path.
+  bool dense() const { return !model_.grid.uniform(); }
   // Index (0-based) of the mass row; rows after it are pinned (n_k = 0).
   std::size_t mass_row() const { return mass_row_; }
   double mass() const { return mass_; }
@@ -49,6 +53,9 @@ class MassConstrainedSystem {
 
   // Linearisation at n: call before apply()/precondition().
   void set_state(std::span<const double> n);
+  // J_F (row-major size()×size()) at n: ∂f/∂n on the free rows, the sizes on the mass row, identity on
+  // pinned rows.
+  void dense_jacobian(std::span<const double> n, std::span<double> J);
   // out = (J_F - σ B) v, J·v through the rates' exact bilinear form (no differencing).
   void apply(std::span<const double> v, std::span<double> out, double shift = 0.0);
   // z = P_σ^{-1} r with P_σ the lower-triangular part of J_F - σ B that monomer attachment dominates:
@@ -58,15 +65,18 @@ class MassConstrainedSystem {
   void precondition(std::span<const double> r, std::span<double> z, double shift = 0.0) const;
 
  private:
+  AggregationModel model_;
   std::size_t N_, mass_row_;
   bool cutoff_;
+  std::vector<double> sizes_;
   double mass_ = 0.0, lambda_ = 0.0, residual_scale_ = 1.0;
   std::unique_ptr<Rates> rates_;
   std::vector<double> state_, dndt_;
   Rates::MonomerCoupling coupling_;
 };
 
-// Mass of a state, Σ k n_k.
+// Mass of a state, Σ k n_k, and on a grid with the classes' sizes, Σ x_k n_k.
 double total_mass(std::span<const double> n);
+double total_mass(std::span<const double> n, std::span<const double> sizes);
 
 }  // namespace aggkit

@@ -28,6 +28,16 @@ void AggregationModel::validate(double t_end) const {
   }
   if (!(mass > 0.0)) throw InputError("initial", "zero mass", "at least one density must be > 0");
   lambda.validate(t_end);
+  grid.validate();
+}
+
+std::vector<double> AggregationModel::initial_state() const {
+  if (grid.uniform()) {
+    std::vector<double> n(initial);
+    n.resize(size, 0.0);
+    return n;
+  }
+  return to_grid(pivots(), initial);
 }
 
 std::vector<double> monodisperse(std::size_t N, double density) {

@@ -118,11 +118,13 @@ std::unique_ptr<Rates> make_direct_rates(const AggregationModel& model) {
 
 std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path, double lowrank_tolerance,
                                   double jacobian_tolerance) {
+  if (!model.grid.uniform()) return make_sectional_rates(model);
   return path == RatesPath::direct ? make_direct_rates(model)
                                    : make_fast_rates(model, lowrank_tolerance, jacobian_tolerance);
 }
 
 void leak_gradient(const AggregationModel& model, double, std::span<const double> n, std::span<double> gradient) {
+  if (!model.grid.uniform()) return sectional_leak_gradient(model, n, gradient);
   const std::size_t N = model.size;
   std::fill(gradient.begin(), gradient.end(), 0.0);
   if (model.truncation == Truncation::cutoff) return;
@@ -133,6 +135,7 @@ void leak_gradient(const AggregationModel& model, double, std::span<const double
 void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
                     std::span<double> jacobian) {
   // J_kl = ∂f_k/∂n_l from differentiating the equations of solvers/model.hpp term by term.
+  if (!model.grid.uniform()) return sectional_dense_jacobian(model, t, n, jacobian);
   const std::size_t N = model.size;
   const bool cutoff = model.truncation == Truncation::cutoff;
   const double lambda = model.lambda(t);

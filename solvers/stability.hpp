@@ -5,6 +5,7 @@
 // /(m+1) on the mass row m, pinned components 0) leaves the standard problem A u = μ u,
 // A = J_{<m,<m} + J_{<m,m} t^T with t_k = -(k+1)/(m+1): the trivial mass-conservation mode is gone.
 //   dense:  A formed from the direct Jacobian, all eigenvalues by Eigen (small N);
+//   dense-shift-invert (graded grids, solvers/size_grid.hpp): Arnoldi on (A - σI)^{-1} by one dense LU;
 //   krylov: Arnoldi (Spectra) on the shift-invert operator (A - σI)^{-1}, each application one GMRES
 //           solve of (J_F - σB) v = (b, 0) with the monomer-attachment preconditioner (PETSc KSP). The
 //           eigenvalues nearest σ come out first; the rightmost are then selected from those, which is
@@ -41,7 +42,7 @@ struct StabilityResult {
                                                 // (the trivial mass-conservation mode excluded)
   bool stable = true;                            // Re(rightmost[0]) < 0
   // Added beyond the shared interface:
-  std::string method;                            // "dense" or "krylov"
+  std::string method;                            // "dense", "krylov" or "dense-shift-invert" (graded grid)
   long linear_iterations = 0;                    // GMRES iterations of the shift-invert solves (krylov)
   int operator_applications = 0;                 // shift-invert solves (krylov)
   double seconds = 0;
@@ -67,6 +68,7 @@ struct HopfPoint {
   double seconds = 0;
   double cpu_seconds = 0;        // process CPU time (the machine may be shared)
   std::vector<double> steady_state;  // the steady state at the final bracket's stable end (found only)
+  std::vector<double> steady_sizes;  // its classes' sizes on a graded grid (empty: 1..N)
 };
 
 struct HopfOptions {
@@ -75,6 +77,7 @@ struct HopfOptions {
   // A steady state at a nearby (a, λ), of any size: the first Newton guess (cut to N, or extended to N
   // by extend_steady_state). Empty: the steady-state solver's own start.
   std::vector<double> start;
+  std::vector<double> start_sizes;  // the sizes of start's classes (empty: 1..start.size())
   // When [lambda_lo, lambda_hi] does not hold the crossing, step the bracket towards it (each step
   // moves it by its own width in ln λ, the known end becoming the new inner end) up to this many times.
   int bracket_steps = 0;

@@ -77,6 +77,7 @@ namespace {
 
 struct NewtonContext {
   MassConstrainedSystem* system = nullptr;
+  std::vector<double> dense;      // graded grid: J_F, row-major (PETSc's dense matrices are column-major)
   ShellOperator op;
   std::vector<double> history;
   double target = 0.0;            // the relative residual asked for
@@ -101,12 +102,24 @@ PetscErrorCode form_function(SNES, Vec x, Vec f, void* data) {
   return code;
 }
 
-PetscErrorCode form_jacobian(SNES, Vec x, Mat, Mat, void* data) {
+PetscErrorCode form_jacobian(SNES, Vec x, Mat J, Mat, void* data) {
   auto* c = static_cast<NewtonContext*>(data);
   const PetscScalar* xx = nullptr;
   VecGetArrayRead(x, &xx);
   PetscErrorCode code = 0;
   try {
+    const std::size_t N = c->system->size();
+    if (c->system->dense()) {
+      c->dense.resize(N * N);
+      c->system->dense_jacobian({xx, N}, c->dense);
+      PetscScalar* a = nullptr;
+      MatDenseGetArrayWrite(J, &a);
+      for (std::size_t row = 0; row < N; ++row)
+        for (std::size_t column = 0; column < N; ++column) a[column * N + row] = c->dense[row * N + column];
+      MatDenseRestoreArrayWrite(J, &a);
+      MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY);
+      MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY);
+    }
     c->system->set_state({xx, c->system->size()});
   } catch (...) {
     code = PETSC_ERR_LIB;
@@ -158,7 +171,14 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
     check_petsc(VecGetArray(x, &xx), "VecGetArray");
     std::copy(guess.begin(), guess.end(), xx);
     VecRestoreArray(x, &xx);
-    J = make_shell_matrix(context.op);
+    if (system.dense()) {
+      // Graded grid: a few hundred to a few thousand unknowns, so Newton's linear solves are one dense LU
+      // each (O(M^3/3), ~10 ms at M = 500) instead of GMRES, whose iterations grow with the far sections'
+      // stiffness.
+      check_petsc(MatCreateSeqDense(PETSC_COMM_SELF, N, N, nullptr, &J), "MatCreateSeqDense");
+    } else {
+      J = make_shell_matrix(context.op);
+    }
     check_petsc(SNESCreate(PETSC_COMM_SELF, &snes), "SNESCreate");
     // The user's PETSc options (scene, then command line): a database of this SNES and its KSP, PC and line
     // search, read by SNESSetFromOptions after aggkit's settings.
@@ -185,8 +205,14 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
                 "KSPSetTolerances");
     PC pc = nullptr;
     check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-    set_shell_preconditioner(pc, context.op, options.precondition);
-    if (options.eisenstat_walker) check_petsc(SNESKSPSetUseEW(snes, PETSC_TRUE), "SNESKSPSetUseEW");
+    if (system.dense()) {
+      check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+      check_petsc(PCSetType(pc, PCLU), "PCSetType");
+      context.first_forcing = false;
+    } else {
+      set_shell_preconditioner(pc, context.op, options.precondition);
+      if (options.eisenstat_walker) check_petsc(SNESKSPSetUseEW(snes, PETSC_TRUE), "SNESKSPSetUseEW");
+    }
     if (database) {
       check_petsc(use_options_database(snes, database->get()), "PetscObjectSetOptions");
       check_petsc(SNESSetFromOptions(snes), "SNESSetFromOptions (petsc_options)");
@@ -243,7 +269,7 @@ double seconds_since(std::chrono::steady_clock::time_point since) {
 // did not converge to a density.
 std::optional<std::vector<double>> coarse_start(const AggregationModel& model, const SteadyStateOptions& options) {
   const std::size_t N = model.size, Nc = N / 4;
-  if (options.coarse_start_above == 0 || N <= options.coarse_start_above) return std::nullopt;
+  if (options.coarse_start_above == 0 || N <= options.coarse_start_above || !model.grid.uniform()) return std::nullopt;
   for (std::size_t k = Nc; k < model.initial.size(); ++k)
     if (model.initial[k] != 0.0) return std::nullopt;  // the initial state (its mass) must fit the coarse sizes
   AggregationModel coarse = model;

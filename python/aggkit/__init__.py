@@ -65,12 +65,18 @@ class Model:
         evaluation; checked at 1001 points of [0, t_end]).
     size: the truncation N >= 2.  truncation: "drop" or "cutoff".
     initial: None (unit monodisperse start) or an array n_1.. of densities (padded with zeros to N).
+    grid: None (every size 1..N) or {"resolved": K, "ratio": r}: sizes 1..K one by one, then fixed-pivot
+        sections growing by r up to N (about K + ln(N/K)/ln r unknowns; N may then reach 2^62). Results
+        then hold one entry per section: `sizes` are their pivots, `n` the numbers of clusters they stand for.
     kernel_parameters: the kernel's parameters by name (a=0.95, mu=0.5, A=1, B=0).
     """
 
-    def __init__(self, kernel, lam=0.0, size=None, truncation="drop", initial=None, **kernel_parameters):
+    def __init__(self, kernel, lam=0.0, size=None, truncation="drop", initial=None, grid=None, **kernel_parameters):
         if size is None:
             raise ValueError("size = None: the truncation N, an integer >= 2, is required")
+        if grid is not None and (not isinstance(grid, dict) or set(grid) != {"resolved", "ratio"}):
+            raise ValueError(f"grid = {grid!r}: None or a dict {{'resolved': K, 'ratio': r}}")
+        self.grid = None if grid is None else dict(grid)
         self.kernel = kernel
         self.lam = lam
         self.size = size
@@ -83,8 +89,11 @@ class Model:
     def _section(self):
         name = "constant" if callable(self.kernel) else self.kernel  # a callable replaces it in the core
         lam = 0.0 if callable(self.lam) else self.lam  # a callable replaces it in the core
-        return {"kernel": {"name": name, **self.kernel_parameters}, "lambda": lam, "size": self.size,
-                "truncation": self.truncation}
+        section = {"kernel": {"name": name, **self.kernel_parameters}, "lambda": lam, "size": self.size,
+                   "truncation": self.truncation}
+        if self.grid is not None:
+            section["grid"] = self.grid
+        return section
 
     def _run(self, times, engine, series, distributions, progress):
         observe = {"series": list(series)}
@@ -100,27 +109,36 @@ class Model:
 
     def __repr__(self):
         k = "callable" if callable(self.kernel) else self.kernel
-        return f"Model({k!r}, lam={self.lam!r}, size={self.size}, truncation={self.truncation!r})"
+        grid = "" if self.grid is None else f", grid={self.grid!r}"
+        return f"Model({k!r}, lam={self.lam!r}, size={self.size}, truncation={self.truncation!r}{grid})"
 
 
-def _moment(n, p):
-    k = np.arange(1, n.shape[-1] + 1, dtype=float)
+def _sizes(raw):
+    """The sizes of the entries of raw["n"]: 1..N, or a graded grid's pivots."""
+    if "sizes" in raw:
+        return raw["sizes"]
+    return np.arange(1, raw["n"].shape[-1] + 1, dtype=float)
+
+
+def _moment(n, p, sizes=None):
+    k = np.arange(1, n.shape[-1] + 1, dtype=float) if sizes is None else sizes
     return n @ (k ** p)
 
 
 class Solution:
-    """A CVODE solution: t (1-D), n (2-D, one row per time; numpy views of the core's buffer),
-    mass_leak, statistics (dict), moment(p)."""
+    """A CVODE solution: t (1-D), n (2-D, one row per time; numpy views of the core's buffer), sizes (the
+    size of each column: 1..N, or a graded grid's pivots), mass_leak, statistics (dict), moment(p)."""
 
     def __init__(self, raw):
         self.t = raw["t"]
         self.n = raw["n"]
+        self.sizes = _sizes(raw)
         self.mass_leak = raw["series"]["mass_leak"]
         self.statistics = raw["statistics"]
 
     def moment(self, p):
         """M_p(t) = Σ_k k^p n_k(t). The absolute tolerance controls M_p for p <= atol_exponent (3)."""
-        return _moment(self.n, p)
+        return _moment(self.n, p, self.sizes)
 
 
 def integrate(model, times, progress=None, **options):
@@ -138,17 +156,18 @@ _engine_keywords(integrate, "cvode")
 
 
 class SteadyState:
-    """n (the steady state), residual, leak_rate, newton_iterations, statistics."""
+    """n (the steady state), sizes (of n's entries), residual, leak_rate, newton_iterations, statistics."""
 
     def __init__(self, raw):
         self.n = raw["n"][0]
+        self.sizes = _sizes(raw)
         self.statistics = raw["statistics"]
         self.residual = self.statistics["relative_residual"]
         self.leak_rate = self.statistics["leak_rate"]
         self.newton_iterations = self.statistics["newton_iterations"]
 
     def moment(self, p):
-        return _moment(self.n, p)
+        return _moment(self.n, p, self.sizes)
 
 
 def steady_state(model, progress=None, **options):

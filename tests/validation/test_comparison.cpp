@@ -111,7 +111,7 @@ reference = "cvode"
       std::vector<Measurement> at_t;
       // M2 = 1 before the window and 2 + realization inside it: its window mean sees only the window.
       for (std::size_t k = 0; k < periods.size(); ++k)
-        at_t.push_back(Measurement{{wave(periods[k], t), t < 100.0 ? 1.0 : 2.0 + double(k)}, 0.0, {}});
+        at_t.push_back(Measurement{{wave(periods[k], t), t < 100.0 ? 1.0 : 2.0 + double(k)}, 0.0, {}, {}});
       record_measurements(r, scene, t, at_t);
     }
     record_series_measures(r, scene);
@@ -166,7 +166,7 @@ distribution = { relative = 0.0, stderr = 1.01 }
     EngineRecord r;
     r.label = std::move(label);
     std::vector<Measurement> at_end;
-    for (auto& n : each) at_end.push_back(Measurement{{n[0] + n[1]}, 0.0, n});
+    for (auto& n : each) at_end.push_back(Measurement{{n[0] + n[1]}, 0.0, n, {}});
     record_measurements(r, scene, 1.0, at_end);
     return r;
   };

@@ -32,6 +32,7 @@ struct Measurement {
   std::vector<double> values;      // observe.series, in order
   double leaked_mass = 0;
   std::vector<double> distribution;  // n_1..n_N at a distribution time (observe.distributions), else empty
+  std::vector<double> sizes;         // the sizes of its entries on a graded grid (empty: 1..N)
 };
 
 // One value of a final state over an ensemble (final.json: <name> and <name>_stderr).

@@ -34,9 +34,10 @@ class CvodeEngine final : public Engine {
   EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     IntegratorOptions options = options_;
     options.progress = observer.progress;
+    const std::vector<double> sizes = scene.model.grid.uniform() ? std::vector<double>{} : scene.model.pivots();
     const IntegratorStatistics s =
         integrate(scene.model, scene.time.outputs, options, [&](double t, std::span<const double> n, double leaked) {
-          observer.output(t, DensityState(n, leaked));
+          observer.output(t, DensityState(n, leaked, sizes));
         });
     // Tolerance-level negative values (|n_k| < atol_k, e.g. the far tail at early times) are expected and
     // not reported; beyond the tolerance they mean an error larger than requested.
@@ -100,10 +101,10 @@ std::unique_ptr<Engine> build_cvode(const EngineOptions& given, const EngineSpec
   }
   // Measured peak memory about 480 bytes per size (constant kernel, N = 10^6: FFT work arrays, CVODE's
   // vectors and Krylov basis); the estimate takes 600.
-  check_memory("model.size", std::to_string(scene.model.size), 600.0 * double(scene.model.size),
-               "engine " + spec.label + ": about 600 bytes per size");
+  check_memory("model.size", std::to_string(scene.model.size), 600.0 * double(scene.model.unknowns()),
+               "engine " + spec.label + ": about 600 bytes per size class");
   // integrate() refuses this too, but only when it runs: the scene must fail before any engine starts.
-  if (options.method == IntegratorMethod::bdf_dense && scene.model.size > options.dense_limit)
+  if (options.method == IntegratorMethod::bdf_dense && scene.model.unknowns() > options.dense_limit)
     given.fail("method", "bdf-dense only for model.size <= " + std::to_string(options.dense_limit) +
                              " (this scene has " + std::to_string(scene.model.size) + "); use bdf-gmres");
   return std::make_unique<CvodeEngine>(spec.label, options, solver_keys(spec, cvode_options()));

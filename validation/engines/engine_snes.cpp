@@ -48,9 +48,15 @@ class SnesEngine final : public Engine {
     std::ostringstream csv;
     csv.precision(17);
     csv << "k,n\n";
-    for (std::size_t k = 0; k < r.n.size(); ++k) csv << k + 1 << ',' << r.n[k] << '\n';
+    const std::vector<double> sizes = scene.model.grid.uniform() ? std::vector<double>{} : scene.model.pivots();
+    if (sizes.empty()) {
+      for (std::size_t k = 0; k < r.n.size(); ++k) csv << k + 1 << ',' << r.n[k] << '\n';
+    } else {  // a graded grid: each pivot's size and its density per unit size (solvers/size_grid.hpp)
+      const std::vector<double> width = pivot_widths(sizes);
+      for (std::size_t i = 0; i < r.n.size(); ++i) csv << sizes[i] << ',' << r.n[i] / width[i] << '\n';
+    }
     write_file_atomically(observer.folder / "distribution.csv", csv.str());
-    const DensityState state(r.n, 0.0);
+    const DensityState state(r.n, 0.0, sizes);
     for (double t : scene.time.outputs) observer.output(t, state);
     EngineStatistics statistics{
         {"newton_iterations", std::int64_t(r.newton_iterations)},

@@ -15,7 +15,10 @@ Measurement measure_state(const Scene& scene, double t, const ObservedState& sta
   for (const auto& observable : scene.observe.series) m.values.push_back(observable.value(state));
   m.leaked_mass = state.leaked_mass();
   for (double wanted : scene.observe.distribution_times)
-    if (std::abs(t - wanted) <= 1e-9 * scene.time.end) m.distribution = state.distribution();
+    if (std::abs(t - wanted) <= 1e-9 * scene.time.end) {
+      m.distribution = state.distribution();
+      m.sizes = state.sizes();
+    }
   return m;
 }
 
@@ -60,7 +63,7 @@ void record_measurements(EngineRecord& record, const Scene& scene, double t, con
     std::vector<std::vector<double>> each;
     if (runs > 1)
       for (const Measurement& m : realizations) each.push_back(m.distribution);
-    record.distributions.push_back({output_time, std::move(n), std::move(each)});
+    record.distributions.push_back({output_time, std::move(n), std::move(each), realizations.front().sizes});
   }
 }
 

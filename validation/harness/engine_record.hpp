@@ -14,6 +14,7 @@ struct DistributionRecord {
   double t;
   std::vector<double> n;  // n_1..n_N, the mean over the realizations
   std::vector<std::vector<double>> realizations;  // each realization's n_1..n_N, with more than one
+  std::vector<double> sizes;  // a graded grid's pivots (n then holds the numbers at them); empty: 1..N
 };
 
 struct EngineRecord {

@@ -1,6 +1,7 @@
 #include "validation/harness/series_output.hpp"
 
 #include "validation/io/atomic_file.hpp"
+#include "solvers/size_grid.hpp"
 #include "validation/io/text.hpp"
 
 namespace aggkit {
@@ -33,6 +34,18 @@ void write_distribution_csv(const std::filesystem::path& file, const EngineRecor
     double total = 0;
     for (double n : distribution.n) total += n;
     double below = 0;  // Σ_{j<=k} n_j: the cdf is the fraction of clusters of size <= k
+    if (!distribution.sizes.empty()) {
+      // A graded grid: one row per pivot, k its size and n the density per unit size N_i/Δ_i (the n_k of
+      // a uniform grid where the pivots are the integers); the cdf counts the clusters of the pivots ≤ k.
+      const std::vector<double> width = pivot_widths(distribution.sizes);
+      for (std::size_t i = 0; i < distribution.n.size(); ++i) {
+        below += distribution.n[i];
+        out << t << ',' << full_precision_text(distribution.sizes[i]) << ','
+            << full_precision_text(distribution.n[i] / width[i]) << ','
+            << full_precision_text(total != 0 ? below / total : 0.0) << '\n';
+      }
+      continue;
+    }
     for (std::size_t k = 1; k <= distribution.n.size(); ++k) {
       below += distribution.n[k - 1];
       out << t << ',' << k << ',' << full_precision_text(distribution.n[k - 1]) << ','

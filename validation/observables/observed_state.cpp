@@ -1,6 +1,10 @@
 #include "validation/observables/observed_state.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "analysis/moments.hpp"
+#include "solvers/size_grid.hpp"
 
 namespace aggkit {
 
@@ -11,6 +15,25 @@ double ObservedState::density(std::size_t k) const {
   return k >= 1 && k <= n.size() ? n[k - 1] : 0.0;
 }
 
-double DensityState::moment(double p) const { return aggkit::moment(n_, p); }
+double DensityState::moment(double p) const {
+  if (sizes_.empty()) return aggkit::moment(n_, p);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n_.size(); ++i) sum += (p == 0.0 ? 1.0 : std::pow(sizes_[i], p)) * n_[i];
+  return sum;
+}
+
+double DensityState::density(std::size_t k) const {
+  if (sizes_.empty()) return k >= 1 && k <= n_.size() ? n_[k - 1] : 0.0;
+  return density_on_pivots(n_, sizes_, double(k));
+}
+
+double density_on_pivots(std::span<const double> n, std::span<const double> sizes, double k) {
+  if (sizes.empty() || k < sizes.front() || k > sizes.back()) return 0.0;
+  const std::vector<double> width = pivot_widths(sizes);
+  const std::size_t i = std::size_t(std::lower_bound(sizes.begin(), sizes.end(), k) - sizes.begin());
+  if (sizes[i] == k) return n[i] / width[i];
+  const double t = (k - sizes[i - 1]) / (sizes[i] - sizes[i - 1]);
+  return (1 - t) * n[i - 1] / width[i - 1] + t * n[i] / width[i];
+}
 
 }  // namespace aggkit

@@ -15,7 +15,10 @@ class ParticleView;
 class ObservedState {
  public:
   virtual ~ObservedState() = default;
-  virtual std::vector<double> distribution() const = 0;  // n_1..n_N
+  virtual std::vector<double> distribution() const = 0;  // n_1..n_N (a graded grid: its classes' numbers)
+  // The sizes of distribution()'s entries where they are not 1..N: a graded grid's pivots
+  // (solvers/size_grid.hpp), whose entries are the numbers of clusters each pivot stands for.
+  virtual std::vector<double> sizes() const { return {}; }
   // M_p = Σ_k k^p n_k and n_k; by default from distribution(). A state that knows its moments in closed
   // form (the untruncated exact solutions, whose tails go beyond any N) gives them here.
   virtual double moment(double p) const;
@@ -24,18 +27,26 @@ class ObservedState {
   virtual const ParticleView* particles() const { return nullptr; }  // the configuration, if there is one
 };
 
-// A state given by its densities n_1..n_N (a view: the densities must outlive it).
+// A state given by its densities n_1..n_N, or on a graded grid by the numbers N_i at the pivots `sizes`
+// (views: both must outlive it). M_p = Σ x_i^p N_i; n_k is N_i/Δ_i at a pivot (the density per unit size,
+// solvers/size_grid.hpp pivot_widths) and interpolated linearly between pivots.
 class DensityState final : public ObservedState {
  public:
-  DensityState(std::span<const double> n, double leaked_mass) : n_(n), leaked_mass_(leaked_mass) {}
+  DensityState(std::span<const double> n, double leaked_mass, std::span<const double> sizes = {})
+      : n_(n), leaked_mass_(leaked_mass), sizes_(sizes) {}
   std::vector<double> distribution() const override { return {n_.begin(), n_.end()}; }
+  std::vector<double> sizes() const override { return {sizes_.begin(), sizes_.end()}; }
   double moment(double p) const override;
-  double density(std::size_t k) const override { return k >= 1 && k <= n_.size() ? n_[k - 1] : 0.0; }
+  double density(std::size_t k) const override;
   double leaked_mass() const override { return leaked_mass_; }
 
  private:
   std::span<const double> n_;
   double leaked_mass_;
+  std::span<const double> sizes_;
 };
+
+// n at size k of a graded grid's numbers N_i at pivots x_i (as DensityState::density).
+double density_on_pivots(std::span<const double> n, std::span<const double> sizes, double k);
 
 }  // namespace aggkit

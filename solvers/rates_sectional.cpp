@@ -1,0 +1,212 @@
+// The aggregation-shattering right-hand side on a graded size grid (solvers/size_grid.hpp) by the
+// fixed-pivot technique [Kumar1996].
+//
+// Derivation. The unknowns N_i are the numbers of clusters at the pivots x_1 < ... < x_M = N. A collision
+// of classes i and j happens at rate K(x_i, x_j) N_i N_j per unordered pair (½ K N_i² for i = j). With
+// probability 1/(1+λ) it aggregates: the new cluster of size v = x_i + x_j lies between the pivots x_p ≤ v
+// < x_{p+1} and is shared as η to p and 1 - η to p + 1 with η = (x_{p+1} - v)/(x_{p+1} - x_p), the only
+// shares that keep both number (η + (1 - η) = 1) and mass (η x_p + (1 - η) x_{p+1} = v) [Kumar1996]. With
+// rate λ K it shatters both partners into x_i + x_j monomers, which is exact on any grid (x_1 = 1). So,
+// summing over unordered pairs i ≤ j with w_ij = K(x_i, x_j) (½ K(x_i, x_i) on the diagonal),
+//   dN/dt = Σ_{i≤j} w_ij N_i N_j V_ij,
+//   V_ij  = η e_p + (1 - η) e_{p+1} - (1 + λ)(e_i + e_j) + λ (x_i + x_j) e_1.
+// The section–section gain terms are the first two entries of V_ij: class p gains from every pair whose
+// sum lands in [x_{p-1}, x_{p+1}), weighted by the share of p. On integer pivots v is a pivot, η = 1, and
+// this is the discrete equation of solvers/model.hpp term by term: the loss -(1+λ) N_k Σ_j K_kj N_j, the
+// gain ½ Σ_{i+j=k} K_ij N_i N_j and the monomer gain λ N_1 Σ_{j≥2} x_j K_1j N_j + (λ/2) Σ_{i,j≥2}
+// (x_i + x_j) K_ij N_i N_j (for i = j = 1, V = e_2 - 2e_1: shattering two monomers changes nothing).
+// Truncation keeps its meaning: under `drop` an aggregate with v > N leaves (its mass is the leak),
+// under `cutoff` pairs with v > N do not collide (w = 0). Σ_i x_i V_ij = 0 for every pair that stays on
+// the grid, so mass is conserved exactly (to round-off) under cutoff, and under drop up to the leak.
+//
+// The form is bilinear in N, so J v = Σ_{i≤j} w_ij (N_i v_j + N_j v_i) V_ij exactly. Cost O(M²) per
+// evaluation with the pair table (target p, share η, weight w) stored: M is a few hundred to a few
+// thousand on a graded grid, where M² pair sums beat the FFT path's O(N log N) over all N sizes by orders
+// of magnitude (N reaches 2^40).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "analysis/input_error.hpp"
+#include "solvers/rates.hpp"
+
+namespace aggkit {
+
+namespace {
+
+class SectionalRates final : public Rates {
+ public:
+  explicit SectionalRates(const AggregationModel& model)
+      : Rates(model.unknowns()), lambda_(model.lambda), x_(model.pivots()), cutoff_(model.truncation == Truncation::cutoff) {
+    const std::size_t M = x_.size();
+    if (M > max_classes)
+      throw InputError("grid", model.grid.describe() + " on N = " + std::to_string(model.size) + " (" +
+                                   std::to_string(M) + " classes)",
+                       "at most " + std::to_string(max_classes) + " size classes (raise grid.ratio or lower grid.resolved)");
+    pairs_.reserve(M * (M + 1) / 2);
+    const double N = x_.back();
+    for (std::size_t i = 0; i < M; ++i)
+      for (std::size_t j = i; j < M; ++j) {
+        const double v = x_[i] + x_[j];
+        Pair pair;
+        pair.weight = (i == j ? 0.5 : 1.0) * model.kernel.at(x_[i], x_[j]);
+        if (v > N) {
+          pair.target = std::uint32_t(M);  // leaves the grid (drop) or does not collide (cutoff)
+          if (cutoff_) pair.weight = 0.0;
+        } else {
+          const auto [p, share] = fixed_pivot_share(x_, v);
+          pair.target = std::uint32_t(p);
+          pair.share = share;
+        }
+        pairs_.push_back(pair);
+      }
+  }
+
+  static constexpr std::size_t max_classes = 6000;
+
+  void evaluate(double t, std::span<const double> n, std::span<double> dndt) override {
+    std::fill(dndt.begin(), dndt.end(), 0.0);
+    accumulate(t, n, n, dndt, 0.5);  // ½ Σ w (n_i n_j + n_j n_i) = Σ w n_i n_j
+  }
+
+  double leak_rate(double, std::span<const double> n) override {
+    if (cutoff_) return 0.0;
+    const std::size_t M = x_.size();
+    double leak = 0.0;
+    const Pair* pair = pairs_.data();
+    for (std::size_t i = 0; i < M; ++i)
+      for (std::size_t j = i; j < M; ++j, ++pair)
+        if (pair->target == M) leak += (x_[i] + x_[j]) * pair->weight * n[i] * n[j];
+    return leak;
+  }
+
+  void jacobian_times(double t, std::span<const double> n, std::span<const double> v, std::span<double> Jv) override {
+    std::fill(Jv.begin(), Jv.end(), 0.0);
+    accumulate(t, n, v, Jv, 1.0);
+  }
+
+  void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) override {
+    const std::size_t M = x_.size();
+    for (auto* v : {&J.diagonal, &J.subdiagonal, &J.monomer_column}) v->assign(M, 0.0);
+    for_each_entry(t, n, [&](std::size_t row, std::size_t column, double value) {
+      if (column == 0 && row >= 1) J.monomer_column[row] += value;
+      else if (row == column) J.diagonal[row] += value;
+      else if (row == column + 1) J.subdiagonal[row] += value;
+    });
+  }
+
+  bool dense_jacobian(double t, std::span<const double> n, std::span<double> jacobian) override {
+    dense(t, n, jacobian);
+    return true;
+  }
+  bool leak_gradient(std::span<const double> n, std::span<double> gradient) override {
+    leak_gradient_of(n, gradient);
+    return true;
+  }
+
+  // Row-major M×M Jacobian ∂f_k/∂N_l.
+  void dense(double t, std::span<const double> n, std::span<double> jacobian) const {
+    const std::size_t M = x_.size();
+    std::fill(jacobian.begin(), jacobian.end(), 0.0);
+    for_each_entry(t, n, [&](std::size_t row, std::size_t column, double value) { jacobian[row * M + column] += value; });
+  }
+
+  // ∂(leak rate)/∂N_l (drop; 0 under cutoff).
+  void leak_gradient_of(std::span<const double> n, std::span<double> gradient) const {
+    std::fill(gradient.begin(), gradient.end(), 0.0);
+    if (cutoff_) return;
+    const std::size_t M = x_.size();
+    const Pair* pair = pairs_.data();
+    for (std::size_t i = 0; i < M; ++i)
+      for (std::size_t j = i; j < M; ++j, ++pair)
+        if (pair->target == M) {
+          const double c = (x_[i] + x_[j]) * pair->weight;
+          gradient[i] += c * n[j];
+          gradient[j] += c * n[i];
+        }
+  }
+
+  std::string describe() const override { return "fixed-pivot sections, O(M^2), M = " + std::to_string(x_.size()); }
+
+ private:
+  struct Pair {
+    double weight = 0.0;    // w_ij
+    double share = 1.0;     // η: the part of the aggregate given to pivot `target`
+    std::uint32_t target = 0;  // p (M: beyond N)
+  };
+
+  // out += scale Σ_{i≤j} w_ij (u_i v_j + u_j v_i) V_ij.
+  void accumulate(double t, std::span<const double> u, std::span<const double> v, std::span<double> out,
+                  double scale) const {
+    const std::size_t M = x_.size();
+    const double lambda = lambda_(t), loss = 1.0 + lambda;
+    const Pair* pair = pairs_.data();
+    double monomers = 0.0;
+    for (std::size_t i = 0; i < M; ++i) {
+      const double ui = u[i], vi = v[i], xi = x_[i];
+      double lost_i = 0.0;
+      for (std::size_t j = i; j < M; ++j, ++pair) {
+        const double r = scale * pair->weight * (ui * v[j] + u[j] * vi);
+        if (r == 0.0) continue;
+        lost_i += r;
+        out[j] -= loss * r;
+        monomers += (xi + x_[j]) * r;
+        const std::size_t p = pair->target;
+        if (p < M) {
+          out[p] += pair->share * r;
+          if (pair->share < 1.0) out[p + 1] += (1.0 - pair->share) * r;
+        }
+      }
+      out[i] -= loss * lost_i;
+    }
+    out[0] += lambda * monomers;
+  }
+
+  // Calls add(row, column, ∂f_row/∂N_column contribution) for every nonzero contribution.
+  template <class Add>
+  void for_each_entry(double t, std::span<const double> n, Add&& add) const {
+    const std::size_t M = x_.size();
+    const double lambda = lambda_(t), loss = 1.0 + lambda;
+    const Pair* pair = pairs_.data();
+    for (std::size_t i = 0; i < M; ++i)
+      for (std::size_t j = i; j < M; ++j, ++pair) {
+        if (pair->weight == 0.0) continue;
+        // ∂(w N_i N_j)/∂N_i = w N_j and ∂/∂N_j = w N_i (both 2 w N_i on the diagonal).
+        for (int side = 0; side < 2; ++side) {
+          const std::size_t column = side == 0 ? i : j;
+          const double d = pair->weight * (side == 0 ? n[j] : n[i]);
+          if (d == 0.0) continue;
+          add(i, column, -loss * d);
+          add(j, column, -loss * d);
+          add(0, column, lambda * (x_[i] + x_[j]) * d);
+          const std::size_t p = pair->target;
+          if (p < M) {
+            add(p, column, pair->share * d);
+            if (pair->share < 1.0) add(p + 1, column, (1.0 - pair->share) * d);
+          }
+        }
+      }
+  }
+
+  ShatteringRate lambda_;
+  std::vector<double> x_;
+  bool cutoff_;
+  std::vector<Pair> pairs_;
+};
+
+}  // namespace
+
+std::unique_ptr<Rates> make_sectional_rates(const AggregationModel& model) {
+  return std::make_unique<SectionalRates>(model);
+}
+
+void sectional_dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
+                              std::span<double> jacobian) {
+  SectionalRates(model).dense(t, n, jacobian);
+}
+
+void sectional_leak_gradient(const AggregationModel& model, std::span<const double> n, std::span<double> gradient) {
+  SectionalRates(model).leak_gradient_of(n, gradient);
+}
+
+}  // namespace aggkit

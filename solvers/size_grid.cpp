@@ -1,0 +1,141 @@
+#include "solvers/size_grid.hpp"
+
+#include <gsl/gsl_multifit.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+void SizeGrid::validate() const {
+  if (uniform()) return;
+  if (resolved < 2) throw InputError("grid.resolved", std::to_string(resolved), "an integer >= 2 (or 0: the uniform grid)");
+  if (!(ratio >= 1.0 && ratio <= 4.0) || !std::isfinite(ratio))
+    throw InputError("grid.ratio", format_value(ratio), "a number in [1, 4]");
+}
+
+std::string SizeGrid::describe() const {
+  if (uniform()) return "uniform";
+  char text[96];
+  std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g)", resolved, ratio);
+  return text;
+}
+
+std::vector<double> grid_pivots(const SizeGrid& grid, std::size_t N) {
+  std::vector<double> x;
+  const double last = double(N);
+  if (grid.uniform()) {
+    x.resize(N);
+    for (std::size_t k = 0; k < N; ++k) x[k] = double(k + 1);
+    return x;
+  }
+  grid.validate();
+  const std::size_t K = std::min(grid.resolved, N);
+  for (std::size_t k = 1; k <= K; ++k) x.push_back(double(k));
+  constexpr std::size_t most = 10'000'000;  // r so close to 1 that the grid is as long as the uniform one
+  while (x.back() < last) {
+    if (x.size() >= most)
+      throw InputError("grid.ratio", format_value(grid.ratio),
+                       "a ratio giving at most " + std::to_string(most) + " classes up to N = " + std::to_string(N));
+    // Integer pivots as long as doubles hold integers exactly (2^53); the next pivot at least one size on.
+    double next = std::max(x.back() + 1.0, std::round(x.back() * grid.ratio));
+    x.push_back(std::min(next, last));
+  }
+  return x;
+}
+
+std::vector<double> pivot_widths(std::span<const double> x) {
+  const std::size_t M = x.size();
+  std::vector<double> width(M, 1.0);
+  for (std::size_t i = 0; i < M; ++i) {
+    const double below = i > 0 ? x[i - 1] : 0.0;
+    const double above = i + 1 < M ? x[i + 1] : (M > 1 ? 2.0 * x[i] - x[i - 1] : x[i] + 1.0);
+    width[i] = 0.5 * (above - below);
+  }
+  return width;
+}
+
+std::pair<std::size_t, double> fixed_pivot_share(std::span<const double> x, double v) {
+  const std::size_t M = x.size();
+  if (v > x[M - 1]) return {M, 0.0};
+  // p: the last pivot with x_p ≤ v.
+  const std::size_t p = std::size_t(std::upper_bound(x.begin(), x.end(), v) - x.begin()) - 1;
+  if (x[p] == v || p + 1 == M) return {p, 1.0};
+  return {p, (x[p + 1] - v) / (x[p + 1] - x[p])};
+}
+
+std::vector<double> to_grid(std::span<const double> x, std::span<const double> per_size) {
+  std::vector<double> n(x.size(), 0.0);
+  for (std::size_t k = 0; k < per_size.size(); ++k) {
+    if (per_size[k] == 0.0) continue;
+    const auto [p, share] = fixed_pivot_share(x, double(k + 1));
+    if (p >= x.size()) continue;  // beyond N (model.validate refuses such tables)
+    n[p] += share * per_size[k];
+    if (share < 1.0) n[p + 1] += (1.0 - share) * per_size[k];
+  }
+  return n;
+}
+
+std::vector<double> regrid(std::span<const double> from, std::span<const double> state, std::span<const double> to) {
+  const std::size_t Ma = from.size();
+  const std::vector<double> wa = pivot_widths(from), wb = pivot_widths(to);
+  std::vector<double> f(Ma);
+  for (std::size_t i = 0; i < Ma; ++i) f[i] = state[i] / wa[i];
+  // Tail fit ln f = a + b ln(x/x_h) + c x/x_h over x_M/8 < x ≤ x_M/2 (x_h = x_M/2), as
+  // extend_steady_state does on the uniform grid (solvers/steady_state.hpp).
+  const double xh = 0.5 * from[Ma - 1];
+  double fa = 0, fb = 0, fc = 0;
+  bool fitted = false;
+  {
+    std::vector<std::size_t> rows;
+    for (std::size_t i = 0; i < Ma; ++i)
+      if (from[i] > xh / 4.0 && from[i] <= xh && f[i] > 0.0) rows.push_back(i);
+    if (rows.size() >= 4) {
+      gsl_matrix* X = gsl_matrix_alloc(rows.size(), 3);
+      gsl_vector* y = gsl_vector_alloc(rows.size());
+      gsl_vector* c = gsl_vector_alloc(3);
+      gsl_matrix* cov = gsl_matrix_alloc(3, 3);
+      gsl_multifit_linear_workspace* work = gsl_multifit_linear_alloc(rows.size(), 3);
+      for (std::size_t r = 0; r < rows.size(); ++r) {
+        gsl_matrix_set(X, r, 0, 1.0);
+        gsl_matrix_set(X, r, 1, std::log(from[rows[r]] / xh));
+        gsl_matrix_set(X, r, 2, from[rows[r]] / xh);
+        gsl_vector_set(y, r, std::log(f[rows[r]]));
+      }
+      double chisq = 0;
+      fitted = gsl_multifit_linear(X, y, c, cov, &chisq, work) == 0;
+      fa = gsl_vector_get(c, 0), fb = gsl_vector_get(c, 1), fc = std::min(0.0, gsl_vector_get(c, 2));
+      fitted = fitted && std::isfinite(fa) && std::isfinite(fb) && std::isfinite(fc);
+      gsl_multifit_linear_free(work);
+      gsl_matrix_free(cov);
+      gsl_vector_free(c);
+      gsl_vector_free(y);
+      gsl_matrix_free(X);
+    }
+  }
+  std::vector<double> out(to.size(), 0.0);
+  for (std::size_t j = 0; j < to.size(); ++j) {
+    const double x = to[j];
+    double density = 0.0;
+    if (x > xh && fitted) {
+      density = std::exp(fa + fb * std::log(x / xh) + fc * x / xh);
+    } else if (x <= from[Ma - 1]) {
+      const std::size_t i = std::size_t(std::upper_bound(from.begin(), from.end(), x) - from.begin());
+      if (i == 0) {
+        density = f[0];
+      } else if (i == Ma || from[i - 1] == x) {
+        density = f[i - 1];
+      } else {
+        const double t = std::log(x / from[i - 1]) / std::log(from[i] / from[i - 1]);
+        density = f[i - 1] > 0.0 && f[i] > 0.0 ? std::exp((1 - t) * std::log(f[i - 1]) + t * std::log(f[i]))
+                                               : (1 - t) * f[i - 1] + t * f[i];
+      }
+    }
+    out[j] = density * wb[j];
+  }
+  return out;
+}
+
+}  // namespace aggkit

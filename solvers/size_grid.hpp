@@ -1,0 +1,50 @@
+#pragma once
+// The size classes the deterministic side solves for. The uniform grid resolves every size 1..N. The
+// graded grid resolves sizes 1..K one by one and then places pivots x_{i+1} = max(x_i + 1, round(r x_i))
+// up to the largest size N, so it has about K + ln(N/K)/ln r unknowns instead of N: the size range the
+// oscillation regimes need at small λ (N ≥ 8/λ, the steady tail n_k ∝ k^-a e^{-ck} with c ≈ 0.65 λ;
+// solvers/hopf_curve.hpp) then costs a few hundred unknowns. Each unknown N_i is the number of clusters
+// represented by pivot x_i; aggregates that form between two pivots are shared between them so that
+// number and mass are both conserved exactly — the fixed-pivot technique [Kumar1996]
+// (solvers/rates_sectional.cpp). Where the pivots are the integers (the resolved block, or r close
+// enough to 1 that every step rounds to +1) the scheme is the discrete equation itself.
+#include <cstddef>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace aggkit {
+
+struct SizeGrid {
+  std::size_t resolved = 0;  // K: sizes 1..K resolved one by one; 0 = the uniform grid (every size 1..N)
+  double ratio = 1.0;        // r ≥ 1 of the pivots beyond K (graded grid only)
+  bool uniform() const { return resolved == 0; }
+  // Throws InputError (keys grid.resolved, grid.ratio) unless K ≥ 2 and 1 ≤ r ≤ 4 on a graded grid.
+  void validate() const;
+  std::string describe() const;  // "uniform" or "graded(K=64, r=1.02)"
+};
+
+// The pivots x_1 < ... < x_M = N of `grid` on sizes 1..N (x_i = i on the uniform grid).
+std::vector<double> grid_pivots(const SizeGrid& grid, std::size_t N);
+
+// The width Δ_i a pivot stands for, (x_{i+1} - x_{i-1}) / 2 with x_0 = 0 and x_{M+1} = 2 x_M - x_{M-1}:
+// N_i / Δ_i is the density per unit size at x_i (1 on the integers, so the resolved block is unchanged).
+std::vector<double> pivot_widths(std::span<const double> pivots);
+
+// Where an aggregate of size v lands: index p (0-based) and the share η of it given to pivot p, the rest
+// (1 - η) to p + 1, with η x_p + (1 - η) x_{p+1} = v (mass) and the shares summing to 1 (number)
+// [Kumar1996]. v beyond the last pivot: p = M (it leaves the grid). v below x_1 is not a size.
+std::pair<std::size_t, double> fixed_pivot_share(std::span<const double> pivots, double v);
+
+// A per-size table n_k (k = 1..len) mapped onto the pivots by the same shares (number and mass kept);
+// the result has one entry per pivot. On the uniform grid: the table padded with zeros to N.
+std::vector<double> to_grid(std::span<const double> pivots, std::span<const double> per_size);
+
+// A state on pivots `from` carried to pivots `to` (a Newton start when N, K or r change): the density
+// per unit size N_i/Δ_i interpolated log-linearly in x where both grids overlap, and beyond the old
+// range continued by the least-squares fit ln f = a + b ln x + c x over x_M/8 < x ≤ x_M/2 (the tail's
+// form, c ≤ 0; the edge near x_M is distorted by the truncation and left out).
+std::vector<double> regrid(std::span<const double> from, std::span<const double> state, std::span<const double> to);
+
+}  // namespace aggkit
