@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
     else if (arg == "--convergence") options.convergence = std::atof(next());
     else if (arg == "--slope") options.log_slope = std::atof(next());
     else if (arg == "--tol") options.relative_tolerance = std::atof(next());
+    else if (arg == "--bracket") options.bracket = std::atof(next());
     else if (arg == "--resolved") grid.resolved = std::strtoul(next(), nullptr, 10);
     else if (arg == "--ratio") grid.ratio = std::atof(next());
     else {

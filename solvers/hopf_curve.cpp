@@ -128,6 +128,17 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
       result.by_size.push_back(failed);
     }
     result.sizes.push_back(N);
+    // A guess off by more than the stepped bracket reaches (λ_crit falls by orders of magnitude per 0.05 in
+    // a below a = 0.7): once per a, the same N again with a bracket of ±50 %, whose steps then span e^±12.
+    if (!result.by_size.back().found && previous == 0 && half_width < 0.5 &&
+        (result.by_size.back().note.find("stable at lambda_lo") != std::string::npos ||
+         result.by_size.back().note.find("unstable at lambda_hi") != std::string::npos)) {
+      result.evaluations += result.by_size.back().evaluations;
+      result.note += "N = " + std::to_string(N) + ": " + result.by_size.back().note + "; retried with a +-50 % bracket; ";
+      half_width = 0.5;
+      N /= 2;  // the loop doubles it back
+      continue;
+    }
     const HopfPoint& p = result.by_size.back();
     result.evaluations += p.evaluations;
     if (!p.found) {

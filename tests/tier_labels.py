@@ -1,5 +1,5 @@
 """Every CTest test of the build carries exactly one tier label (tests/CMakeLists.txt): unit, physics, cli,
-mpi, python or fuzz; and every test that runs the Catch2 executable names one of its test cases (CMake splits
+mpi, python or fuzz; every test has a time limit (TIMEOUT > 0), so that a hang fails; and every test that runs the Catch2 executable names one of its test cases (CMake splits
 a name at ';' into tests that match nothing and pass without running anything). Reads
 `ctest --show-only=json-v1` and the executable's list of test cases (runs no test).
 
@@ -22,6 +22,9 @@ for test in listing["tests"]:
     for prop in test.get("properties", []):
         if prop["name"] == "LABELS":
             labels.update(prop["value"])
+    timeouts = [prop["value"] for prop in test.get("properties", []) if prop["name"] == "TIMEOUT"]
+    if not timeouts or not timeouts[0] > 0:
+        wrong.append(f"{test['name']}: no time limit (TIMEOUT)")
     tiers = labels & TIERS
     if len(tiers) != 1:
         wrong.append(f"{test['name']}: not exactly one tier label: {sorted(labels) or 'no labels'}")

@@ -31,7 +31,17 @@ const OptionRows<DemParameters>& dem_option_rows() {
                 "k_t / k_n of the tangential spring (with friction)", "2/7"),
       B::number("dt", &P::dt, greater_than(0.0),
                 "time step (refused above t_c/2, warned above t_c/20 [Trivino2025, eq. 8] and above m_eff/(5 γ_n))",
-                "min(t_c/50, m_eff/(5 γ_n))"),
+                "t_c/50; explicit dashpot: min(t_c/50, m_eff/(5 γ_n))"),
+      B::number("steps_per_contact", &P::steps_per_contact, closed(2.0, 1e9),
+                "N: dt = t_c/N with t_c of [Trivino2025, eq. 8] (instead of dt; for sweeps over the stiffness at a fixed "
+                "resolution), N >= 2",
+                "none"),
+      B::word("dashpot", &P::dashpot,
+              std::vector<std::pair<std::string, DashpotScheme>>{{dashpot_scheme_word(DashpotScheme::automatic), DashpotScheme::automatic},
+                                                                 {dashpot_scheme_word(DashpotScheme::explicit_verlet), DashpotScheme::explicit_verlet},
+                                                                 {dashpot_scheme_word(DashpotScheme::implicit), DashpotScheme::implicit}},
+              "normal dashpot: explicit (stable while x = γ_n dt/m* < 1, warned above), implicit (stable at any x), "
+              "auto (implicit above x = 0.2 without friction) (particle/dem/dashpot_scheme.hpp)"),
       B::table("gravity", "self-gravity G m_i m_j/(r² + ε²) along each pair [Trivino2025, eq. 1]", "off",
                {
                    B::number("G", &P::G, greater_than(0.0), "the gravitational constant"),
@@ -89,6 +99,10 @@ void DemParameters::validate() const {
       throw InputError("stiffness_normalized", shortest_text(*stiffness_normalized),
                        "stiffness (stiffness_normalized = k_n R³/(G m²) needs gravity = { G = ... })");
   }
+  if (dt && steps_per_contact)
+    throw InputError("steps_per_contact", shortest_text(*steps_per_contact), "either dt or steps_per_contact, not both");
+  if (dashpot == DashpotScheme::implicit && forces.friction > 0)
+    throw InputError("dashpot", "\"implicit\"", "\"auto\" or \"explicit\" with friction (the implicit dashpot has no tangential springs)");
   if (forces.gravity && !G) throw InputError("gravity.G", missing, "a number > 0");
   if (opening_angle && !forces.tree)
     throw InputError("gravity.opening_angle", shortest_text(*opening_angle), "an opening angle only with method = \"tree\"");
@@ -167,22 +181,38 @@ DemCalibration calibrate(const DemParameters& p, const ParticleStart& start, con
   // The dashpot's own time m_eff/γ_n (fastest for the lightest pair): the explicit dashpot relaxes a contact's
   // normal velocity by a factor 1 − γ_n dt/m* per step, which overshoots and reverses it once γ_n dt/m* > 1 —
   // an overdamped collision then rebounds instead of sticking (measured: γ_n = 2·10^4 at k̃_n = 10^6 with
-  // dt = t_c/50 left the whole cloud unaggregated). Without friction Dem integrates such dashpots
-  // implicitly (implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50; with friction
-  // the dashpot stays explicit and the default step resolves it with 5 steps.
+  // dt = t_c/50 left the whole cloud unaggregated). `dashpot = "auto"` integrates such dashpots implicitly
+  // without friction (implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50; an explicit
+  // dashpot (`dashpot = "explicit"`, or auto with friction) gets a default step that resolves it with 5 steps;
+  // a given step is taken as given, warned above t_c/20 or x > 1 (dashpot_scheme.hpp).
+  dem.implicit_dashpot_above = implicit_dashpot_threshold(p.dashpot);
   c.damping_rate = by_restitution ? dem.damping_per_mass : dem.damping / reference_reduced;
   const double damping_time = c.damping_rate > 0 ? 1 / c.damping_rate : std::numeric_limits<double>::infinity();
-  const bool explicit_dashpot = dem.friction > 0;
+  const bool explicit_dashpot =
+      p.dashpot == DashpotScheme::explicit_verlet || (p.dashpot == DashpotScheme::automatic && dem.friction > 0);
   const double t_c = c.contact_time;
-  dem.dt = p.dt ? *p.dt : explicit_dashpot ? std::min(t_c / 50, damping_time / 5) : t_c / 50;
+  dem.dt = p.dt                  ? *p.dt
+           : p.steps_per_contact ? t_c / *p.steps_per_contact
+           : explicit_dashpot    ? std::min(t_c / 50, damping_time / 5)
+                                 : t_c / 50;
+  const char* step_key = p.dt ? "dt" : p.steps_per_contact ? "steps_per_contact" : law;
+  const double step_value = p.dt ? *p.dt : p.steps_per_contact ? *p.steps_per_contact : law_value;
   if (!(dem.dt > 0))
-    throw InputError(p.dt ? "dt" : law, shortest_text(p.dt ? *p.dt : law_value),
+    throw InputError(step_key, shortest_text(step_value),
                      "a step dt > 0 (here t_c = " + shortest_text(t_c) + " gives dt = " + shortest_text(dem.dt) + ")");
   if (dem.dt > t_c / 2)
     throw InputError("dt", shortest_text(dem.dt), "dt <= t_c/2 = " + shortest_text(t_c / 2) + " (a contact must span several steps)");
-  if (dem.dt > t_c / 20) c.warnings.push_back("dt > t_c/20 = " + shortest_text(t_c / 20) + " [Trivino2025, eq. 8]");
-  if (explicit_dashpot && dem.dt > damping_time / 5)
-    c.warnings.push_back("dt > m_eff/(5 γ_n) = " + shortest_text(damping_time / 5) + " (the dashpot is under-resolved)");
+  const DashpotStepCheck step = check_dashpot_step(p.dashpot, c.damping_rate * dem.dt, dem.dt, t_c, dem.friction > 0);
+  c.damping_factor = step.damping_factor;
+  c.warnings = step.warnings;
+  if (dem.dt > t_c / 20) c.step_notes.push_back("dt > t_c/20 = " + shortest_text(t_c / 20) + " [Trivino2025, eq. 8]");
+  if (explicit_dashpot && dem.dt > damping_time / 5) {
+    c.step_notes.push_back("dt > m_eff/(5 γ_n) = " + shortest_text(damping_time / 5) + " (the dashpot is under-resolved)");
+    if (step.damping_factor <= 1)  // beyond 1 the stability warning says more
+      c.warnings.push_back("dt = " + shortest_text(dem.dt) + " > m_eff/(5 γ_n) = " + shortest_text(damping_time / 5) +
+                           ": the explicit dashpot is under-resolved (x = γ_n dt/m* = " + shortest_text(step.damping_factor) + ")");
+  }
+  if (!step.implicit && step.damping_factor > 1) c.step_notes.push_back("explicit dashpot above its stability limit x > 1");
   c.implicit_dashpot = implicit_dashpot_wanted(dem, m_min);
   return c;
 }

@@ -3,10 +3,13 @@
 // Contact law: exactly one of (restitution, contact_time), (stiffness, damping) or
 // (stiffness_normalized, damping) [Trivino2025, eqs. 2, 6, 15], with the corrected calibration
 // k_n = m*(π² + ln² e)/t_c², γ_n = −2 m* ln(e)/t_c, or `calibration = "exact"`: γ_n solved so that the
-// clipped binary collision returns e (contact_law.hpp). The step: t_c/50 by default, and with an explicit
-// dashpot (friction) at most m_eff/(5 γ_n); refused above t_c/2, warned about above t_c/20 [Trivino2025,
-// eq. 8] and, explicit, above m_eff/(5 γ_n). Friction (μ > 0) is refused with reflecting walls (they are
-// frictionless), gravity in a periodic box (it would need Ewald sums).
+// clipped binary collision returns e (contact_law.hpp). The normal dashpot is integrated explicitly or
+// implicitly (`dashpot`, dashpot_scheme.hpp). The step: dt, or t_c/steps_per_contact, or by default t_c/50,
+// and with an explicit dashpot (`dashpot = "explicit"`, or auto with friction) at most m_eff/(5 γ_n); refused
+// above t_c/2, warned about above t_c/20 [Trivino2025, eq. 8], with an explicit dashpot above x = γ_n dt/m* = 1
+// (its stability limit) and above m_eff/(5 γ_n). Friction (μ > 0) is refused with reflecting walls (they are
+// frictionless) and with the implicit dashpot (it has no tangential springs), gravity in a periodic box (it
+// would need Ewald sums).
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +17,7 @@
 #include "analysis/option_rows.hpp"
 #include "particle/common/box.hpp"
 #include "particle/common/particle_start.hpp"
+#include "particle/dem/dashpot_scheme.hpp"
 #include "particle/dem/dem.hpp"
 
 namespace aggkit {
@@ -25,6 +29,8 @@ struct DemParameters {
   std::optional<double> stiffness_normalized;                // k̃_n = k_n R³/(G m²) (mean R, m; with gravity)
   bool exact_calibration = false;                            // calibration = "exact"
   std::optional<double> dt;                                  // none: the step rule (above)
+  std::optional<double> steps_per_contact;                   // N: dt = t_c/N (not with dt)
+  DashpotScheme dashpot = DashpotScheme::automatic;          // how the normal dashpot is integrated
   // Self-gravity (gravity = { ... }): on, G (required), ε (none: 1e-3 R_min), θ (tree only; none: the
   // settings' default); the method and the rest of the forces are `forces`' own fields.
   std::optional<double> G, softening, opening_angle;
@@ -36,7 +42,8 @@ struct DemParameters {
   double aggregation_threshold = 0.9;
 
   // InputError, naming the option ("gravity.G", ...), for a value outside its row's range or a combination
-  // that is refused (the contact-law forms, opening_angle without the tree, gravity_substeps without gravity).
+  // that is refused (the contact-law forms, dt with steps_per_contact, the implicit dashpot with friction,
+  // opening_angle without the tree, gravity_substeps without gravity).
   void validate() const;
 };
 
@@ -51,7 +58,12 @@ struct DemCalibration {
   double realised_restitution = 0;  // of a binary collision (pairs of mean mass for (k_n, γ_n) given)
   bool elastic = false;          // no damping: the energy is conserved
   bool implicit_dashpot = false; // as Dem decides (implicit_dashpot_wanted)
-  std::vector<std::string> warnings;  // a step beyond the rules of thumb ("dt > t_c/20 = ...")
+  double damping_factor = 0;     // x = γ_n dt/m* of the lightest pair
+  // A step beyond the rules of thumb, one sentence each (check_dashpot_step's, and an explicit dashpot
+  // under-resolved below its stability limit), for the observer; `step_notes` the same in brief for the
+  // engine's one-line description ("dt > t_c/20 = ...", "dt > m_eff/(5 γ_n) = ...", "explicit dashpot above
+  // its stability limit x > 1").
+  std::vector<std::string> warnings, step_notes;
 };
 
 // k_n and γ_n from the contact law, the default step, the dashpot rule, checked against the start (its

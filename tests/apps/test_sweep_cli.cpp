@@ -249,3 +249,86 @@ TEST_CASE("sweep cli: a key that is not a scene key is exit 2 naming it, with no
   CHECK(outcome.exit_code == 2);
   CHECK_THAT(outcome.err, Contains("sweep"));
 }
+
+namespace {
+
+// 100 cold self-gravitating DEM spheres (t_ff ≈ 6): at time.end = 2 no run has aggregated (T_agg undefined), at
+// 12 every one has; two restitutions, two realizations each (and a third key of one value: the full map has a
+// panel per value of it).
+const char* const collapse_sweep = R"(
+name = "collapse-sweep"
+[particles]
+dimension = 3
+count = 100
+radius = 1.0
+mass = 1.0
+boundary = "open"
+initial = { cloud = "cube", volume_fraction = 0.05, speed = 0.0 }
+seed = 5
+[time]
+end = 12.0
+[[engine]]
+name = "dem"
+restitution = 0.1
+contact_time = 0.05
+gravity = { G = 1.0 }
+[observe]
+series = ["components_fraction"]
+final = ["components_fraction", "fractal_dimension_com"]
+[sweep]
+"time.end" = [2.0, 12.0]
+"engine.restitution" = [0.1, 0.3]
+"engine.contact_time" = [0.05]
+realizations = 2
+group_by = ["engine.restitution", ["time.end"]]
+where_not_aggregated = { fractal_dimension_com = 0.0 }
+maps = ["fractal_dimension_com"]
+)";
+
+}  // namespace
+
+TEST_CASE("sweep cli: means pooled over swept keys equal a direct computation over sweep.csv, F := 0 where T_agg is undefined") {
+  const auto folder = aggkit::testing::scratch_folder("sweep-cli-pooled");
+  const auto scene = aggkit::testing::write_text(folder / "sweep.toml", collapse_sweep);
+  const Outcome outcome = run(sweep_command("", scene, folder / "out", true), folder);
+  INFO(outcome.err);
+  REQUIRE(outcome.exit_code == 0);
+  const Table rows = read_csv(folder / "out" / "sweep.csv");
+  REQUIRE(rows.size() == 8);
+  for (const auto& row : rows) {
+    const bool early = row.at("time.end") == "2";
+    CHECK((row.at("aggregation_time") == "nan") == early);
+    if (early) CHECK(row.at("fractal_dimension_com") == "0");  // set: the run never aggregated
+    else CHECK(std::stod(row.at("fractal_dimension_com")) > 1);
+  }
+  // Each grouping's table against the direct mean and standard error of the rows sharing its values.
+  for (const std::string key : {"engine.restitution", "time.end"}) {
+    INFO(key);
+    const Table pooled = read_csv(folder / "out" / ("sweep_mean_by_" + key + ".csv"));
+    REQUIRE(pooled.size() == 2);
+    for (const auto& group : pooled) {
+      CHECK(group.at("runs") == "4");
+      for (const std::string column : {"components_fraction", "fractal_dimension_com", "aggregation_time"}) {
+        std::vector<double> values;
+        for (const auto& row : rows)
+          if (row.at(key) == group.at(key) && row.at(column) != "nan") values.push_back(std::stod(row.at(column)));
+        CHECK(group.at(column + "_n") == std::to_string(values.size()));
+        if (values.empty()) {
+          CHECK(group.at(column) == "nan");
+          continue;
+        }
+        double sum = 0, squares = 0;
+        for (double v : values) sum += v;
+        const double mean = sum / double(values.size());
+        for (double v : values) squares += (v - mean) * (v - mean);
+        CHECK(std::stod(group.at(column)) == Approx(mean).epsilon(1e-14).margin(1e-300));
+        if (values.size() > 1)
+          CHECK(std::stod(group.at(column + "_stderr")) ==
+                Approx(std::sqrt(squares / double(values.size() - 1) / double(values.size()))).epsilon(1e-12).margin(1e-300));
+      }
+    }
+  }
+  CHECK(fs::exists(folder / "out" / "map_fractal_dimension_com.png"));
+  CHECK(fs::exists(folder / "out" / "map_fractal_dimension_com_by_engine.restitution.png"));
+  CHECK(fs::exists(folder / "out" / "map_fractal_dimension_com_by_time.end.png"));
+}

@@ -1,6 +1,7 @@
 // `aggkit validate` end to end on a folder of small scenes: a passing one, one that fails by an impossible
-// tolerance, a full-tier one and a scan scene — exit codes 0/1/2, the table, validation.json, report.html
-// with every image it references present, and resumption after a kill without rerunning finished scenes.
+// tolerance, a full-tier one, a scan scene and two that check nothing (no [compare]; a comparison without a
+// tolerance), reported "ran (no check)" and counted apart from the passes — exit codes 0/1/2, the table,
+// validation.json, report.html with every image it references present, and resumption after a kill without rerunning finished scenes.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -80,6 +81,14 @@ fs::path write_scenes(const fs::path& folder) {
   aggkit::testing::write_text(scenes / "b-fail.toml", constant_scene("fail-scene", "1e-15"));
   aggkit::testing::write_text(scenes / "c-full.toml", constant_scene("full-scene", "1e-6", "full"));
   aggkit::testing::write_text(scenes / "d-scan.toml", scan_scene);
+  // Nothing checked: one engine and no [compare]; and a comparison with no tolerance (reported only).
+  std::string alone = constant_scene("alone-scene", "1e-6");
+  alone = alone.substr(0, alone.find("[compare]"));
+  alone.replace(alone.find("[[engine]]\nname = \"exact\"\n"), std::string("[[engine]]\nname = \"exact\"\n").size(), "");
+  aggkit::testing::write_text(scenes / "e-alone.toml", alone);
+  std::string reported = constant_scene("reported-scene", "1e-6");
+  reported = reported.substr(0, reported.find("tolerance = "));
+  aggkit::testing::write_text(scenes / "f-reported.toml", reported);
   return scenes;
 }
 
@@ -115,17 +124,26 @@ TEST_CASE("validate cli: a passing and a failing scene give exit 1, the table, v
                              Contains("wall s") && Contains("result"));
   CHECK(std::regex_search(result.out, std::regex("pass-scene +fast +cvode, exact +cvode M[02] vs exact .* pass\n")));
   CHECK(std::regex_search(result.out, std::regex("fail-scene +fast +cvode, exact +cvode M2 vs exact .*1e-15 .* FAIL\n")));
-  CHECK(std::regex_search(result.out, std::regex("tiny-scan +fast +cvode \\(scan\\) +4 points classified .* pass\n")));
+  CHECK(std::regex_search(result.out, std::regex("tiny-scan +fast +cvode \\(scan\\) +4 points classified .* ran \\(no check\\)\n")));
+  CHECK(std::regex_search(result.out, std::regex("alone-scene +fast +cvode +no comparisons .* ran \\(no check\\)\n")));
+  CHECK(std::regex_search(result.out, std::regex("reported-scene +fast +cvode, exact +cvode M[02] vs exact .* ran \\(no check\\)\n")));
+  CHECK_THAT(result.out, Contains("5 scenes: 1 pass, 3 ran (no check), 1 FAIL\n"));
   CHECK_THAT(result.out, !Contains("full-scene"));
-  CHECK_THAT(result.err, Contains("3 scenes (tier fast), 0 finished earlier, 3 to run, 2 at a time") &&
-                             Contains("fail-scene: FAIL"));
+  CHECK_THAT(result.err, Contains("5 scenes (tier fast), 0 finished earlier, 5 to run, 2 at a time") &&
+                             Contains("fail-scene: FAIL") && Contains("alone-scene: ran (no check)"));
 
   const nlohmann::json validation = json_of(out / "validation.json");
   CHECK(validation["exit_code"] == 1);
   CHECK(validation["pass"] == false);
-  CHECK(validation["counts"]["scenes"] == 3);
-  CHECK(validation["counts"]["pass"] == 2);
+  CHECK(validation["counts"]["scenes"] == 5);
+  CHECK(validation["counts"]["pass"] == 1);
+  CHECK(validation["counts"]["no_check"] == 3);
   CHECK(validation["counts"]["fail"] == 1);
+  for (const char* name : {"tiny-scan", "alone-scene", "reported-scene"}) {
+    INFO(name);
+    CHECK(scene_named(validation, name)["result"] == "ran (no check)");
+  }
+  CHECK_THAT(scene_named(validation, "alone-scene")["problem"].get<std::string>(), Contains("no comparison with a tolerance"));
   REQUIRE(validation["notes"].size() == 1);
   CHECK_THAT(validation["notes"][0].get<std::string>(), Contains("full-scene") && Contains("tier full"));
   const auto& pass = scene_named(validation, "pass-scene");
@@ -152,6 +170,7 @@ TEST_CASE("validate cli: a passing and a failing scene give exit 1, the table, v
   CHECK_THAT(html, Contains("id=\"scene-pass-scene\"") && Contains("id=\"scene-fail-scene\"") &&
                        Contains("id=\"scene-tiny-scan\""));
   CHECK(html.find("<table>") < html.find("<section"));  // the summary table first
+  CHECK_THAT(html, Contains("1 of 5 scenes pass, 3 ran (no check)") && Contains("<td class=\"nocheck\">ran (no check)</td>"));
   const auto sources = image_sources(html);
   for (const auto& source : sources) {
     INFO(source);

@@ -183,3 +183,42 @@ distribution = { relative = 0.0, stderr = 1.01 }
   strict.distribution->standard_errors = 0.99;
   CHECK_FALSE(compare_engines(strict, scene.observe, records)[1].pass);
 }
+
+TEST_CASE("harness: final values against stated values, with and without a reference engine") {
+  // contacts of two engines against the stated 0.5: |x - v| <= relative |v| + stderr σ, σ the engine's own.
+  ComparisonPlan plan;
+  plan.final_tolerances = {Tolerance{"contacts", 0.05, 3.0, 0.5}, Tolerance{"aggregation_time_ff", 0.1, std::nullopt, 1.1107}};
+  Observation observe;
+  observe.series = {*Observable::from_name("clusters")};
+  observe.final_state = {"contacts"};
+  EngineRecord near = record("near", {{10}, {5}, {1}}), far = record("far", {{10}, {5}, {1}});
+  near.finals = {{"contacts", 0.52, 0.001}, {"aggregation_time_ff", 1.2, 0.0}};  // 0.02 <= 0.025; 0.089 <= 0.111
+  far.finals = {{"contacts", 0.56, 0.005}};                                       // 0.06 > 0.025 + 0.015; no T_agg
+  const auto results = compare_engines(plan, observe, {near, far});
+  REQUIRE(results.size() == 4);  // no reference: the stated values only, on every engine
+  CHECK(results[0].engine == "near");
+  CHECK(results[0].reference == "stated value");
+  CHECK(results[0].final_state);
+  CHECK(results[0].max_relative_error == Approx(0.04));
+  CHECK(results[0].tolerance_used == Approx(0.02 / (0.025 + 0.003)));
+  CHECK(results[0].max_standard_errors == Approx(20.0));
+  CHECK(results[0].pass);
+  CHECK(results[1].observable == "aggregation_time_ff");
+  CHECK(results[1].pass);
+  CHECK(results[2].engine == "far");
+  CHECK_FALSE(results[2].pass);
+  CHECK(results[2].tolerance_used == Approx(0.06 / 0.04));
+  CHECK(results[3].observable == "aggregation_time_ff");
+  CHECK_FALSE(results[3].pass);  // asked for and not reported: a failure, not a pass
+  CHECK(std::isnan(results[3].max_relative_error));
+  // With a reference engine as well: the stated values on both engines, then the engine against the reference
+  // for what has no stated value (the series here).
+  plan.reference = "near";
+  plan.final_tolerances.resize(1);
+  const auto both = compare_engines(plan, observe, {near, far});
+  REQUIRE(both.size() == 3);
+  CHECK(both[0].reference == "stated value");
+  CHECK(both[1].reference == "stated value");
+  CHECK(both[2].reference == "near");
+  CHECK(both[2].observable == "clusters");
+}

@@ -76,7 +76,13 @@ TEST_CASE("scene: the README example parses to the ballistic model with shatteri
   CHECK(labels(scene) == std::vector<std::string>{"cvode"});
   CHECK(series(scene) == std::vector<std::string>{"M0", "M2", "M3", "mass_leak"});
   CHECK(scene.observe.distribution_times == std::vector<double>{1.0, 10.0, 100.0});
-  CHECK_FALSE(scene.compare);
+  // Checked against stated values (the direct right-hand side's means over [50, 100]): no reference engine.
+  REQUIRE(scene.compare);
+  CHECK(scene.compare->reference.empty());
+  REQUIRE(scene.compare->final_tolerances.size() == 3);
+  CHECK(scene.compare->final_tolerances[0].observable == "oscillation_mean:M0");
+  CHECK(scene.compare->final_tolerances[0].value == 0.087921776426391);
+  CHECK(scene.compare->final_tolerances[0].relative_error == 1e-7);
 }
 
 TEST_CASE("scene: every shipped scene parses") {
@@ -206,4 +212,41 @@ TEST_CASE("scene: the kernel catalogue lists exactly the kernels the solvers kno
     INFO(entry.name);
     CHECK(Kernel::from_name(entry.name, parameters).name() == entry.name);
   }
+}
+
+TEST_CASE("scene: compare.final values against stated values need no reference, other forms still do") {
+  SceneText text;
+  text.engines = "[[engine]]\nname = \"cvode\"\n";
+  text.observe = "series = [\"M0\"]\nfinal = [\"oscillation_mean:M0\"]\nwindow = [0.5, 2.0]\n";
+  text.time = "end = 2.0\nevery = 0.1\n";
+  text.compare = "final = { \"oscillation_mean:M0\" = { value = 0.6, relative = 0.01, stderr = 2 }, steps = { value = 10.0, relative = 1.0 } }\n";
+  const Scene scene = aggkit::testing::parse_checked(text.text());
+  REQUIRE(scene.compare);
+  CHECK(scene.compare->reference.empty());
+  REQUIRE(scene.compare->final_tolerances.size() == 2);
+  const Tolerance& mean = *scene.compare->final_tolerance_for("oscillation_mean:M0");
+  CHECK(mean.value == 0.6);
+  CHECK(mean.relative_error == 0.01);
+  CHECK(mean.standard_errors == 2.0);
+  CHECK(scene.compare->final_tolerance_for("steps")->value == 10.0);  // any final value may be stated
+  const auto refused = [&](const std::string& compare, const std::string& key, const std::string& value) {
+    text.compare = compare;
+    INFO(compare);
+    try {
+      aggkit::testing::parse_checked(text.text());
+      FAIL("no InputError");
+    } catch (const InputError& e) {
+      CHECK(e.key() == key);
+      CHECK_THAT(std::string(e.what()), Contains(value));
+    }
+  };
+  // An entry without a value is against a reference engine: the reference is then required, and a second engine.
+  refused("final = { \"oscillation_mean:M0\" = 0.01 }\n", "compare.reference", "");
+  refused("reference = \"cvode\"\nfinal = { \"oscillation_mean:M0\" = { value = 0.6, relative = 0.01 } }\n",
+          "compare.reference", "second engine");
+  // The series tolerances take no value; a value is a finite number, with a relative or stderr part.
+  text.engines = "[[engine]]\nname = \"cvode\"\n[[engine]]\nname = \"cvode\"\nlabel = \"other\"\n";
+  refused("reference = \"cvode\"\ntolerance = { M0 = { value = 1.0, relative = 0.1 } }\n", "compare.tolerance.M0.value", "1");
+  refused("final = { steps = { value = nan, relative = 0.1 } }\n", "compare.final.steps.value", "nan");
+  refused("final = { steps = { value = 1.0 } }\n", "compare.final.steps", "relative");
 }

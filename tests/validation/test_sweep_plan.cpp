@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "analysis/input_error.hpp"
+#include "validation/sweep/sweep.hpp"
 #include "validation/sweep/sweep_plan.hpp"
 #include "validation/sweep/sweep_record.hpp"
 
@@ -172,4 +173,60 @@ TEST_CASE("sweep plan: the shipped campaign is the published 245 runs over γ_n 
   CHECK(plan.scene.particles->count == 650);
   CHECK(plan.scene.engines[0].options["damping"].get<double>() == 500.0);  // `aggkit run`: the base point
   CHECK(plan.maps == std::vector<std::string>{"components_fraction", "aggregation_time_ff", "fractal_dimension_com"});
+  // The final state at stated times: every run goes on to time.end (no stop at T_agg), past 5 t_ff (t_ff ≈ 6.5).
+  CHECK(plan.scene.observe.times_ff == std::vector<double>{1.0, 1.5, 2.0, 3.0, 5.0});
+  CHECK_FALSE(plan.scene.engines[0].options.contains("stop"));
+  CHECK(plan.scene.time.end > 5 * 6.6);
+  CHECK(plan.groupings == std::vector<std::vector<std::size_t>>{{0}, {1}});
+}
+
+namespace {
+
+// 20 cold self-gravitating DEM spheres with a [sweep] body.
+std::string collapse(const std::string& sweep, const std::string& gravity = "gravity = { G = 1.0 }\n") {
+  return "name = \"sweep-collapse\"\n[particles]\ndimension = 3\ncount = 20\nradius = 1.0\nmass = 1.0\nboundary = \"open\"\n"
+         "initial = { cloud = \"cube\", volume_fraction = 0.05, speed = 0.0 }\n[time]\nend = 1.0\n[[engine]]\nname = \"dem\"\n"
+         "restitution = 0.1\ncontact_time = 0.05\n" + gravity +
+         "[observe]\nseries = [\"components_fraction\"]\nfinal = [\"components_fraction\", \"fractal_dimension_com\"]\n[sweep]\n"
+         "\"engine.restitution\" = [0.1, 0.3]\n\"time.end\" = [1.0, 2.0]\n" + sweep;
+}
+
+}  // namespace
+
+TEST_CASE("sweep plan: group_by pools over the other keys, where_not_aggregated sets columns of runs that never aggregated") {
+  const SweepPlan plan = parse_sweep_plan(collapse("group_by = [\"time.end\", [\"time.end\", \"engine.restitution\"]]\n"
+                                                   "where_not_aggregated = { fractal_dimension_com = 0.0, components_fraction_at_2tff = 1.0 }\n"));
+  REQUIRE(plan.axes.size() == 2);  // group_by and where_not_aggregated are not swept keys
+  CHECK(plan.groupings == std::vector<std::vector<std::size_t>>{{1}, {1, 0}});
+  REQUIRE(plan.not_aggregated.size() == 2);
+  CHECK(sweep_map_title(plan, "fractal_dimension_com", {1}) ==
+        "sweep-collapse (pooled over engine.restitution); fractal_dimension_com := 0 where aggregation_time is undefined");
+  CHECK(sweep_map_title(plan, "components_fraction", {0, 1}) == "sweep-collapse");
+  // Pooled table: rows of the grouped values in order of first appearance, means over every run with them.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<SweepRecord> records;
+  const double f[] = {2.5, nan, 3.0, 2.0};  // points (0.1, 1), (0.1, 2), (0.3, 1), (0.3, 2)
+  const double t[] = {nan, 1.5, nan, 2.0};
+  for (std::size_t p = 0; p < 4; ++p) records.push_back({p, 0, plan.point(p), {{"fractal_dimension_com", f[p]}, {"aggregation_time", t[p]}}, 0, 0});
+  CHECK(sweep_pooled_csv(plan, records, {1}) ==
+        "time.end,runs,fractal_dimension_com,fractal_dimension_com_stderr,fractal_dimension_com_n,aggregation_time,aggregation_time_stderr,"
+        "aggregation_time_n\n1,2,2.75,0.25,2,nan,nan,0\n2,2,2,0,1,1.75,0.25,2\n");
+  // Filled: F := 0 where aggregation_time is NaN (points 0 and 2), kept where it aggregated.
+  const std::vector<SweepRecord> filled = fill_not_aggregated(plan, records);
+  CHECK(filled[0].columns[0].second == 0.0);
+  CHECK(std::isnan(filled[1].columns[0].second));
+  CHECK(filled[2].columns[0].second == 0.0);
+  CHECK(filled[3].columns[0].second == 2.0);
+  // Bad input, naming the key.
+  CHECK_THAT(error_of(collapse("group_by = [\"engine.damping\"]\n")), Contains("sweep.group_by[0]") && Contains("a swept key"));
+  CHECK_THAT(error_of(collapse("group_by = [[\"time.end\", \"time.end\"]]\n")), Contains("sweep.group_by[0]") && Contains("once"));
+  CHECK_THAT(error_of(collapse("group_by = [\"time.end\", [\"time.end\"]]\n")), Contains("sweep.group_by[1]") && Contains("each grouping once"));
+  CHECK_THAT(error_of(collapse("group_by = []\n")), Contains("sweep.group_by") && Contains("a list of groupings"));
+  CHECK_THAT(error_of(collapse("group_by = [3]\n")), Contains("sweep.group_by[0] = 3"));
+  CHECK_THAT(error_of(collapse("where_not_aggregated = { fractal_dimensio = 0.0 }\n")),
+             Contains("sweep.where_not_aggregated.fractal_dimensio") && Contains("observe.final"));
+  CHECK_THAT(error_of(collapse("where_not_aggregated = { fractal_dimension_com = \"zero\" }\n")),
+             Contains("sweep.where_not_aggregated.fractal_dimension_com"));
+  CHECK_THAT(error_of(collapse("where_not_aggregated = 0.0\n")), Contains("sweep.where_not_aggregated") && Contains("table"));
+  CHECK_THAT(error_of(collapse("where_not_aggregated = { fractal_dimension_com = 0.0 }\n", "")), Contains("dem with gravity"));
 }

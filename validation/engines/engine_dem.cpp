@@ -13,7 +13,9 @@
 // aggregation_time (NaN when the largest cluster never held the threshold), max_friction_ratio (with
 // friction), energy_drift (elastic runs: no damping), and with gravity potential_energy (−Σ G m_i m_j / r_ij,
 // unsoftened), virial_ratio (K/|P|), free_fall_time and aggregation_time_ff, and dashpot_solves and
-// dashpot_iterations when the dashpots are integrated implicitly (particle/dem/implicit_dashpot.hpp).
+// dashpot_iterations when the dashpots are integrated implicitly (particle/dem/implicit_dashpot.hpp). With
+// gravity and no stop rule, the observe.final values, K/|P| and the largest cluster's mass fraction at T_agg
+// as <name>_at_agg; with gravity, observe.times_ff (t_ff of the start, particle_runner.hpp).
 // `gravity_substeps` K > 1 evaluates gravity every K contact steps (impulse splitting, particle/dem/dem.hpp).
 #include <algorithm>
 #include <cmath>
@@ -24,6 +26,7 @@
 #include "analysis/input_error.hpp"
 #include "particle/common/particle_system.hpp"
 #include "particle/dem/contact_law.hpp"
+#include "particle/dem/dashpot_scheme.hpp"
 #include "particle/dem/dem.hpp"
 #include "particle/dem/dem_parameters.hpp"
 #include "particle/common/box_configuration.hpp"
@@ -47,6 +50,9 @@ struct Settings {
   double threshold = 0;  // DemParameters::aggregation_threshold
   double realised_restitution = 0;
   bool elastic = false;
+  // Runs that go on past T_agg record these observe.final observables (and K/|P|) at T_agg too, as
+  // <name>_at_agg (NaN where the run never aggregates).
+  std::vector<std::string> at_aggregation;
 };
 
 class DemSimulation final : public ParticleSimulation {
@@ -83,6 +89,13 @@ class DemSimulation final : public ParticleSimulation {
   }
 
   double time() const override { return dem_.time(); }
+  double free_fall_time() const override { return free_fall_; }
+  std::vector<std::pair<std::string, double>> state_values() const override {
+    if (!settings_.dem.gravity) return {};
+    const double potential = potential_energy();
+    return {{"virial_ratio", dem_.kinetic_energy() / std::abs(potential)},
+            {"largest_cluster_mass_fraction", dem_.largest_cluster_mass_fraction()}};
+  }
   ParticleConfiguration configuration() const override {
     double mean = 0;
     for (double r : dem_.radii()) mean += r;
@@ -135,12 +148,7 @@ class DemSimulation final : public ParticleSimulation {
       values.emplace_back("dashpot_iterations", double(c.dashpot_iterations));
     }
     if (settings_.dem.gravity) {
-      // P = −Σ_{i<j} G m_i m_j / r_ij and K/|P| [Trivino2025, Sec. on energies]: the unsoftened potential.
-      const auto& x = dem_.positions();
-      const auto& m = dem_.masses();
-      double potential = 0;
-      for (std::size_t i = 0; i < x.size(); ++i)
-        for (std::size_t j = i + 1; j < x.size(); ++j) potential -= settings_.dem.G * m[i] * m[j] / norm(x[j] - x[i]);
+      const double potential = potential_energy();
       values.emplace_back("potential_energy", potential);
       values.emplace_back("virial_ratio", dem_.kinetic_energy() / std::abs(potential));
       values.emplace_back("free_fall_time", free_fall_);
@@ -148,6 +156,11 @@ class DemSimulation final : public ParticleSimulation {
       values.emplace_back("aggregation_time_ff", aggregation_time_ / free_fall_);
     } else {
       values.emplace_back("aggregation_time", aggregation_time_);
+    }
+    if (!settings_.stop_aggregated && settings_.dem.gravity) {
+      for (const auto& [key, value] : at_aggregation_) values.emplace_back(key, value);
+      if (at_aggregation_.empty())  // never aggregated: the same entries, undefined
+        for (const auto& [key, value] : aggregation_snapshot()) values.emplace_back(key, nan);
     }
     if (settings_.elastic)
       values.emplace_back("energy_drift", energy_scale_ > 0 ? std::abs(dem_.total_energy() - energy0_) / energy_scale_ : nan);
@@ -161,7 +174,25 @@ class DemSimulation final : public ParticleSimulation {
  private:
   bool aggregated() const { return settings_.stop_aggregated && !std::isnan(aggregation_time_); }
   void check_aggregated() {
-    if (std::isnan(aggregation_time_) && dem_.largest_cluster_reaches(settings_.threshold)) aggregation_time_ = dem_.time();
+    if (std::isnan(aggregation_time_) && dem_.largest_cluster_reaches(settings_.threshold)) {
+      aggregation_time_ = dem_.time();
+      if (!settings_.stop_aggregated && settings_.dem.gravity) at_aggregation_ = aggregation_snapshot();
+    }
+  }
+  // The observe.final values and K/|P| of the current state, named <name>_at_agg.
+  std::vector<std::pair<std::string, double>> aggregation_snapshot() const {
+    std::vector<std::pair<std::string, double>> values = configuration_values(settings_.at_aggregation, ParticleView(*this), "_at_agg");
+    for (const auto& [key, value] : state_values()) values.emplace_back(key + "_at_agg", value);
+    return values;
+  }
+  // P = −Σ_{i<j} G m_i m_j / r_ij [Trivino2025, eq. 11]: the unsoftened potential of K/|P|.
+  double potential_energy() const {
+    const auto& x = dem_.positions();
+    const auto& m = dem_.masses();
+    double potential = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (std::size_t j = i + 1; j < x.size(); ++j) potential -= settings_.dem.G * m[i] * m[j] / norm(x[j] - x[i]);
+    return potential;
   }
   void report(const StatusSink& status) const {
     char line[96];
@@ -172,6 +203,7 @@ class DemSimulation final : public ParticleSimulation {
 
   Settings settings_;
   Dem dem_;
+  std::vector<std::pair<std::string, double>> at_aggregation_;  // aggregation_snapshot() at T_agg
   double free_fall_ = std::numeric_limits<double>::quiet_NaN();
   double aggregation_time_ = std::numeric_limits<double>::quiet_NaN();
   double energy0_ = 0, energy_scale_ = 0;
@@ -192,17 +224,23 @@ ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& sce
   const auto rekey = [&given](const std::string& key) { return key.rfind("particles.", 0) == 0 ? key : given.key(key); };
   // Realization 0's start gives the masses the default time step is measured on.
   const DemCalibration c = under_key(rekey, [&] { return calibrate(parameters, system.initial_state(0), system.box); });
-  const Settings settings{c.settings, parameters.stop_aggregated, parameters.aggregation_threshold, c.realised_restitution, c.elastic};
+  const Settings settings{c.settings, parameters.stop_aggregated, parameters.aggregation_threshold, c.realised_restitution, c.elastic,
+                          scene.observe.final_state};
   const DemSettings& dem = settings.dem;
   std::string warning;
-  for (const std::string& w : c.warnings) warning += "; WARNING " + w;
+  for (const std::string& w : c.step_notes) warning += "; WARNING " + w;
+  if (!scene.observe.times_ff.empty() && !dem.gravity)
+    throw InputError("observe.times_ff", "[" + format_value(scene.observe.times_ff.front()) + ", ...]",
+                     "free-fall times need gravity = { G = ... } on engine dem (t_ff = √(R³/(G M)) [Trivino2025, eq. 9])");
   const Box box = system.box;
   std::string description = "soft-sphere DEM, k_n/m* " + format_value(dem.stiffness_per_mass) + ", γ_n/m* " + format_value(dem.damping_per_mass) +
                             ", k_n " + format_value(dem.stiffness) + ", γ_n " + format_value(dem.damping) + ", dt " + format_value(dem.dt) +
                             (dem.friction > 0 ? ", friction μ " + format_value(dem.friction) : "") + (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G) +
                                                (dem.gravity_substeps > 1 ? " every " + std::to_string(dem.gravity_substeps) + " steps" : "")
                                          : ", no gravity") +
-                            (c.implicit_dashpot ? ", implicit dashpot (γ_n dt/m_eff " + format_value(c.damping_rate * dem.dt) + ")" : "") +
+                            (c.implicit_dashpot ? ", implicit dashpot (γ_n dt/m_eff " + format_value(c.damping_factor) + ")"
+                             : parameters.dashpot == DashpotScheme::explicit_verlet ? ", explicit dashpot (γ_n dt/m_eff " + format_value(c.damping_factor) + ")"
+                                                                                    : "") +
                             (settings.stop_aggregated ? ", stop when aggregated" : ", stop at time.end") + warning;
   return {[system, settings, box](std::size_t r) { return std::make_unique<DemSimulation>(box, system.initial_state(r), settings); },
           description, dem_option_rows().values(parameters), c.warnings};

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -12,8 +14,24 @@
 #include "validation/engines/particle_outputs.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/particle_snapshot.hpp"
+#include "validation/io/text.hpp"
 
 namespace aggkit {
+
+double ParticleSimulation::free_fall_time() const { return std::numeric_limits<double>::quiet_NaN(); }
+
+std::vector<std::pair<std::string, double>> configuration_values(const std::vector<std::string>& names, const ParticleView& state,
+                                                                 const std::string& suffix) {
+  std::vector<std::pair<std::string, double>> values;
+  for (const std::string& name : names) {
+    const Observable observable = *Observable::from_name(name);
+    if (observable.is_series_measure() || observable.is_profile()) continue;
+    for (auto& [key, value] : observable.final_values(state)) values.emplace_back(key + suffix, value);
+  }
+  return values;
+}
+
+std::string free_fall_suffix(double k) { return "_at_" + shortest_text(k) + "tff"; }
 
 Vector3 ParticleSimulation::momentum() const {
   const std::vector<Vector3> v = velocities();
@@ -133,7 +151,27 @@ class ParticleEngine final : public Engine {
     }
     const std::vector<double>& outputs = scene.time.outputs;
     bool stopped = false;
+    // observe.times_ff: the state at t = k t_ff, between the output times.
+    const std::vector<double>& times_ff = scene.observe.times_ff;
+    const double free_fall = times_ff.empty() ? 0.0 : simulation->free_fall_time();
+    if (!times_ff.empty() && !(free_fall > 0 && std::isfinite(free_fall)))
+      throw InputError("observe.times_ff", "[" + shortest_text(times_ff.front()) + ", ...]",
+                       "free-fall times only with an engine that has one (dem with gravity)");
+    std::size_t next_ff = 0;
+    const auto record_ff = [&](double until) {
+      for (; next_ff < times_ff.size() && (times_ff[next_ff] * free_fall <= until || until < 0); ++next_ff) {
+        const double k = times_ff[next_ff];
+        // Reached unless the run has stopped (its stop rule, or time.end: until < 0) before k t_ff.
+        const bool reached = until >= 0 && !stopped && !(stopped = simulation->advance(k * free_fall, status));
+        const ParticleView state(*simulation);
+        auto values = configuration_values(scene.observe.final_state, state, free_fall_suffix(k));
+        for (auto& entry : simulation->state_values()) values.emplace_back(entry.first + free_fall_suffix(k), entry.second);
+        values.emplace_back("time_ff" + free_fall_suffix(k), simulation->time() / free_fall);
+        for (auto& [key, value] : values) result.finals.emplace_back(key, reached ? value : std::numeric_limits<double>::quiet_NaN());
+      }
+    };
     for (double t : outputs) {
+      record_ff(t);
       if (!stopped) stopped = simulation->advance(t, status);
       result.series.push_back(observer.measure(t, ParticleView(*simulation)));
       if (r == 0 && observer.progress) {
@@ -141,15 +179,16 @@ class ParticleEngine final : public Engine {
         observer.progress(t);
       }
     }
+    record_ff(-1);  // beyond time.end: not reached
     if (!stopped) simulation->finish(scene.time.end, status);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
     const ParticleView final(*simulation);
+    std::vector<std::pair<std::string, double>> at_end = configuration_values(scene.observe.final_state, final, "");
+    result.finals.insert(result.finals.begin(), at_end.begin(), at_end.end());  // first in final.json, as before
     for (const std::string& name : scene.observe.final_state) {
       const Observable observable = *Observable::from_name(name);
-      if (observable.is_series_measure()) continue;  // the harness takes it from the series
       if (observable.is_profile()) result.profiles.emplace_back(name, observable.profile(final));
-      else for (auto& entry : observable.final_values(final)) result.finals.push_back(std::move(entry));
     }
     for (auto& entry : simulation->final_values()) result.finals.push_back(std::move(entry));
     const double drift = norm(simulation->momentum() + simulation->wall_impulse() - p0);

@@ -14,6 +14,10 @@
 //     <label>/<profile>.csv for profiles (particle_outputs.hpp);
 //   * with observe.snapshots, the first realization's final configuration as final.vtu (cluster, radius,
 //     velocity, and angular_velocity where the engine integrates rotation) and final.png;
+//   * with observe.times_ff = [k, ...], the observe.final values and the engine's state_values() at
+//     t = k t_ff of each realization (t_ff from the engine: dem with gravity) as <name>_at_<k>tff, with
+//     time_ff_at_<k>tff the time reached over t_ff (within half a step of k); NaN for a time the run does not
+//     reach (beyond time.end, or after the engine's stop rule ended it);
 //   * progress in words, summary statistics (the engine's counters summed over realizations).
 #include <cstdint>
 #include <functional>
@@ -50,7 +54,21 @@ class ParticleSimulation : public ParticleSource {
   // The engine's own entries of final.json (after the observables) and counters for summary.json (summed).
   virtual std::vector<std::pair<std::string, double>> final_values() const { return {}; }
   virtual std::vector<std::pair<std::string, std::int64_t>> counters() const { return {}; }
+  // The free-fall time of the realization's start (observe.times_ff); NaN for an engine without one.
+  virtual double free_fall_time() const;
+  // Values of the current state the engine computes itself (DEM: K/|P|), recorded with observe.final at
+  // observe.times_ff; by default none.
+  virtual std::vector<std::pair<std::string, double>> state_values() const { return {}; }
 };
+
+// The values of the final-configuration observables among `names` (observe.final less the series measures
+// and profiles) on `state`, each name followed by `suffix`: what final.json holds for them at the end, and
+// at observe.times_ff ("_at_2tff") or at T_agg ("_at_agg") for the engines that record those.
+std::vector<std::pair<std::string, double>> configuration_values(const std::vector<std::string>& names, const ParticleView& state,
+                                                                 const std::string& suffix);
+
+// The suffix of the values recorded at t = k t_ff (observe.times_ff): "_at_<k>tff", k written shortest.
+std::string free_fall_suffix(double k);
 
 // A particle engine as its file declares it.
 struct ParticleEngineKind {

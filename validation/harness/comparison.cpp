@@ -96,6 +96,36 @@ ComparisonResult compare_final(const EngineRecord& engine, const EngineRecord& r
   return result;
 }
 
+// A final value against a stated constant v (compare.final { value = v, ... }): the same rule with the
+// constant in place of the reference and σ the engine's own standard error.
+ComparisonResult compare_final_value(const EngineRecord& engine, const Tolerance& tolerance) {
+  ComparisonResult result;
+  result.engine = engine.label;
+  result.reference = "stated value";
+  result.observable = tolerance.observable;
+  result.final_state = true;
+  result.time = not_a_number;
+  result.tolerance = tolerance.relative_error;
+  result.stderr_multiple = tolerance.standard_errors;
+  const double value = *tolerance.value;
+  result.note = "stated value " + shortest_text(value);
+  const FinalStatistic* x = engine.completed() ? find_final(engine, tolerance.observable) : nullptr;
+  if (!x) {
+    result.max_relative_error = not_a_number;
+    result.note += engine.completed() ? "; the engine reports no final value of this name" : "; engine did not complete";
+    result.pass = false;
+    return result;
+  }
+  if (x->standard_error > 0) result.max_standard_errors = std::abs(x->mean - value) / x->standard_error;
+  result.max_relative_error = relative_error(x->mean, value);
+  const double allowed = tolerance.relative_error * (value != 0.0 ? std::abs(value) : 1.0) +
+                         tolerance.standard_errors.value_or(0.0) * x->standard_error;
+  result.pass = std::abs(x->mean - value) <= allowed;  // a NaN mean fails
+  result.tolerance_used = x->mean == value ? 0.0 : std::abs(x->mean - value) / allowed;
+  result.note += ", engine " + shortest_text(x->mean) + (x->standard_error > 0 ? " ± " + shortest_text(x->standard_error) : "");
+  return result;
+}
+
 // The size distributions at the distribution times (compare.distribution): E = ||n - n_ref||_2 over the
 // sizes of either, σ² = Σ_k σ_k² from the engine's realizations (σ_k² their sample variance of n_k over R),
 // and the mean single-realization error, the figure of [Kalinov2022, Table 1].
@@ -163,7 +193,10 @@ std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const 
     if (record.label == plan.reference) reference = &record;
   std::vector<ComparisonResult> results;
   for (const auto& record : records) {
-    if (&record == reference) continue;
+    // Final values against stated values: every engine, the reference too.
+    for (const Tolerance& t : plan.final_tolerances)
+      if (t.value) results.push_back(compare_final_value(record, t));
+    if (&record == reference || plan.reference.empty()) continue;
     for (std::size_t j = 0; j < observe.series.size(); ++j) {
       ComparisonResult result;
       result.engine = record.label;
@@ -190,12 +223,15 @@ std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const 
       results.push_back(compare_distributions(record, *reference, *plan.distribution));
     if (!reference || !record.completed() || !reference->completed() || record.finals.empty() || reference->finals.empty())
       continue;
-    for (const std::string& name : observe.final_state)
-      if (!Observable::from_name(name)->is_profile())
-        results.push_back(compare_final(record, *reference, name, plan.final_tolerance_for(name)));
+    for (const std::string& name : observe.final_state) {
+      const Tolerance* tolerance = plan.final_tolerance_for(name);
+      if (!Observable::from_name(name)->is_profile() && !(tolerance && tolerance->value))
+        results.push_back(compare_final(record, *reference, name, tolerance));
+    }
   }
   // A final tolerance that no pair of engines could be checked against fails: it was asked for.
   for (const Tolerance& t : plan.final_tolerances) {
+    if (t.value) continue;  // checked on every engine above
     bool checked = false;
     for (const auto& r : results) checked = checked || (r.final_state && r.observable == t.observable);
     if (!checked) {

@@ -30,7 +30,8 @@ struct ComparisonResult {
   std::string note;                  // why there is no number, if there is none
 };
 
-// One result per non-reference engine and series observable, in scene order; then, for engines that report
+// First, for every engine, one result per final value with a stated value (compare.final { value = v }).
+// Then one result per non-reference engine and series observable, in scene order; then, for engines that report
 // final states (particle engines) when the reference does too, one per number of observe.final: the
 // relative error of the final.json means, against `final` tolerances, with σ the combined standard errors.
 std::vector<ComparisonResult> compare_engines(const ComparisonPlan& plan, const Observation& observe,

@@ -48,7 +48,7 @@ std::optional<std::vector<std::string>> plot_arguments(const Scene& scene, const
                                                        const OutputFolder& folder, const AtomicFile& png) {
   std::vector<std::string> argv{"--output", png.temporary_path().string(),
                                 "--title=" + scene.name};  // one word: a name starting with '-' is no option
-  if (scene.compare) argv.insert(argv.end(), {"--reference", scene.compare->reference});
+  if (scene.compare && !scene.compare->reference.empty()) argv.insert(argv.end(), {"--reference", scene.compare->reference});
   std::size_t plotted = 0;
   for (const auto& record : records) {
     if (!record.completed()) continue;

@@ -1,5 +1,6 @@
 #include "validation/harness/report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -38,8 +39,10 @@ void print_report(std::ostream& out, const Scene& scene, const RunResult& result
     if (r.failure) out << "  " << r.label << " failed: " << *r.failure << "\n";
 
   if (!result.comparisons.empty()) {
-    out << "\ncomparison with " << result.comparisons.front().reference
-        << " (largest relative error over the output times)\n";
+    std::vector<std::string> references;  // the reference engine and/or "stated value", in order
+    for (const auto& c : result.comparisons)
+      if (std::find(references.begin(), references.end(), c.reference) == references.end()) references.push_back(c.reference);
+    out << "\ncomparison with " << join(references) << " (largest relative error over the output times)\n";
     out << format("  %-16s %-12s %14s %12s %12s  %s\n", "engine", "observable", "max rel. error", "at t", "tolerance",
                   "result");
     for (const auto& c : result.comparisons) {

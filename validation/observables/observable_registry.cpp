@@ -94,9 +94,12 @@ const Gyration gyration_of_largest(const ParticleView& v) {
 // radius, the mean for unequal radii): fitted by least squares in log-log from 2R up to r_90, the distance
 // holding 90 % of the particles (particles that escaped the aggregate stay out of the fit), at least 3
 // scales (else NaN). Rule "centre_of_mass".
-FractalFit centre_of_mass_dimension(const ParticleConfiguration& c, std::span<const double> masses) {
+// `whole_range`: every sphere enters, the scales running from 2R to the first r_k at or beyond the farthest
+// particle (N = every particle there) — a reading of [Trivino2025, Sec. V], which states neither the fit's
+// range nor which particles enter. Rule "centre_of_mass_all".
+FractalFit centre_of_mass_dimension(const ParticleConfiguration& c, std::span<const double> masses, bool whole_range = false) {
   FractalFit fit;
-  fit.rule = "centre_of_mass";
+  fit.rule = whole_range ? "centre_of_mass_all" : "centre_of_mass";
   fit.dimension = fit.standard_error = fit.fit_min = fit.fit_max = nan;
   const std::size_t n = c.positions.size();
   if (n < 2 || masses.size() != n) return fit;
@@ -113,12 +116,14 @@ FractalFit centre_of_mass_dimension(const ParticleConfiguration& c, std::span<co
     for (int d = 0; d < 3; ++d) r2 += (c.positions[i][d] - centre[d]) * (c.positions[i][d] - centre[d]);
     distance[i] = std::sqrt(r2);
   }
+  for (double d : distance)
+    if (!std::isfinite(d)) return fit;  // a state that blew up (non-finite positions): no fit
   std::sort(distance.begin(), distance.end());
   const double r90 = distance[std::min(n - 1, std::size_t(std::ceil(0.9 * double(n))) - 1)];
   std::vector<double> log_scale, log_count;  // the scales holding at least one particle
   for (int k = 2;; ++k) {
     const double r = c.radius * std::pow(2.0, 0.5 * k);
-    if (r > r90) break;
+    if (whole_range ? r / std::sqrt(2.0) >= distance.back() && k > 2 : r > r90) break;
     const double count = double(std::upper_bound(distance.begin(), distance.end(), r) - distance.begin());
     fit.scale.push_back(r);
     fit.count.push_back(count);
@@ -220,6 +225,11 @@ const std::vector<ObservableType>& observable_types() {
        "_error, _fit_min, _fit_max [Trivino2025]",
        positions | masses, named("fractal_dimension_com"), false, {},
        [](const ParticleView& v) { return centre_of_mass_dimension(v.configuration(), v.masses()); }, {}},
+      {"fractal_dimension_com_all",
+       "fractal_dimension_com fitted over every sphere, from 2R to the farthest (the first scale R·2^(k/2) holding them "
+       "all), with _error, _fit_min, _fit_max [Trivino2025]",
+       positions | masses, named("fractal_dimension_com_all"), false, {},
+       [](const ParticleView& v) { return centre_of_mass_dimension(v.configuration(), v.masses(), true); }, {}},
       {"collision_frequency",
        "ν = 2 C/(N t): pair collisions C begun since t = 0 per particle per unit time, each counted for both "
        "partners (Enskog's ν_E = χ 4nσ²√(πkT/m) for hard spheres [Chapman1970, ch. 16])",

@@ -15,6 +15,9 @@ STYLE = {
     "damped": dict(color="tab:blue", marker="s", label="damped"),
     "steady": dict(color="tab:green", marker="^", label="steady"),
     "irregular": dict(color="tab:gray", marker="x", label="irregular"),
+    # Relaxing in the run, but its grid or run length does not resolve it (linear stability says unstable,
+    # or the decay did not converge): neither damped nor sustained.
+    "unresolved": dict(color="tab:orange", marker="D", label="unresolved (run or grid too short)"),
 }
 
 
@@ -60,6 +63,10 @@ def main():
         for r, value in zip(rows, lc):
             bracket, change = number(r["lambda_crit_error"]), number(r.get("change_2N", ""))
             err.append((0.0 if math.isnan(bracket) else bracket) + (0.0 if math.isnan(change) else change * value))
+            for key in ("change_2K", "change_half_ratio"):  # the graded grid's refinements, where present
+                extra = number(r.get(key, "") or "nan")
+                if not math.isnan(extra):
+                    err[-1] += extra * value
         method = rows[0]["method"]
         ax.errorbar(a, lc, yerr=err, color="black", lw=1.5, capsize=3,
                     label="lambda_crit(a) (%s)" % method)

@@ -19,6 +19,7 @@
 #include "validation/scan/scan_point.hpp"
 #include "validation/io/text.hpp"
 
+#include "solvers/hopf_curve.hpp"
 #include "solvers/stability.hpp"
 
 namespace aggkit {
@@ -204,6 +205,101 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
   }
 }
 
+// λ_crit(a) as the converged curve on the graded hopf_grid (solvers/hopf_curve.hpp): continuation from the
+// largest a down, so it runs on rank 0 (the other ranks wait); each a is cached in DIR/points. The first
+// guess is the grid bracket's λ_crit of the largest a, or a locate_hopf over the scan's λ range (its
+// bracket stepped down by up to 30 widths).
+void converged_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points, std::vector<LambdaCritRow>& crit,
+                           std::ostream* progress) {
+  const MpiWorld world = mpi_world();
+  const std::string header =
+      "a,converged,lambda_crit,bracket,omega,N,lambda_crit_half,change,resolved,ratio,lambda_crit_2K,change_2K,"
+      "lambda_crit_half_ratio,change_half_ratio,note";
+  const auto file = [&](double a) {
+    std::string name = "hopfcurve_a";
+    name += shortest_text(a) + "_K" + std::to_string(plan.hopf_grid.resolved) + "_r" + shortest_text(plan.hopf_grid.ratio) + ".csv";
+    return points / name;
+  };
+  const auto parse = [&](double a) -> std::optional<std::vector<std::string>> {
+    std::istringstream in(read_text_file(file(a)));
+    std::string line, field;
+    if (!std::getline(in, line) || line != header || !std::getline(in, line)) return std::nullopt;
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    while (std::getline(fields, field, ',')) f.push_back(field);
+    if (f.size() < 14) return std::nullopt;
+    f.resize(15);
+    return f;
+  };
+  std::vector<double> todo;
+  for (auto it = plan.a.rbegin(); it != plan.a.rend(); ++it)
+    if (!parse(*it)) todo.push_back(*it);
+  if (world.rank == 0 && !todo.empty()) {
+    AggregationModel base = point_model(plan, todo.front(), plan.lambda.front(), plan.size());
+    base.grid = plan.hopf_grid;
+    double guess = NAN;
+    for (const auto& row : crit)
+      if (row.a == todo.front() && std::isfinite(row.lambda_crit)) guess = row.lambda_crit;
+    if (!std::isfinite(guess)) {
+      HopfOptions rough;
+      rough.bracket_steps = 30;
+      const HopfPoint h = locate_hopf(base, todo.front(), plan.lambda.front(), plan.lambda.back(), 1e-2, rough);
+      guess = h.found ? h.lambda_crit : std::sqrt(plan.lambda.front() * plan.lambda.back());
+    }
+    if (progress)
+      *progress << "aggkit scan: converging lambda_crit(a) on the grid " << plan.hopf_grid.describe() << " for "
+                << todo.size() << " values of a (from a = " << shortest_text(todo.front()) << ", guess "
+                << shortest_text(guess) << ")\n" << std::flush;
+    HopfCurveOptions options;
+    hopf_curve(base, todo, guess, std::size_t(std::ceil(8.0 / guess)), options, [&](const ConvergedHopfPoint& p) {
+      std::string note = p.note;
+      for (char& c : note)
+        if (c == ',' || c == '\n') c = ';';
+      const auto n = [](double x) { return shortest_text(x); };
+      write_file_atomically(file(p.a), header + "\n" + n(p.a) + "," + (p.converged ? "yes" : "no") + "," + n(p.lambda_crit) +
+                                           "," + n(p.bracket) + "," + n(p.omega) + "," + std::to_string(p.size) + "," +
+                                           n(p.lambda_crit_half) + "," + n(p.change) + "," + std::to_string(p.resolved) +
+                                           "," + n(p.ratio) + "," + n(p.lambda_crit_2K) + "," + n(p.change_K) + "," +
+                                           n(p.lambda_crit_fine_ratio) + "," + n(p.change_ratio) + "," + note + "\n");
+      if (progress)
+        *progress << "aggkit scan: lambda_crit(" << shortest_text(p.a) << ") = " << shortest_text(p.lambda_crit) << " at N = "
+                  << p.size << " (" << p.unknowns << " classes), changes N " << shortest_text(p.change) << ", 2K "
+                  << shortest_text(p.change_K) << ", (r-1)/2 " << shortest_text(p.change_ratio)
+                  << (p.converged ? "" : ": NOT CONVERGED " + p.note) << "\n" << std::flush;
+    });
+  }
+  mpi_barrier();
+  for (auto& row : crit) {
+    const auto f = parse(row.a);
+    if (!f) continue;
+    const auto number = [](const std::string& x) { return x.empty() ? NAN : std::stod(x); };
+    const double lambda_crit = number((*f)[2]);
+    if (!(lambda_crit > 0)) {
+      row.note += std::string(row.note.empty() ? "" : "; ") + "converged Hopf curve: " + (*f)[14];
+      continue;
+    }
+    const std::string grid = std::isfinite(row.lambda_crit) ? "grid bracket [" + shortest_text(row.lambda_sustained) + " " +
+                                                                  shortest_text(row.lambda_relaxing) + "]"
+                                                            : "grid: " + row.note;
+    const double omega = number((*f)[4]);
+    row.method = "hopf-converged";
+    row.lambda_crit = lambda_crit;
+    row.error = number((*f)[3]);
+    row.period = omega > 0 ? 2 * std::acos(-1.0) / omega : NAN;
+    row.size = std::stoul((*f)[5]);
+    row.lambda_crit_2N = lambda_crit;
+    row.change_2N = number((*f)[7]);
+    row.resolved = std::stoul((*f)[8]);
+    row.ratio = number((*f)[9]);
+    row.lambda_crit_2K = number((*f)[10]);
+    row.change_2K = number((*f)[11]);
+    row.lambda_crit_half_ratio = number((*f)[12]);
+    row.change_half_ratio = number((*f)[13]);
+    row.converged = (*f)[1];
+    row.note = grid + ((*f)[14].empty() ? "" : "; " + (*f)[14]);
+  }
+}
+
 }  // namespace
 
 ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
@@ -284,7 +380,9 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
 
   // λ_crit(a) from the Hopf point of the linear stability (solvers/stability.hpp), where the grid gave only
   // a bracket.
-  if (plan.stability) {
+  if (plan.stability && !plan.hopf_grid.uniform()) {
+    converged_lambda_crit(plan, points, crit, options.progress);
+  } else if (plan.stability) {
     hopf_lambda_crit(plan, points, crit, false, options.progress);
     if (plan.check_lambda_crit) hopf_lambda_crit(plan, points, crit, true, options.progress);
   }

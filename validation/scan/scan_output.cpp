@@ -39,14 +39,18 @@ void write_timing_csv(const std::filesystem::path& file, const std::vector<ScanR
 
 void write_lambda_crit_csv(const std::filesystem::path& file, const std::vector<LambdaCritRow>& rows) {
   std::string text =
-      "a,lambda_crit,lambda_crit_error,method,lambda_sustained,lambda_relaxing,period,N,lambda_crit_2N,change_2N,note\n";
+      "a,lambda_crit,lambda_crit_error,method,lambda_sustained,lambda_relaxing,period,N,lambda_crit_2N,change_2N,note,"
+      "resolved,ratio,lambda_crit_2K,change_2K,lambda_crit_half_ratio,change_half_ratio,converged\n";
   for (const auto& r : rows) {
     std::string note = r.note;
     for (char& c : note)
       if (c == ',' || c == '\n' || c == '"') c = ';';
     text += number(r.a) + "," + number(r.lambda_crit) + "," + number(r.error) + "," + r.method + "," +
             number(r.lambda_sustained) + "," + number(r.lambda_relaxing) + "," + number(r.period) + "," +
-            std::to_string(r.size) + "," + number(r.lambda_crit_2N) + "," + number(r.change_2N) + "," + note + "\n";
+            std::to_string(r.size) + "," + number(r.lambda_crit_2N) + "," + number(r.change_2N) + "," + note + "," +
+            std::to_string(r.resolved) + "," + number(r.ratio) + "," + number(r.lambda_crit_2K) + "," +
+            number(r.change_2K) + "," + number(r.lambda_crit_half_ratio) + "," + number(r.change_half_ratio) + "," +
+            r.converged + "\n";
   }
   write_file_atomically(file, text);
 }

@@ -21,6 +21,14 @@ struct LambdaCritRow {
   std::size_t size = 0;                   // N
   double lambda_crit_2N = nan, change_2N = nan;  // the truncation check, if asked
   std::string note;
+  // λ_crit converged on a graded grid (method hopf-converged): for the converged curve, lambda_crit_2N and
+  // change_2N hold the N/2 -> N step of its doubling (N the column `N`); K and r of the grid, and the
+  // values with K doubled and with r - 1 halved with their relative changes; converged: all three changes
+  // within the curve's tolerance (1 %).
+  std::size_t resolved = 0;
+  double ratio = nan;
+  double lambda_crit_2K = nan, change_2K = nan, lambda_crit_half_ratio = nan, change_half_ratio = nan;
+  std::string converged;  // "yes", "no" or "" (not a converged curve)
 };
 
 // One row of truncation_check.csv: a point at N and at 2N.

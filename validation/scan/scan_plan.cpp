@@ -117,7 +117,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
                        "uniformly spaced outputs from t = every to the end: time.every dividing time.end");
 
   const SceneTable scan(scan_table, "scan");
-  scan.allow_only({"a", "lambda", "series", "tail", "stability", "truncation_check"});
+  scan.allow_only({"a", "lambda", "series", "tail", "stability", "truncation_check", "hopf_grid"});
   bool a_log = false;
   plan.a = read_axis(scan, "a", a_log);
   for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
@@ -149,6 +149,14 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
     scan.fail("tail", "at least 16 outputs in the classified tail (it has about " +
                           std::to_string(int(tail_samples)) + "; raise tail or output more often)");
   plan.stability = scan.optional_boolean("stability").value_or(true);
+  plan.hopf_grid = scene.model.grid;
+  if (const auto grid = scan.optional_table("hopf_grid")) {
+    grid->allow_only({"resolved", "ratio"});
+    plan.hopf_grid.resolved = grid->count("resolved", 2);
+    plan.hopf_grid.ratio = grid->number("ratio", Bound::any);
+    under_key([&](const std::string& k) { return scan.key("hopf_grid") + "." + k.substr(k.find('.') + 1); },
+              [&] { plan.hopf_grid.validate(); });
+  }
 
   if (const auto check = scan.optional_table("truncation_check")) {
     check->allow_only({"points", "lambda_crit"});

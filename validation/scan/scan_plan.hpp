@@ -17,6 +17,10 @@
 //   stability = true                      also steady state + linear stability where available (default)
 //   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
 //                                         repeat these points (and λ_crit(a)) at size 2N (optional)
+//   hopf_grid = { resolved = 256, ratio = 1.005 }   the size grid of λ_crit(a) (default: the model's grid).
+//                                         A graded one (solvers/size_grid.hpp) makes λ_crit(a) the converged
+//                                         curve (solvers/hopf_curve.hpp: N doubled until it moves ≤ 1 %, then
+//                                         checked with K doubled and r - 1 halved) instead of one N
 //
 // No [observe] or [compare]: a scan writes its own outputs (scan_output.hpp). Unknown keys are errors.
 #include <cstddef>
@@ -49,6 +53,7 @@ struct ScanPlan {
   bool stability = true;
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N
+  SizeGrid hopf_grid;                                   // the grid of λ_crit(a) (the model's by default)
   // Everything a finished point's result depends on except (a, λ): a resumed scan reuses the points only
   // if this is unchanged.
   std::string fingerprint;

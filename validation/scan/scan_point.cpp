@@ -79,6 +79,23 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   r.converged = c.converged;
   r.note = c.note;
   if (plan.stability) classify_by_stability(run.model, r);
+  // A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability
+  // finds unstable (Re μ > 0) cannot relax, so a damped or steady time series there means the run is too
+  // short for the period (or the truncation too short for the tail); and a damped verdict whose own
+  // convergence check failed (too few cycles, a slow drift) is no verdict either. Such points are
+  // "unresolved": neither damped nor sustained.
+  if (r.regime == "damped" || r.regime == "steady") {
+    std::string why;
+    if (r.regime_stability == "sustained")
+      why = "linear stability: unstable steady state (Re mu = " + shortest_text(r.rightmost_real) + ")";
+    else if (r.regime == "damped" && !r.converged)
+      why = "the decay did not converge in the run";
+    if (!why.empty()) {
+      r.note = "was " + r.regime + " in the run; " + why + (r.note.empty() ? "" : "; " + r.note);
+      r.regime = "unresolved";
+      r.agree = "";
+    }
+  }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;
 }

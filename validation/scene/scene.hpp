@@ -40,11 +40,18 @@
 //                                                  of the run, [end/2, end])
 //   snapshots = true                               particle engines: the final configuration as
 //                                                  <engine>/final.vtu and <engine>/final.png (default false)
+//   times_ff = [1.0, 1.5, 2.0, 3.0]                particle engines with a free-fall time t_ff (dem with
+//                                                  gravity [Trivino2025, eq. 9]): the observe.final values
+//                                                  and the engine's own state values (K/|P|) also at
+//                                                  t = k t_ff of each realization, in final.json as
+//                                                  <name>_at_<k>tff (validation/engines/particle_runner.hpp);
+//                                                  increasing, each > 0 (default none)
 //   [sweep]                                        optional: the parameter sweep of `aggkit sweep`
 //                                                  (validation/sweep/sweep_plan.hpp); `aggkit run` ignores
 //                                                  it and runs the scene as written (its base point)
 //   [compare]                                      optional
-//   reference = "exact"                            an engine label
+//   reference = "exact"                            an engine label (required unless every entry is a
+//                                                  final value with a stated `value`, below)
 //   tolerance = { M0 = 1e-6, M2 = 1e-6 }           max relative error over the output times, per series
 //                                                  observable; observables without one are reported only;
 //                                                  or { M0 = { relative = 0.01, stderr = 3 } }: at each time
@@ -55,6 +62,14 @@
 //                                                  means over the realizations; σ their standard errors),
 //                                                  e.g. TS against ED, which agree in distribution, or the
 //                                                  oscillation period of DSMC against CVODE
+//   final = { contacts_with_self = { value = 0.5, relative = 0.05 } }  a final value against a stated constant
+//                                                  (a published figure, an exact value): each engine's mean
+//                                                  x passes when |x - value| <= relative |value| + stderr σ,
+//                                                  σ its standard error. Such an entry may name any number of
+//                                                  the engines' final.json (aggregation_time_ff of dem, ...),
+//                                                  not only observe.final; an engine without it fails. A
+//                                                  [compare] whose entries all have a value needs no
+//                                                  reference (nor a second engine)
 //   distribution = { relative = 0.01, stderr = 3 }  the size distributions at observe.distributions: at each
 //                                                  such time E = ||n - n_ref||_2 over the sizes, allowed
 //                                                  relative ||n_ref||_2 + stderr sqrt(Σ_k σ_k²), σ_k the
@@ -97,19 +112,23 @@ struct Observation {
                                            // and series measures (any engine, e.g. oscillation_period:M0)
   bool snapshots = false;                  // final configuration as .vtu and .png (particle engines)
   double window_start = 0, window_end = 0;  // observe.window: where the series measures are taken
+  std::vector<double> times_ff;            // observe.times_ff: multiples of the free-fall time (particle engines)
   bool has_series_measures() const;
 };
 
 struct Tolerance {
-  std::string observable;  // a name in Observation::series
+  std::string observable;  // a name in Observation::series (or a final value)
   double relative_error;   // the largest allowed max-over-time relative error (0 if only `stderr` is given)
   // With `stderr = k`: at each output time |x - x_ref| may also use k combined standard errors
   // sqrt(σ² + σ_ref²) of the two engines' ensembles (allowed: relative_error |x_ref| + k σ).
   std::optional<double> standard_errors = std::nullopt;
+  // compare.final only: a stated constant (a published figure) that each engine's final value is checked
+  // against, instead of the reference engine's.
+  std::optional<double> value = std::nullopt;
 };
 
 struct ComparisonPlan {
-  std::string reference;  // an engine label
+  std::string reference;  // an engine label; empty when every entry is a final value against a stated value
   std::vector<Tolerance> tolerances;        // series observables
   std::vector<Tolerance> final_tolerances;  // observe.final values
   std::optional<Tolerance> distribution = std::nullopt;  // compare.distribution: the size distributions (observable "distribution")

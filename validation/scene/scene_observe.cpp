@@ -75,30 +75,44 @@ void read_window(const SceneTable& observe, const Scene& scene, Observation& obs
                                   "observe.final (time.every)");
 }
 
-// The tolerance `name` of `table`: a number r, or { relative = r, stderr = k }.
-Tolerance read_tolerance(const SceneTable& table, const std::string& name) {
+// The tolerance `name` of `table`: a number r, or { relative = r, stderr = k }; with `stated_value`, also
+// { value = v, relative = r, stderr = k } (a final value against a stated constant).
+Tolerance read_tolerance(const SceneTable& table, const std::string& name, bool stated_value = false) {
   const toml::node* value = table.find(name);
   if (value && value->is_table()) {
     const SceneTable form = table.table(name);
-    form.allow_only({"relative", "stderr"});
+    if (stated_value) form.allow_only({"relative", "stderr", "value"});
+    else form.allow_only({"relative", "stderr"});
     if (!form.contains("relative") && !form.contains("stderr"))
-      throw InputError(table.key(name), scene_text(*value), "a number or { relative = r, stderr = k }");
-    return {name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
-            form.optional_number("stderr", Bound::non_negative)};
+      throw InputError(table.key(name), scene_text(*value),
+                       stated_value ? "a number, { relative = r, stderr = k } or { value = v, relative = r }"
+                                    : "a number or { relative = r, stderr = k }");
+    Tolerance tolerance{name, form.optional_number("relative", Bound::non_negative).value_or(0.0),
+                        form.optional_number("stderr", Bound::non_negative)};
+    if (stated_value) tolerance.value = form.optional_number("value", Bound::finite);
+    return tolerance;
   }
   return {name, table.number(name, Bound::non_negative), std::nullopt};
 }
 
-// A table of tolerances { name = r } or { name = { relative = r, stderr = k } } for the names in `allowed`.
+bool has_stated_value(const SceneTable& table, const std::string& name) {
+  const toml::node* value = table.find(name);
+  return value && value->is_table() && table.table(name).contains("value");
+}
+
+// A table of tolerances { name = r } or { name = { relative = r, stderr = k } } for the names in `allowed`;
+// with `stated_values`, an entry { value = v, ... } may name any final value (checked when the engines ran).
 std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vector<std::string>& allowed,
-                                       const std::string& where) {
+                                       const std::string& where, bool stated_values = false) {
   std::vector<Tolerance> tolerances;
   for (auto&& [key, value] : table.raw()) {
     const std::string name(key.str());
-    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+    const bool stated = stated_values && has_stated_value(table, name);
+    if (!stated && std::find(allowed.begin(), allowed.end(), name) == allowed.end())
       throw InputError(table.key(name), scene_text(value),
-                       "tolerances are given for observables in " + where + ": " + (allowed.empty() ? "none" : join(allowed)));
-    tolerances.push_back(read_tolerance(table, name));
+                       "tolerances are given for observables in " + where + ": " + (allowed.empty() ? "none" : join(allowed)) +
+                           (stated_values ? "; or { value = v, relative = r } for any final value" : ""));
+    tolerances.push_back(read_tolerance(table, name, stated_values));
   }
   return tolerances;
 }
@@ -106,7 +120,7 @@ std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vecto
 }  // namespace
 
 Observation read_observation(const SceneTable& observe, const Scene& scene) {
-  observe.allow_only({"series", "distributions", "final", "snapshots", "window"});
+  observe.allow_only({"series", "distributions", "final", "snapshots", "window", "times_ff"});
   Observation observation;
   const std::vector<std::string> names = observe.strings("series");
   if (names.empty()) observe.fail("series", "at least one observable: " + std::string(Observable::forms()));
@@ -142,19 +156,39 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
   read_window(observe, scene, observation);
   observation.snapshots = observe.optional_boolean("snapshots").value_or(false);
   if (observation.snapshots && !scene.particles) observe.fail("snapshots", "false: snapshots need a [particles] section");
+  if (observe.contains("times_ff")) {
+    // Multiples k of the free-fall time, increasing, each > 0 and at most 10^6.
+    const std::vector<double> k = observe.numbers("times_ff", Bound::finite);
+    if (!scene.particles) observe.fail("times_ff", "no times_ff without [particles] (free-fall times of particle engines)");
+    if (k.empty()) observe.fail("times_ff", "at least one multiple of t_ff, e.g. [1.0, 2.0]");
+    for (std::size_t i = 0; i < k.size(); ++i)
+      if (!(k[i] > 0 && k[i] <= 1e6) || (i > 0 && !(k[i] > k[i - 1])))
+        throw InputError(observe.key("times_ff") + "[" + std::to_string(i) + "]", shortest_text(k[i]),
+                         "increasing multiples of the free-fall time, each in (0, 1e6]");
+    observation.times_ff = k;
+  }
   return observation;
 }
 
 ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
   compare.allow_only({"reference", "tolerance", "final", "distribution"});
   ComparisonPlan plan;
-  plan.reference = compare.string("reference");
+  // Without a reference only final values against stated values: every entry of `final` has a `value`.
+  bool only_stated_values = !compare.contains("reference") && !compare.contains("tolerance") &&
+                            !compare.contains("distribution") && compare.contains("final");
+  if (only_stated_values) {
+    const SceneTable final = compare.table("final");
+    for (auto&& [key, value] : final.raw()) only_stated_values = only_stated_values && has_stated_value(final, std::string(key.str()));
+  }
   std::vector<std::string> labels;
   for (const auto& engine : scene.engines) labels.push_back(engine.label);
-  if (!scene.find_engine(plan.reference)) compare.fail("reference", "the label of an engine of this scene: " + join(labels));
-  if (scene.engines.size() < 2)
-    compare.fail("reference", "a comparison needs a second engine besides the reference; this scene has only " +
-                                  join(labels));
+  if (!only_stated_values) {
+    plan.reference = compare.string("reference");
+    if (!scene.find_engine(plan.reference)) compare.fail("reference", "the label of an engine of this scene: " + join(labels));
+    if (scene.engines.size() < 2)
+      compare.fail("reference", "a comparison needs a second engine besides the reference; this scene has only " +
+                                    join(labels) + " (or compare final values with stated ones: final = { x = { value = v, relative = r } })");
+  }
   if (const auto tolerance = compare.optional_table("tolerance")) {
     std::vector<std::string> series;
     for (const auto& o : scene.observe.series) series.push_back(o.name());
@@ -169,7 +203,7 @@ ComparisonPlan read_comparison(const SceneTable& compare, const Scene& scene) {
     std::vector<std::string> scalars;  // profiles have no single number to compare
     for (const auto& name : scene.observe.final_state)
       if (!Observable::from_name(name)->is_profile()) scalars.push_back(name);
-    plan.final_tolerances = read_tolerances(*final, scalars, "observe.final (numbers, not profiles)");
+    plan.final_tolerances = read_tolerances(*final, scalars, "observe.final (numbers, not profiles)", true);
   }
   return plan;
 }

@@ -20,10 +20,15 @@ def number(text):
 
 
 def ordered(values):
-    """Distinct values in numeric order when they are all numbers, else in order of appearance."""
+    """Distinct values (or tuples of values: the panels' keys) in numeric order when they are all numbers, else in
+    order of appearance."""
     distinct = list(dict.fromkeys(values))
-    if all(not math.isnan(number(v)) for v in distinct):
-        distinct.sort(key=number)
+
+    def numbers(v):
+        return tuple(number(x) for x in v) if isinstance(v, tuple) else (number(v),)
+
+    if all(not any(math.isnan(x) for x in numbers(v)) for v in distinct):
+        distinct.sort(key=numbers)
     return distinct
 
 

@@ -91,16 +91,24 @@ std::string file_word(const std::string& name) {
   return word;
 }
 
-// Draws DIR/map_<column>.png; returns "" or why it failed (plotting is a convenience, never fatal).
+// The file word of a grouping: its keys joined by "__".
+std::string grouping_word(const SweepPlan& plan, const std::vector<std::size_t>& grouping) {
+  std::string word;
+  for (std::size_t a : grouping) word += (word.empty() ? "" : "__") + file_word(plan.axes[a].key);
+  return word;
+}
+
+// Draws DIR/map_<column>.png over the keys of `grouping`; returns "" or why it failed (plotting is a
+// convenience, never fatal).
 std::string plot_map(const SweepPlan& plan, const std::filesystem::path& mean_csv, const std::string& column,
-                     const std::filesystem::path& png) {
+                     const std::filesystem::path& png, const std::vector<std::size_t>& grouping) {
   AtomicFile output(png);
   std::vector<std::string> argv{plot_interpreter(), plot_sweep_script().string(), "--mean", mean_csv.string(),
                                 "--column", column, "--output", output.temporary_path().string(), "--title",
-                                plan.scene.name};
-  for (const auto& axis : plan.axes) {
-    argv.push_back(axis.log ? "--log-key" : "--key");
-    argv.push_back(axis.key);
+                                sweep_map_title(plan, column, grouping)};
+  for (std::size_t a : grouping) {
+    argv.push_back(plan.axes[a].log ? "--log-key" : "--key");
+    argv.push_back(plan.axes[a].key);
   }
   const ProcessOutcome run = run_process(argv, std::chrono::seconds(120));
   if (!run.succeeded()) {
@@ -116,6 +124,19 @@ std::string plot_map(const SweepPlan& plan, const std::filesystem::path& mean_cs
 }
 
 }  // namespace
+
+std::string sweep_map_title(const SweepPlan& plan, const std::string& column, const std::vector<std::size_t>& grouping) {
+  std::string title = plan.scene.name;
+  if (grouping.size() < plan.axes.size()) {
+    std::string pooled;
+    for (std::size_t a = 0; a < plan.axes.size(); ++a)
+      if (std::find(grouping.begin(), grouping.end(), a) == grouping.end()) pooled += (pooled.empty() ? "" : ", ") + plan.axes[a].key;
+    title += " (pooled over " + pooled + ")";
+  }
+  for (const auto& [name, value] : plan.not_aggregated)
+    if (name == column) title += "; " + name + " := " + shortest_text(value) + " where aggregation_time is undefined";
+  return title;
+}
 
 SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   const MpiWorld world = mpi_world();
@@ -199,13 +220,23 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& options) {
     for (std::size_t i = 0; i < runs; ++i)
       if (auto r = finished(i)) records.push_back(std::move(*r));
     outcome.exit_code = outcome.failed > 0 || records.size() < runs ? 1 : 0;
+    records = fill_not_aggregated(plan, std::move(records));
     write_file_atomically(options.out / "sweep.csv", sweep_csv(plan, records));
     write_file_atomically(options.out / "sweep_mean.csv", sweep_mean_csv(plan, records));
     write_file_atomically(options.out / "timing.csv", sweep_timing_csv(records));
+    for (const auto& grouping : plan.groupings)
+      write_file_atomically(options.out / ("sweep_mean_by_" + grouping_word(plan, grouping) + ".csv"), sweep_pooled_csv(plan, records, grouping));
+    std::vector<std::size_t> every_key;
+    for (std::size_t a = 0; a < plan.axes.size(); ++a) every_key.push_back(a);
     if (options.plot && !records.empty())
       for (const std::string& column : plan.maps) {
-        const std::string why = plot_map(plan, options.out / "sweep_mean.csv", column,
-                                         options.out / ("map_" + file_word(column) + ".png"));
+        std::string why = plot_map(plan, options.out / "sweep_mean.csv", column, options.out / ("map_" + file_word(column) + ".png"), every_key);
+        for (const auto& grouping : plan.groupings) {
+          if (!why.empty()) break;
+          const std::string word = grouping_word(plan, grouping);
+          why = plot_map(plan, options.out / ("sweep_mean_by_" + word + ".csv"), column,
+                         options.out / ("map_" + file_word(column) + "_by_" + word + ".png"), grouping);
+        }
         if (!why.empty() && options.progress) *options.progress << "aggkit sweep: map of " << column << " not drawn: " << why << "\n";
       }
     if (options.progress) {

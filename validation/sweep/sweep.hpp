@@ -14,11 +14,17 @@
 //                        deviation / √n; 0 for n = 1) and <name>_n (the n)
 //   DIR/timing.csv       point, realization, seconds, rank of each run (kept out of sweep.csv)
 //   DIR/map_<column>.png for each of [sweep] maps: a heat map of the mean over the first two keys (one panel per
-//                        value of further keys), or the mean ± standard error against the key for one key
+//                        value of further keys), or the mean ± standard error against the key for one key;
+//                        the title says which columns where_not_aggregated set
+//   DIR/sweep_mean_by_<keys>.csv   for each [sweep] group_by entry (keys joined by "__"): the means pooled over
+//                        the other keys and the realizations, a row per value of the grouped keys
+//   DIR/map_<column>_by_<keys>.png its maps, as above over the grouped keys (title: what was pooled over)
 //   DIR/runs/point<i>_r<r>/   each run's own outputs, as `aggkit run` writes them (series.csv, final.json, ...)
 #include <cstddef>
 #include <filesystem>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include "validation/sweep/sweep_plan.hpp"
 
@@ -40,5 +46,9 @@ struct SweepOutcome {
 
 // Throws InputError for an unusable output folder (key "--out").
 SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& options);
+
+// The title of the map of `column` over the keys `grouping` (indices into plan.axes): the scene's name, the
+// keys pooled over, and the value where_not_aggregated gives the column.
+std::string sweep_map_title(const SweepPlan& plan, const std::string& column, const std::vector<std::size_t>& grouping);
 
 }  // namespace aggkit

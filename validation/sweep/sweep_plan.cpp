@@ -195,6 +195,62 @@ std::string point_words(const SweepPlan& plan, std::size_t p) {
   return words;
 }
 
+// group_by: each entry a swept key or a list of them (each once), each grouping once.
+void read_groupings(const SceneTable& sweep, SweepPlan& plan) {
+  if (!sweep.contains("group_by")) return;
+  const std::string forms = "a list of groupings, each a swept key or a list of swept keys: [\"engine.damping\", [\"engine.damping\", ...]]";
+  const toml::array* list = sweep.find("group_by")->as_array();
+  if (!list || list->empty()) sweep.fail("group_by", forms);
+  for (std::size_t g = 0; g < list->size(); ++g) {
+    const std::string key = sweep.key("group_by") + "[" + std::to_string(g) + "]";
+    const toml::node& entry = *list->get(g);
+    std::vector<const toml::node*> names;
+    if (entry.is_string()) names.push_back(&entry);
+    else if (const toml::array* keys = entry.as_array(); keys && !keys->empty())
+      for (std::size_t k = 0; k < keys->size(); ++k) names.push_back(keys->get(k));
+    else throw InputError(key, scene_text(entry), forms);
+    std::vector<std::size_t> grouping;
+    for (const toml::node* name : names) {
+      std::size_t axis = plan.axes.size();
+      if (name->is_string())
+        for (std::size_t a = 0; a < plan.axes.size(); ++a)
+          if (plan.axes[a].key == name->as_string()->get()) axis = a;
+      std::string swept;
+      for (const auto& a : plan.axes) swept += (swept.empty() ? "" : ", ") + a.key;
+      if (axis == plan.axes.size()) throw InputError(key, scene_text(*name), "a swept key: one of " + swept);
+      if (std::find(grouping.begin(), grouping.end(), axis) != grouping.end())
+        throw InputError(key, scene_text(entry), "each swept key once in a grouping");
+      grouping.push_back(axis);
+    }
+    if (std::find(plan.groupings.begin(), plan.groupings.end(), grouping) != plan.groupings.end())
+      throw InputError(key, scene_text(entry), "each grouping once");
+    plan.groupings.push_back(grouping);
+  }
+}
+
+// where_not_aggregated: { column = value }, each column an observe.final observable of the scene or one of
+// its values; the scene's only engine is dem with gravity (whose runs have aggregation_time).
+void read_not_aggregated(const SceneTable& sweep, SweepPlan& plan) {
+  if (!sweep.contains("where_not_aggregated")) return;
+  const toml::node& node = *sweep.find("where_not_aggregated");
+  if (!node.is_table() || node.as_table()->empty())
+    sweep.fail("where_not_aggregated", "a table { column = value }, e.g. { fractal_dimension_com = 0.0 }");
+  const Scene& scene = plan.scene;
+  if (scene.engines.size() != 1 || scene.engines[0].name != "dem" || !scene.engines[0].options.contains("gravity"))
+    sweep.fail("where_not_aggregated", "a scene whose only engine is dem with gravity (its runs have aggregation_time)");
+  const SceneTable fill(*node.as_table(), sweep.key("where_not_aggregated"));
+  for (auto&& [name, value] : *node.as_table()) {
+    const std::string column(name.str());
+    bool known = false;
+    for (const std::string& observable : scene.observe.final_state)
+      known = known || column.rfind(observable, 0) == 0;
+    if (!known)
+      throw InputError(fill.key(column), scene_text(value),
+                       "a column of an observe.final observable (" + join(scene.observe.final_state) + ") as its key");
+    plan.not_aggregated.emplace_back(column, fill.number(column, Bound::finite));
+  }
+}
+
 }  // namespace
 
 std::string sweep_value_text(const nlohmann::json& value) {
@@ -253,7 +309,8 @@ SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, con
   // toml++ keeps a table's keys sorted: the axes are put back in the order they are written.
   std::vector<std::pair<toml::source_position, std::string>> written;
   for (auto&& [name, node] : sweep_table)
-    if (name.str() != "realizations" && name.str() != "maps") written.emplace_back(name.source().begin, std::string(name.str()));
+    if (name.str() != "realizations" && name.str() != "maps" && name.str() != "group_by" && name.str() != "where_not_aggregated")
+      written.emplace_back(name.source().begin, std::string(name.str()));
   std::sort(written.begin(), written.end(), [](const auto& x, const auto& y) {
     return std::tie(x.first.line, x.first.column) < std::tie(y.first.line, y.first.column);
   });
@@ -282,6 +339,9 @@ SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, con
   else plan.maps = plan.scene.observe.final_state;
   if (!sweep.contains("maps") && plan.maps.empty())
     for (const auto& o : plan.scene.observe.series) plan.maps.push_back(o.name());
+
+  read_groupings(sweep, plan);
+  read_not_aggregated(sweep, plan);
 
   // Every value of every key alone, then every point (a few): read and built as `aggkit run` would.
   for (const auto& axis : plan.axes)

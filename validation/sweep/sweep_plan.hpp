@@ -13,6 +13,17 @@
 //   maps = ["components_fraction"]       the columns drawn (default: the scene's observe.final, else
 //                                        observe.series): a heat map over the first two keys, one curve per
 //                                        point over one key
+//   group_by = ["engine.damping", ["engine.damping", "particles.count"]]
+//                                        optional: means pooled over the other swept keys, one table per entry
+//                                        (a key or a list of keys, each a swept key once):
+//                                        sweep_mean_by_<keys>.csv and map_<column>_by_<keys>.png (sweep.hpp)
+//   where_not_aggregated = { fractal_dimension_com = 0.0 }
+//                                        optional, off by default: in the runs where aggregation_time is
+//                                        undefined (NaN: the run never aggregated; engine dem with gravity)
+//                                        these columns take the given value in sweep.csv, the means and the
+//                                        maps (whose titles say so) — the paper's map sets F = 0 there
+//                                        [Trivino2025, Sec. V]; each column an observe.final observable of the
+//                                        scene or one of its values (fractal_dimension_com_at_2tff, ...)
 //
 // A key is a dotted scene key, quoted (TOML needs the quotes for a dotted name): "particles.count",
 // "time.end", "engine.gravity.opening_angle". Engines: `engine.X` is option X of the scene's only engine
@@ -47,6 +58,8 @@ struct SweepPlan {
   std::vector<SweepAxis> axes;
   std::size_t realizations = 1;
   std::vector<std::string> maps;        // columns to draw
+  std::vector<std::vector<std::size_t>> groupings;  // group_by: indices into `axes`, in the order written
+  std::vector<std::pair<std::string, double>> not_aggregated;  // where_not_aggregated: column, value
   // Everything a run's result depends on besides its swept values and realization: finished runs are reused
   // by a later sweep only if this is unchanged.
   std::string fingerprint;

@@ -1,5 +1,6 @@
 #include "validation/sweep/sweep_record.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -39,6 +40,11 @@ std::string keys_header(const SweepPlan& plan) {
   for (const auto& axis : plan.axes) text += csv_cell(axis.key) + ",";
   return text;
 }
+
+// Mean, standard error (sample standard deviation / √n; 0 for n = 1) and n over the finite values of column
+// `name` in records[k] for k in `runs`.
+void append_mean_cells(std::string& text, const std::vector<SweepRecord>& records, const std::vector<std::size_t>& runs,
+                       const std::string& name);
 
 // Appends ",cell" in two steps (`text += "," + cell` trips GCC 12's -Wrestrict false positive).
 void append_cell(std::string& text, const std::string& cell) {
@@ -112,24 +118,74 @@ std::string sweep_mean_csv(const SweepPlan& plan, const std::vector<SweepRecord>
     std::size_t end = begin;
     while (end < records.size() && records[end].point == records[begin].point) ++end;
     text += values_cells(plan, records[begin].values) + std::to_string(end - begin);
-    for (const auto& n : names) {
-      // Mean and standard error over the runs where the value is finite (T_agg only where it aggregated).
-      double sum = 0, sum_squares = 0;
-      std::size_t count = 0;
-      for (std::size_t k = begin; k < end; ++k)
-        if (const double v = column(records[k], n); std::isfinite(v)) sum += v, ++count;
-      const double mean = count ? sum / double(count) : nan;
-      for (std::size_t k = begin; k < end; ++k)
-        if (const double v = column(records[k], n); std::isfinite(v)) sum_squares += (v - mean) * (v - mean);
-      const double stderr_ = count > 1 ? std::sqrt(sum_squares / double(count - 1) / double(count)) : count == 1 ? 0.0 : nan;
-      append_cell(text, shortest_text(mean));
-      append_cell(text, shortest_text(stderr_));
-      append_cell(text, std::to_string(count));
-    }
+    std::vector<std::size_t> runs;
+    for (std::size_t k = begin; k < end; ++k) runs.push_back(k);
+    for (const auto& n : names) append_mean_cells(text, records, runs, n);
     text += "\n";
     begin = end;
   }
   return text;
+}
+
+namespace {
+
+void append_mean_cells(std::string& text, const std::vector<SweepRecord>& records, const std::vector<std::size_t>& runs,
+                       const std::string& name) {
+  // Mean and standard error over the runs where the value is finite (T_agg only where it aggregated).
+  double sum = 0, sum_squares = 0;
+  std::size_t count = 0;
+  for (std::size_t k : runs)
+    if (const double v = column(records[k], name); std::isfinite(v)) sum += v, ++count;
+  const double mean = count ? sum / double(count) : nan;
+  for (std::size_t k : runs)
+    if (const double v = column(records[k], name); std::isfinite(v)) sum_squares += (v - mean) * (v - mean);
+  const double stderr_ = count > 1 ? std::sqrt(sum_squares / double(count - 1) / double(count)) : count == 1 ? 0.0 : nan;
+  append_cell(text, shortest_text(mean));
+  append_cell(text, shortest_text(stderr_));
+  append_cell(text, std::to_string(count));
+}
+
+}  // namespace
+
+std::string sweep_pooled_csv(const SweepPlan& plan, const std::vector<SweepRecord>& records, const std::vector<std::size_t>& grouping) {
+  const std::vector<std::string> names = column_names(records);
+  std::string text;
+  for (std::size_t a : grouping) text += csv_cell(plan.axes[a].key) + ",";
+  text += "runs";
+  for (const auto& n : names) {
+    append_cell(text, csv_cell(n));
+    append_cell(text, csv_cell(n + "_stderr"));
+    append_cell(text, csv_cell(n + "_n"));
+  }
+  text += "\n";
+  // The groups in order of first appearance, each with its runs.
+  std::vector<std::vector<nlohmann::json>> keys;
+  std::vector<std::vector<std::size_t>> members;
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    std::vector<nlohmann::json> key;
+    for (std::size_t a : grouping) key.push_back(records[k].values[a]);
+    const auto found = std::find(keys.begin(), keys.end(), key);
+    if (found == keys.end()) keys.push_back(key), members.push_back({k});
+    else members[std::size_t(found - keys.begin())].push_back(k);
+  }
+  for (std::size_t g = 0; g < keys.size(); ++g) {
+    for (const auto& value : keys[g]) text += csv_cell(sweep_value_text(value)) + ",";
+    text += std::to_string(members[g].size());
+    for (const auto& n : names) append_mean_cells(text, records, members[g], n);
+    text += "\n";
+  }
+  return text;
+}
+
+std::vector<SweepRecord> fill_not_aggregated(const SweepPlan& plan, std::vector<SweepRecord> records) {
+  if (plan.not_aggregated.empty()) return records;
+  for (SweepRecord& r : records) {
+    if (!std::isnan(column(r, "aggregation_time"))) continue;
+    for (const auto& [name, value] : plan.not_aggregated)
+      for (auto& [n, v] : r.columns)
+        if (n == name) v = value;
+  }
+  return records;
 }
 
 std::string sweep_timing_csv(const std::vector<SweepRecord>& records) {

@@ -31,6 +31,13 @@ std::optional<SweepRecord> parse_record_file(const std::string& text, std::size_
 std::string sweep_csv(const SweepPlan& plan, const std::vector<SweepRecord>& records);
 std::string sweep_mean_csv(const SweepPlan& plan, const std::vector<SweepRecord>& records);
 std::string sweep_timing_csv(const std::vector<SweepRecord>& records);
+// The means over every run whose swept values of `grouping` (indices into plan.axes) are equal, pooled over
+// the other keys and the realizations: a row per distinct value (in order of first appearance), the grouped
+// keys, runs, then <name>, <name>_stderr, <name>_n as in sweep_mean.csv.
+std::string sweep_pooled_csv(const SweepPlan& plan, const std::vector<SweepRecord>& records, const std::vector<std::size_t>& grouping);
+// The records with plan.not_aggregated applied: in each run whose aggregation_time is NaN, those columns
+// take their given values.
+std::vector<SweepRecord> fill_not_aggregated(const SweepPlan& plan, std::vector<SweepRecord> records);
 
 // A CSV cell: quoted (with doubled quotes) if it holds a comma, a quote or a line break.
 std::string csv_cell(const std::string& text);

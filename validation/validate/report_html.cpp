@@ -18,7 +18,7 @@ namespace {
 const char* style = R"(body{font-family:sans-serif;margin:1.5em;max-width:75em;color:#222}
 table{border-collapse:collapse;margin:.5em 0 1em}th,td{border:1px solid #bbb;padding:.2em .5em;text-align:left;vertical-align:top}
 th{background:#eee}td.num{text-align:right;font-variant-numeric:tabular-nums}
-.pass{color:#060;font-weight:bold}.fail{color:#b00;font-weight:bold}
+.pass{color:#060;font-weight:bold}.fail{color:#b00;font-weight:bold}.nocheck{color:#850;font-weight:bold}
 .description{white-space:pre-wrap;background:#f6f6f6;padding:.5em;border-left:3px solid #999}
 pre.log{background:#fee;padding:.5em;overflow-x:auto}
 figure{display:inline-block;margin:.5em}figure img{max-width:100%;max-height:40em;border:1px solid #ccc}
@@ -28,9 +28,12 @@ std::string cell(const std::string& text, bool number = false) {
   return std::string(number ? "<td class=\"num\">" : "<td>") + html_escape(text) + "</td>";
 }
 
+const char* verdict_class(Verdict verdict) {
+  return verdict == Verdict::pass ? "pass" : verdict == Verdict::unchecked ? "nocheck" : "fail";
+}
+
 std::string verdict_cell(Verdict verdict) {
-  return std::string("<td class=\"") + (verdict == Verdict::pass ? "pass" : "fail") + "\">" +
-         html_escape(to_string(verdict)) + "</td>";
+  return std::string("<td class=\"") + verdict_class(verdict) + "\">" + html_escape(to_string(verdict)) + "</td>";
 }
 
 std::string optional_verdict_cell(const ComparisonLine& c) {
@@ -100,14 +103,15 @@ void summary_table(std::ostream& html, const std::vector<SceneOutcome>& scenes) 
 
 void scene_section(std::ostream& html, const std::filesystem::path& out, const SceneOutcome& s) {
   html << "<section id=\"" << html_escape(anchor(s)) << "\"><h2>" << html_escape(s.scene.name) << " — <span class=\""
-       << (s.verdict == Verdict::pass ? "pass" : "fail") << "\">" << html_escape(to_string(s.verdict))
+       << verdict_class(s.verdict) << "\">" << html_escape(to_string(s.verdict))
        << "</span></h2>\n";
   html << "<p>" << html_escape(s.scene.file.string()) << " · tier " << to_string(s.scene.tier) << " · aggkit "
        << to_string(s.scene.kind) << " · wall time " << html_escape(seconds_text(s.wall_seconds)) << " s"
        << (s.resumed ? " (finished in an earlier run)" : "") << "</p>\n";
   if (!s.scene.description.empty())
     html << "<div class=\"description\">" << html_escape(s.scene.description) << "</div>\n";
-  if (!s.problem.empty()) html << "<p class=\"fail\">" << html_escape(s.problem) << "</p>\n";
+  if (!s.problem.empty())
+    html << "<p class=\"" << verdict_class(s.verdict) << "\">" << html_escape(s.problem) << "</p>\n";
   if (!s.engines.empty()) {
     html << "<h3>Engines</h3><table><tr><th>label</th><th>engine</th><th>status</th><th>wall s</th><th>error</th></tr>\n";
     for (const auto& e : s.engines)
@@ -127,8 +131,8 @@ void scene_section(std::ostream& html, const std::filesystem::path& out, const S
            << cell(error_text(c), true) << cell(number_text(c.time), true) << cell(tolerance_text(c), true)
            << cell(used_text(c), true) << optional_verdict_cell(c) << cell(c.note) << "</tr>\n";
     html << "</table>\n";
-  } else if (s.scene.kind == SceneKind::run && (s.verdict == Verdict::pass || s.verdict == Verdict::fail)) {
-    html << "<p>No comparisons: the scene passes when every engine completes.</p>\n";
+  } else if (s.scene.kind == SceneKind::run && (s.verdict == Verdict::unchecked || s.verdict == Verdict::fail)) {
+    html << "<p>No comparisons: the scene ran, and nothing in it was checked.</p>\n";
   }
   if (s.scene.kind == SceneKind::scan) {
     html << "<p>" << s.scan_points << " (a, λ) points classified (" << html_escape(s.scene.folder)
@@ -185,13 +189,18 @@ std::string url_path(const std::string& relative) {
 
 std::string report_html(const std::filesystem::path& out, const std::vector<SceneOutcome>& scenes,
                         const ValidationTotals& totals) {
-  std::size_t passed = 0;
-  for (const auto& s : scenes) passed += s.verdict == Verdict::pass ? 1 : 0;
+  std::size_t passed = 0, unchecked = 0;
+  for (const auto& s : scenes) {
+    passed += s.verdict == Verdict::pass ? 1 : 0;
+    unchecked += s.verdict == Verdict::unchecked ? 1 : 0;
+  }
+  const std::string headline = std::to_string(passed) + " of " + std::to_string(scenes.size()) + " scenes pass" +
+                               (unchecked ? ", " + std::to_string(unchecked) + " ran (no check)" : "");
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>aggkit validate: " << passed
-       << " of " << scenes.size() << " scenes pass</title>\n<style>" << style << "</style></head><body>\n";
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>aggkit validate: " << headline
+       << "</title>\n<style>" << style << "</style></head><body>\n";
   html << "<h1>aggkit validate — " << (totals.exit_code == 0 ? "<span class=\"pass\">" : "<span class=\"fail\">")
-       << passed << " of " << scenes.size() << " scenes pass</span></h1>\n";
+       << headline << "</span></h1>\n";
   html << "<p>aggkit " << html_escape(version()) << " · tier " << to_string(totals.tier) << " · " << totals.jobs
        << (totals.jobs == 1 ? " job" : " jobs") << " · wall time " << html_escape(seconds_text(totals.wall_seconds))
        << " s (this run) · exit status " << totals.exit_code

@@ -114,9 +114,24 @@ const char* to_string(Verdict verdict) {
     case Verdict::bad_input: return "bad input";
     case Verdict::error: return "error";
     case Verdict::not_run: return "not run";
+    case Verdict::unchecked: return "ran (no check)";
   }
   return "?";
 }
+
+const char* count_key(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::pass: return "pass";
+    case Verdict::fail: return "fail";
+    case Verdict::bad_input: return "bad_input";
+    case Verdict::error: return "error";
+    case Verdict::not_run: return "not_run";
+    case Verdict::unchecked: return "no_check";
+  }
+  return "?";
+}
+
+bool without_failure(Verdict verdict) { return verdict == Verdict::pass || verdict == Verdict::unchecked; }
 
 std::optional<std::size_t> worst_comparison(const std::vector<ComparisonLine>& comparisons) {
   std::optional<std::size_t> worst;
@@ -156,12 +171,19 @@ SceneOutcome read_scene_outcome(const std::filesystem::path& out, const PlannedS
   }
   outcome.images = images_under(out, folder);
 
-  if (exit_code == 0 && outcome.problem.empty()) outcome.verdict = Verdict::pass;
+  // A check: a comparison with a tolerance (pass true or false); comparisons without one are reported only.
+  const bool checked = scene.kind == SceneKind::run &&
+                       std::any_of(outcome.comparisons.begin(), outcome.comparisons.end(),
+                                   [](const ComparisonLine& c) { return c.pass.has_value(); });
+  if (exit_code == 0 && outcome.problem.empty()) outcome.verdict = checked ? Verdict::pass : Verdict::unchecked;
   else if (exit_code == 0 || exit_code == 1) outcome.verdict = Verdict::fail;
   else if (exit_code == 2) outcome.verdict = Verdict::bad_input;
   else outcome.verdict = Verdict::error;
 
-  if (outcome.verdict != Verdict::pass) {
+  if (outcome.verdict == Verdict::unchecked)
+    outcome.problem = scene.kind == SceneKind::scan ? "a scan: its points are classified, not checked"
+                                                    : "no comparison with a tolerance ([compare])";
+  if (!without_failure(outcome.verdict)) {
     if (outcome.problem.empty()) {
       if (exit_code == 1) {
         for (const auto& e : outcome.engines)

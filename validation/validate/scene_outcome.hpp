@@ -13,8 +13,15 @@
 
 namespace aggkit {
 
-enum class Verdict { pass, fail, bad_input, error, not_run };
-const char* to_string(Verdict verdict);  // "pass", "FAIL", "bad input", "error", "not run"
+// unchecked: the scene ran to completion (exit 0) but nothing in it was checked against a tolerance — a run
+// scene without a comparison that has one, or a scan scene — so it neither passes nor fails.
+enum class Verdict { pass, fail, bad_input, error, not_run, unchecked };
+// "pass", "FAIL", "bad input", "error", "not run", "ran (no check)"
+const char* to_string(Verdict verdict);
+// The key of a verdict in validation.json's counts: pass, fail, bad_input, error, not_run, no_check.
+const char* count_key(Verdict verdict);
+// A scene that ran and was checked or ran without a check: what a validation without failures holds.
+bool without_failure(Verdict verdict);
 
 struct ComparisonLine {
   static constexpr double nan = std::numeric_limits<double>::quiet_NaN();

@@ -151,7 +151,7 @@ ValidationOutcome run_validation(const ValidateOptions& options) {
   bool bad_input = false, failed = false;
   for (const auto& s : result.scenes) {
     bad_input = bad_input || s.verdict == Verdict::bad_input;
-    failed = failed || s.verdict != Verdict::pass;
+    failed = failed || !without_failure(s.verdict);
   }
   result.exit_code = bad_input ? 2 : failed ? 1 : 0;
   ValidationTotals totals;

@@ -57,14 +57,11 @@ Json scene_json(const SceneOutcome& s) {
 }  // namespace
 
 std::string validation_json(const std::vector<SceneOutcome>& scenes, const ValidationTotals& totals) {
-  Json counts = {{"scenes", scenes.size()}, {"pass", 0}, {"fail", 0}, {"bad_input", 0},
-                 {"error", 0},              {"not_run", 0}, {"resumed", 0}};
+  // no_check: scenes that ran without a check (Verdict::unchecked), counted apart from pass.
+  Json counts = {{"scenes", scenes.size()}, {"pass", 0}, {"fail", 0}, {"bad_input", 0}, {"error", 0},
+                 {"not_run", 0},           {"no_check", 0}, {"resumed", 0}};
   for (const auto& s : scenes) {
-    const char* key = s.verdict == Verdict::pass        ? "pass"
-                      : s.verdict == Verdict::fail      ? "fail"
-                      : s.verdict == Verdict::bad_input ? "bad_input"
-                      : s.verdict == Verdict::error     ? "error"
-                                                        : "not_run";
+    const char* key = count_key(s.verdict);
     counts[key] = counts[key].get<int>() + 1;
     if (s.resumed) counts["resumed"] = counts["resumed"].get<int>() + 1;
   }

@@ -52,7 +52,8 @@ std::string used_text(const ComparisonLine& c) {
 
 std::string worst_text(const SceneOutcome& outcome) {
   if (outcome.scene.kind == SceneKind::scan) return std::to_string(outcome.scan_points) + " points classified";
-  if (!outcome.worst) return outcome.verdict == Verdict::pass || outcome.verdict == Verdict::fail ? "no comparisons" : "—";
+  if (!outcome.worst)
+    return outcome.verdict == Verdict::unchecked || outcome.verdict == Verdict::fail ? "no comparisons" : "—";
   const ComparisonLine& c = outcome.comparisons[*outcome.worst];
   return c.engine + " " + c.observable + (c.kind == "final" ? " (final)" : "") + " vs " + c.reference;
 }
@@ -87,6 +88,13 @@ void print_validation_table(std::ostream& out, const std::vector<SceneOutcome>& 
     out << "* finished in an earlier run of aggkit validate into the same folder, not rerun\n";
   for (const auto& s : scenes)
     if (s.verdict != Verdict::pass) out << s.scene.name << ": " << to_string(s.verdict) << ": " << s.problem << "\n";
+  // The counts, each verdict apart: a scene that ran without a check is not a pass.
+  std::string counts;
+  for (const Verdict v : {Verdict::pass, Verdict::unchecked, Verdict::fail, Verdict::bad_input, Verdict::error, Verdict::not_run}) {
+    const auto n = std::count_if(scenes.begin(), scenes.end(), [&](const SceneOutcome& s) { return s.verdict == v; });
+    if (n > 0) counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + to_string(v);
+  }
+  out << scenes.size() << " scenes: " << counts << "\n";
 }
 
 }  // namespace aggkit

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <tuple>
 #include <vector>
 
 #include "particle/common/initial_state.hpp"
 #include "particle/dem/contact_law.hpp"
+#include "particle/dem/dashpot_scheme.hpp"
 #include "particle/dem/dem.hpp"
 #include "particle/dem/implicit_dashpot.hpp"
 
@@ -559,4 +561,71 @@ TEST_CASE("dem: a frictional gas gives the same bits on 1 and 3 force threads", 
   CHECK(one.orientations() == three.orientations());
   CHECK(one.counters().virial_integral == three.counters().virial_integral);
   CHECK(one.counters().kinetic_integral == three.counters().kinetic_integral);
+}
+
+namespace {
+
+// The contact of the campaign's numerics: ω0 = √(k/m*) = 1000, t_c = π/ω0 (eq. 8 with m_eff = m*), dt = t_c/N,
+// damping set by x = γ dt/m* = 2πζ/N, the dashpot integrated by `scheme`.
+DemSettings paper_step(double x, double steps_per_contact, DashpotScheme scheme) {
+  const double omega = 1000, dt = M_PI / omega / steps_per_contact;
+  DemSettings s;
+  s.stiffness_per_mass = omega * omega;
+  s.damping_per_mass = x / dt;
+  s.dt = dt;
+  s.implicit_dashpot_above = implicit_dashpot_threshold(scheme);
+  return s;
+}
+
+double damping_ratio(const DemSettings& s) { return s.damping_per_mass / (2 * std::sqrt(s.stiffness_per_mass)); }
+
+}  // namespace
+
+TEST_CASE("dem: the explicit dashpot returns the clipped restitution below x = 1, warned beyond", "[dem]") {
+  // x = γ dt/m* = 0.1 at the default step t_c/50 (ζ = 0.80): the clipped closed form within 1 % over onset
+  // phases; x = 0.35 at the paper's bound t_c/20 [Trivino2025, eq. 8] (ζ = 1.11, e ≈ 0.12): within 5 %
+  // (measured worst 3.6 %). The error is the O(dt²) step error of 20 or 50 steps per contact, not x itself:
+  // x = 0.1 at t_c/20 (ζ = 0.32) is off by 1.2 % (measured, 0.4275 against 0.4329).
+  for (const auto& [x, steps, tolerance] : {std::tuple{0.1, 50.0, 0.01}, std::tuple{0.35, 20.0, 0.05}}) {
+    const DemSettings s = paper_step(x, steps, DashpotScheme::explicit_verlet);
+    const double expected = clipped_collision(damping_ratio(s)).restitution;
+    for (double phase : {0.0, 0.25, 0.5, 0.75}) {
+      const double e = head_on(s, 1.0, 1, 1, phase).restitution;
+      INFO("x = " << x << ", t_c/" << steps << ", ζ = " << damping_ratio(s) << ", phase " << phase << ": e = " << e << ", closed form " << expected);
+      CHECK(e == Approx(expected).epsilon(tolerance));
+    }
+    CHECK(check_dashpot_step(DashpotScheme::explicit_verlet, x, s.dt, steps * s.dt, false).warnings.empty());
+  }
+  // x = 2.2 at t_c/50 (ζ = 17.5): the explicit dashpot reverses the approach and the pair gains energy; the
+  // check warns about it; the implicit dashpot returns the closed form within 1e-3 (at t_c/20, ζ = 7, the
+  // overlap an overdamped approach reaches in its last step is O(v0 dt): measured up to 6.4e-3 off).
+  const DemSettings coarse = paper_step(2.2, 50, DashpotScheme::explicit_verlet);
+  const double expected = clipped_collision(damping_ratio(coarse)).restitution;
+  const EnergyTrace unstable = head_on_energy(coarse, 1.0);
+  INFO("x = 2.2: explicit e = " << unstable.restitution << ", closed form " << expected);
+  CHECK(unstable.restitution > 1.0);
+  CHECK(unstable.worst_energy_ratio > 1.0);
+  const DashpotStepCheck check = check_dashpot_step(DashpotScheme::explicit_verlet, 2.2, coarse.dt, 50 * coarse.dt, false);
+  REQUIRE(check.warnings.size() == 1);
+  CHECK_THAT(check.warnings[0], Catch::Contains("stability limit") && Catch::Contains("2.2"));
+  CHECK_FALSE(check.implicit);
+  const DemSettings implicit = paper_step(2.2, 50, DashpotScheme::implicit);
+  for (double phase : {0.0, 0.25, 0.5, 0.75}) {
+    INFO("implicit, phase " << phase);
+    CHECK(head_on(implicit, 1.0, 1, 1, phase).restitution == Approx(expected).margin(1e-3));
+  }
+  CHECK(check_dashpot_step(DashpotScheme::implicit, 2.2, coarse.dt, 50 * coarse.dt, false).warnings.empty());
+  CHECK(check_dashpot_step(DashpotScheme::automatic, 2.2, coarse.dt, 50 * coarse.dt, false).implicit);
+  CHECK_FALSE(check_dashpot_step(DashpotScheme::automatic, 2.2, coarse.dt, 50 * coarse.dt, true).implicit);  // friction
+  // dt > t_c/20 is warned whatever the scheme; the paper's coarsest step t_c/4 at ζ = 1.4 both ways.
+  const DashpotStepCheck paper = check_dashpot_step(DashpotScheme::explicit_verlet, 2 * M_PI * 1.4 / 4, 1.0, 4.0, false);
+  REQUIRE(paper.warnings.size() == 2);
+  CHECK_THAT(paper.warnings[0], Catch::Contains("t_c/20"));
+  CHECK(check_dashpot_step(DashpotScheme::implicit, 0.01, 1.0, 4.0, false).warnings.size() == 1);
+  // The scene words.
+  CHECK(dashpot_scheme_from_word("auto") == DashpotScheme::automatic);
+  CHECK(dashpot_scheme_from_word("explicit") == DashpotScheme::explicit_verlet);
+  CHECK(dashpot_scheme_from_word("implicit") == DashpotScheme::implicit);
+  CHECK_THROWS_AS(dashpot_scheme_from_word("semi"), std::invalid_argument);
+  CHECK(std::string(dashpot_scheme_word(DashpotScheme::explicit_verlet)) == "explicit");
 }
