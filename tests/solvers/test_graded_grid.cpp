@@ -118,7 +118,7 @@ TEST_CASE("graded rates with r = 1 are the discrete equations (against the direc
   }
 }
 
-TEST_CASE("graded rates conserve mass to round-off; drop loses exactly the leak", "[graded]") {
+TEST_CASE("graded rates conserve mass to round-off, and drop loses exactly the leak", "[graded]") {
   for (Truncation truncation : {Truncation::drop, Truncation::cutoff}) {
     const AggregationModel model = model_of(Kernel::brownian(0.7), 0.01, 1 << 16, truncation, graded(32, 1.05));
     const std::vector<double> x = model.pivots();
