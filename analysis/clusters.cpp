@@ -51,8 +51,8 @@ std::vector<std::uint32_t> contact_clusters(const ParticleConfiguration& config,
   if (n > std::numeric_limits<std::uint32_t>::max())
     throw InputError("positions", std::to_string(n) + " particles", "at most 2^32 - 1 particles are labelled");
   UnionFind sets(n);
-  NeighbourGrid grid(config.positions, config.dimension, contact_distance, config.box, config.periodic);
-  grid.for_each_pair([&](std::size_t i, std::size_t j, const auto&, double) { sets.unite(i, j); });
+  for_each_contact(config, config.positions, config.radii, contact_distance,
+                   [&](std::size_t i, std::size_t j, const auto&, double) { sets.unite(i, j); });
   std::vector<std::uint32_t> label_of_root(n, std::numeric_limits<std::uint32_t>::max());
   std::vector<std::uint32_t> labels(n);
   std::uint32_t next = 0;
@@ -121,8 +121,11 @@ std::vector<std::array<double, 3>> unwrap_cluster(const ParticleConfiguration& c
 
   // Contact graph among the members (compressed adjacency), then a breadth-first walk from members[0].
   std::vector<std::pair<std::size_t, std::size_t>> edges;
-  NeighbourGrid grid(points, config.dimension, contact_distance, config.box, true);
-  grid.for_each_pair([&](std::size_t i, std::size_t j, const auto&, double) { edges.emplace_back(i, j); });
+  std::vector<double> radii;  // the members' own radii, if the particles have their own
+  if (!config.radii.empty())
+    for (std::size_t m : members) radii.push_back(config.radii[m]);
+  for_each_contact(config, points, radii, contact_distance,
+                   [&](std::size_t i, std::size_t j, const auto&, double) { edges.emplace_back(i, j); });
   std::vector<std::size_t> start(points.size() + 1, 0), adjacent(2 * edges.size());
   for (const auto& [i, j] : edges) ++start[i + 1], ++start[j + 1];
   for (std::size_t k = 0; k < points.size(); ++k) start[k + 1] += start[k];

@@ -25,8 +25,9 @@ class UnionFind {
   std::size_t components_;
 };
 
-// Cluster labels 0..C-1 (by first appearance) from contacts |Xi - Xj| <= contact_distance
-// (neighbour grid, O(N)); minimum image when periodic.
+// Cluster labels 0..C-1 (by first appearance) from contacts |Xi - Xj| <= contact_distance, scaled to
+// (R_i + R_j)/2R for particles of their own radii (particle_configuration.hpp: for_each_contact; neighbour
+// grid, O(N)); minimum image when periodic.
 std::vector<std::uint32_t> contact_clusters(const ParticleConfiguration& config, double contact_distance);
 std::vector<std::size_t> cluster_sizes(std::span<const std::uint32_t> labels);  // index = label
 // The particles of each cluster, ascending (index = label).

@@ -1,5 +1,6 @@
 #include "analysis/particle_configuration.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -12,6 +13,12 @@ void check_configuration(const ParticleConfiguration& config) {
     throw InputError("dimension", std::to_string(config.dimension), "must be 2 or 3");
   if (!(config.radius > 0) || !std::isfinite(config.radius))
     throw InputError("radius", format_value(config.radius), "must be positive and finite");
+  if (!config.radii.empty() && config.radii.size() != config.positions.size())
+    throw InputError("radii", std::to_string(config.radii.size()) + " radii",
+                     "one per particle (" + std::to_string(config.positions.size()) + "), or none");
+  for (std::size_t i = 0; i < config.radii.size(); ++i)
+    if (!(config.radii[i] > 0) || !std::isfinite(config.radii[i]))
+      throw InputError("radii[" + std::to_string(i) + "]", format_value(config.radii[i]), "must be positive and finite");
   if (config.periodic)
     for (int d = 0; d < config.dimension; ++d)
       if (!(config.box[d] > 0) || !std::isfinite(config.box[d]))
@@ -22,6 +29,10 @@ void check_configuration(const ParticleConfiguration& config) {
       if (!std::isfinite(config.positions[i][d]))
         throw InputError("positions[" + std::to_string(i) + "]", format_value(config.positions[i][d]),
                          "coordinates must be finite");
+}
+
+double ParticleConfiguration::largest_radius() const {
+  return radii.empty() ? radius : *std::max_element(radii.begin(), radii.end());
 }
 
 double kinetic_energy(std::span<const double> mass, std::span<const std::array<double, 3>> velocity) {

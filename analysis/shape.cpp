@@ -92,8 +92,8 @@ double relative_contacts(const ParticleConfiguration& config, double factor, Con
     throw InputError("factor", format_value(factor), "the contact range factor·R needs a positive factor");
   if (config.positions.empty()) return 0.0;
   std::size_t pairs = 0;
-  NeighbourGrid grid(config.positions, config.dimension, factor * config.radius, config.box, config.periodic);
-  grid.for_each_pair([&](std::size_t, std::size_t, const auto&, double) { ++pairs; });
+  for_each_contact(config, config.positions, config.radii, factor * config.radius,
+                   [&](std::size_t, std::size_t, const auto&, double) { ++pairs; });
   const double n_max = config.dimension == 2 ? 6.0 : 12.0;  // kissing numbers
   const double n = double(config.positions.size());
   const double self = counting == ContactCounting::with_self ? n : 0.0;  // the N terms i = j

@@ -23,8 +23,9 @@ struct Gyration {
 Gyration gyration(std::span<const std::array<double, 3>> points, int dimension);
 
 // N_c = (1/N)(1/N_max) Σ_{i≠j} 1{|Xi−Xj| ≤ factor·R}, N_max = 6 (2-D) or 12 (3-D): the mean number of
-// neighbours within factor·R relative to the densest packing's [Degond2024, eq. 4.6]. O(N) by a
-// neighbour grid; minimum image when periodic. 0 for an empty configuration.
+// neighbours within factor·R relative to the densest packing's [Degond2024, eq. 4.6]; for particles of
+// their own radii within factor·(R_i + R_j)/2. O(N) by a neighbour grid; minimum image when periodic. 0 for
+// an empty configuration.
 //
 // ContactCounting::with_self sums over all (i, j), i = j included, which adds exactly 1/N_max. That is
 // the reading under which the published N_c ≈ 0.5 [Degond2024, Sec. 4.2.1, Fig. 7] is what hit-and-stick

@@ -130,15 +130,8 @@ int sweep(const RunArguments& arguments, int* argc, char*** argv) {
   return aggkit::run_sweep(plan, options).exit_code;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"aggkit: Smoluchowski aggregation-shattering kinetics and its validation harness"};
-  app.set_version_flag("--version", std::string("aggkit ") + aggkit::version());
-  app.footer(exit_status_help);
-  app.require_subcommand(1);
-
-  RunArguments arguments;
+// The subcommands: each declares its arguments and help on `app` and returns its parser.
+CLI::App* add_run_command(CLI::App& app, RunArguments& arguments) {
   CLI::App* run_command = app.add_subcommand("run", "run a scene and write its outputs, comparisons and report");
   run_command->add_option("scene", arguments.scene, "scene file (TOML; see validation/scenes/)")->required();
   run_command->add_option("--out,-o", arguments.out, "output folder (created if needed)")->required();
@@ -148,7 +141,10 @@ int main(int argc, char** argv) {
                         "write into a non-empty folder that no aggkit run wrote (files of other names are left alone)");
   run_command->footer("PETSc options (-snes_monitor, -snes_rtol 1e-12, -ksp_type bcgs, ...) for the snes engines go "
                       "after --:\n  aggkit run SCENE --out DIR -- -snes_monitor\n\n" + engine_help());
-  RunArguments scan_arguments;
+  return run_command;
+}
+
+CLI::App* add_scan_command(CLI::App& app, RunArguments& scan_arguments) {
   CLI::App* scan_command = app.add_subcommand(
       "scan", "classify the oscillation regime over an (a, lambda) grid and locate lambda_crit(a); MPI: mpirun -np K");
   scan_command->add_option("scene", scan_arguments.scene, "scan scene (TOML with a [scan] section; see validation/scan/scan_plan.hpp)")
@@ -162,7 +158,10 @@ int main(int argc, char** argv) {
       "DIR/phase_diagram.png, DIR/timing.csv, DIR/truncation_check.csv (if asked) and DIR/points/ (finished\n"
       "points: an interrupted scan resumes). Exit status 0: every point classified; 1: some runs failed;\n"
       "2: bad input.");
-  ValidateArguments validate_arguments;
+  return scan_command;
+}
+
+CLI::App* add_validate_command(CLI::App& app, ValidateArguments& validate_arguments) {
   CLI::App* validate_command = app.add_subcommand(
       "validate", "run every shipped scene (or those given) in parallel: pass/fail table, DIR/validation.json, DIR/report.html");
   validate_command->add_option("scene", validate_arguments.scenes,
@@ -184,7 +183,10 @@ int main(int argc, char** argv) {
       "tolerance and share of the tolerance used, wall time); writes DIR/validation.json and DIR/report.html.\n"
       "Not under mpirun: --jobs K runs K scenes at once.\n"
       "Exit status 0: every scene passes; 1: a scene failed; 2: bad input (option, scene, output folder).");
-  RunArguments sweep_arguments;
+  return validate_command;
+}
+
+CLI::App* add_sweep_command(CLI::App& app, RunArguments& sweep_arguments) {
   CLI::App* sweep_command = app.add_subcommand(
       "sweep", "run a scene over the product of the values of scene keys in its [sweep]; MPI: mpirun -np K");
   sweep_command->add_option("scene", sweep_arguments.scene, "scene with a [sweep] section (see validation/sweep/sweep_plan.hpp)")
@@ -201,9 +203,12 @@ int main(int argc, char** argv) {
       "DIR/sweep_mean.csv (per point: <column>, <column>_stderr, <column>_n), DIR/timing.csv,\n"
       "DIR/map_<column>.png, DIR/runs/ (each run's outputs) and DIR/points/ (finished runs: an interrupted sweep\n"
       "resumes). Exit status 0: every run finished; 1: some runs failed; 2: bad input (a key the scene refuses).");
-  CLI::App* kernels_command = app.add_subcommand("kernels", "list the kernels and their parameters");
+  return sweep_command;
+}
 
-  // Everything after `--` is for PETSc (aggkit run ... -- -snes_monitor), not for the command line parser.
+// Everything after `--` is for PETSc (aggkit run ... -- -snes_monitor), not for the command line parser:
+// returns how many arguments the parser gets and appends the rest to `petsc_options`.
+int split_petsc_options(int argc, char** argv, std::string& petsc_options) {
   int own_arguments = argc;
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--") {
@@ -211,7 +216,29 @@ int main(int argc, char** argv) {
       break;
     }
   for (int i = own_arguments + 1; i < argc; ++i)
-    arguments.petsc_options += (arguments.petsc_options.empty() ? "" : " ") + std::string(argv[i]);
+    petsc_options += (petsc_options.empty() ? "" : " ") + std::string(argv[i]);
+  return own_arguments;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"aggkit: Smoluchowski aggregation-shattering kinetics and its validation harness"};
+  app.set_version_flag("--version", std::string("aggkit ") + aggkit::version());
+  app.footer(exit_status_help);
+  app.require_subcommand(1);
+
+  RunArguments arguments;
+  add_run_command(app, arguments);  // the default: a run
+  RunArguments scan_arguments;
+  CLI::App* scan_command = add_scan_command(app, scan_arguments);
+  ValidateArguments validate_arguments;
+  CLI::App* validate_command = add_validate_command(app, validate_arguments);
+  RunArguments sweep_arguments;
+  CLI::App* sweep_command = add_sweep_command(app, sweep_arguments);
+  CLI::App* kernels_command = app.add_subcommand("kernels", "list the kernels and their parameters");
+
+  const int own_arguments = split_petsc_options(argc, argv, arguments.petsc_options);
 
   try {
     app.parse(own_arguments, argv);

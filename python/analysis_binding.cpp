@@ -4,6 +4,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <variant>
+
 #include "analysis/clusters.hpp"
 #include "analysis/fractal_dimension.hpp"
 #include "analysis/input_error.hpp"
@@ -28,11 +30,22 @@ std::vector<std::array<double, 3>> points_of(const Points& p, int* dimension) {
   return points;
 }
 
-ParticleConfiguration configuration_of(const Points& positions, double radius, const std::optional<std::vector<double>>& box,
+// One radius for every particle, or one per particle (their mean is the reference radius of the ranges).
+using Radius = std::variant<double, std::vector<double>>;
+
+ParticleConfiguration configuration_of(const Points& positions, const Radius& radius, const std::optional<std::vector<double>>& box,
                                        bool periodic) {
   ParticleConfiguration c;
   c.positions = points_of(positions, &c.dimension);
-  c.radius = radius;
+  if (const double* r = std::get_if<double>(&radius)) {
+    c.radius = *r;
+  } else {
+    c.radii = std::get<std::vector<double>>(radius);
+    if (c.radii.empty()) throw InputError("radius", "[]", "a radius, or one per particle");
+    double sum = 0;
+    for (double r : c.radii) sum += r;
+    c.radius = sum / double(c.radii.size());
+  }
   c.periodic = periodic;
   if (box) {
     if (int(box->size()) != c.dimension) throw InputError("box", std::to_string(box->size()) + " sides", "one side per dimension");
@@ -57,23 +70,23 @@ py::dict fit_dict(const FractalFit& f) {
 void bind_analysis(py::module_& m) {
   using Box = std::optional<std::vector<double>>;
   m.def("contact_clusters",
-        [](const Points& x, double radius, Box box, bool periodic, double contact_distance) {
+        [](const Points& x, const Radius& radius, Box box, bool periodic, double contact_distance) {
           const ParticleConfiguration c = configuration_of(x, radius, box, periodic);
-          return contact_clusters(c, contact_distance > 0 ? contact_distance : 2 * radius * (1 + 1e-9));
+          return contact_clusters(c, contact_distance > 0 ? contact_distance : 2 * c.radius * (1 + 1e-9));
         },
         py::arg("positions"), py::arg("radius"), py::arg("box") = py::none(), py::arg("periodic") = false,
         py::arg("contact_distance") = 0.0);
   m.def("relative_contacts",
-        [](const Points& x, double radius, Box box, bool periodic, double factor, bool with_self) {
+        [](const Points& x, const Radius& radius, Box box, bool periodic, double factor, bool with_self) {
           return relative_contacts(configuration_of(x, radius, box, periodic), factor,
                                    with_self ? ContactCounting::with_self : ContactCounting::other_particles);
         },
         py::arg("positions"), py::arg("radius"), py::arg("box") = py::none(), py::arg("periodic") = false,
         py::arg("factor") = 2.1, py::arg("with_self") = false);
   m.def("pair_distribution",
-        [](const Points& x, double radius, Box box, bool periodic, std::optional<std::vector<double>> r) {
+        [](const Points& x, const Radius& radius, Box box, bool periodic, std::optional<std::vector<double>> r) {
           const ParticleConfiguration c = configuration_of(x, radius, box, periodic);
-          const PairDistribution p = pair_distribution(c, r ? *r : pair_distribution_radii(radius, 90));
+          const PairDistribution p = pair_distribution(c, r ? *r : pair_distribution_radii(c.radius, 90));
           return py::make_tuple(p.r, p.p);
         },
         py::arg("positions"), py::arg("radius"), py::arg("box") = py::none(), py::arg("periodic") = false,

@@ -86,7 +86,7 @@ struct ScratchFolder {
 struct FinalConfiguration {
   std::vector<double> positions, velocities, masses;
   std::vector<std::uint32_t> cluster;
-  double radius = 0;
+  std::vector<double> radii;  // each particle's
   int dimension = 0;
   std::array<double, 3> box{};
   bool periodic = false;
@@ -154,7 +154,8 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     for (const auto& v : view.velocities()) c.velocities.insert(c.velocities.end(), v.begin(), v.end());
     c.masses.assign(view.masses().begin(), view.masses().end());
     c.cluster.assign(view.cluster_labels().begin(), view.cluster_labels().end());
-    c.radius = config.radius, c.dimension = config.dimension, c.box = config.box, c.periodic = config.periodic;
+    for (std::size_t i = 0; i < config.positions.size(); ++i) c.radii.push_back(config.radius_of(i));
+    c.dimension = config.dimension, c.box = config.box, c.periodic = config.periodic;
     configuration = std::move(c);
   };
   observer.folder = scratch.path;
@@ -210,8 +211,7 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     c["positions"] = owned_array(std::move(configuration->positions), {count, 3});
     c["velocities"] = owned_array(std::move(configuration->velocities), {count, 3});
     c["masses"] = owned_array(std::move(configuration->masses), {count});
-    std::vector<double> radii(std::size_t(count), configuration->radius);
-    c["radii"] = owned_array(std::move(radii), {count});
+    c["radii"] = owned_array(std::move(configuration->radii), {count});
     c["cluster"] = py::array_t<std::uint32_t>(count, configuration->cluster.data());
     c["dimension"] = configuration->dimension;
     c["box"] = py::make_tuple(configuration->box[0], configuration->box[1], configuration->box[2]);
@@ -285,13 +285,21 @@ py::dict hopf(const std::string& scene_text, double a, double lambda_lo, double 
   return d;
 }
 
-py::list option_table(const std::string& engine) {
+py::list engine_option_table(const std::string& engine) {
   const EngineType* type = find_engine_type(engine);
   if (!type) throw InputError("engine", "\"" + engine + "\"", "one of " + join(engine_names()));
   py::list rows;
   for (const OptionSpec& o : type->options) {
     py::dict row;
-    row["key"] = o.key, row["default"] = o.default_text, row["allowed"] = o.allowed(), row["doc"] = o.doc;
+    row["key"] = o.key, row["default"] = o.default_text(), row["allowed"] = o.allowed(), row["doc"] = o.doc;
+    // The value a run uses without the key (None: none, or computed as `default` says): the keyword's default.
+    const nlohmann::json& v = o.default_note.empty() ? o.fallback : nlohmann::json();
+    if (v.is_boolean()) row["value"] = v.get<bool>();
+    else if (v.is_number_unsigned()) row["value"] = v.get<std::uint64_t>();
+    else if (v.is_number_integer()) row["value"] = v.get<std::int64_t>();
+    else if (v.is_number()) row["value"] = v.get<double>();
+    else if (v.is_string()) row["value"] = v.get<std::string>();
+    else row["value"] = py::none();
     rows.append(row);
   }
   return rows;
@@ -304,7 +312,16 @@ void bind_runs(py::module_& m) {
         py::arg("initial") = py::none(), py::arg("lam") = py::none(), py::arg("progress") = py::none());
   m.def("run_scene", &run_scene_text, py::arg("scene_text"), py::arg("source"), py::arg("out"), py::arg("force"),
         py::arg("plot"));
-  m.def("option_table", &option_table, py::arg("engine"));
+  m.def("option_table", &engine_option_table, py::arg("engine"));
+  m.def("engine_kinds", [] {
+    py::list kinds;
+    for (const EngineType& type : engine_types()) {
+      py::dict kind;
+      kind["name"] = type.name, kind["description"] = type.description, kind["particles"] = !type.needs_model;
+      kinds.append(kind);
+    }
+    return kinds;
+  });
   m.def("rightmost_eigenvalues", &rightmost_eigenvalues, py::arg("scene_text"), py::arg("kernel"), py::arg("state"),
         py::arg("count"));
   m.def("locate_hopf", &hopf, py::arg("scene_text"), py::arg("a"), py::arg("lambda_lo"), py::arg("lambda_hi"),

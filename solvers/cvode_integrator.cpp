@@ -54,33 +54,7 @@ double IntegratorOptions::effective_lowrank_tolerance() const {
   return lowrank_tolerance > 0.0 ? lowrank_tolerance : std::max(1e-12, std::min(1e-8, 1e-3 * rtol));
 }
 
-void IntegratorOptions::validate() const {
-  auto positive = [](const char* key, double value) {
-    if (!std::isfinite(value) || !(value > 0.0))
-      throw InputError(key, format_value(value), "must be a finite number > 0");
-  };
-  positive("rtol", rtol);
-  if (!std::isfinite(atol) || atol < 0.0)
-    throw InputError("atol", format_value(atol), "must be a finite number >= 0 (0: 1e-2 rtol)");
-  if (!std::isfinite(atol_floor) || atol_floor < 0.0)
-    throw InputError("atol_floor", format_value(atol_floor), "must be a finite number >= 0");
-  if (!std::isfinite(atol_exponent) || atol_exponent < 0.0 || atol_exponent > 6.0)
-    throw InputError("atol_exponent", format_value(atol_exponent), "must be in [0, 6]");
-  if (!std::isfinite(lowrank_tolerance) || lowrank_tolerance < 0.0)
-    throw InputError("lowrank_tolerance", format_value(lowrank_tolerance), "must be >= 0 (0: automatic)");
-  if (!std::isfinite(jacobian_tolerance) || jacobian_tolerance < 0.0 || jacobian_tolerance >= 0.1)
-    throw InputError("jacobian_tolerance", format_value(jacobian_tolerance), "must be in [0, 0.1)");
-  if (rtol >= 1.0) throw InputError("rtol", format_value(rtol), "must be < 1");
-  if (lowrank_tolerance >= 0.1)
-    throw InputError("lowrank_tolerance", format_value(lowrank_tolerance), "must be < 0.1");
-  if (krylov_dimension < 0 || krylov_dimension > 500)
-    throw InputError("krylov", std::to_string(krylov_dimension), "must be in 0..500 (0: default 5)");
-  if (!std::isfinite(linear_tolerance_factor) || !(linear_tolerance_factor > 0.0) || linear_tolerance_factor > 1.0)
-    throw InputError("linear_tolerance_factor", format_value(linear_tolerance_factor), "must be in (0, 1]");
-  if (!std::isfinite(negligible_fraction) || negligible_fraction < 0.0 || negligible_fraction > 0.1)
-    throw InputError("negligible_fraction", format_value(negligible_fraction), "must be in [0, 0.1]");
-  if (max_steps < 1) throw InputError("max_steps", std::to_string(max_steps), "must be >= 1");
-}
+void IntegratorOptions::validate() const { integrator_option_rows().check(*this); }
 
 namespace {
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/option_rows.hpp"
 #include "solvers/model.hpp"
 #include "solvers/rates.hpp"
 
@@ -87,8 +88,11 @@ struct IntegratorOptions {
   std::function<void(double t)> progress;
   double effective_lowrank_tolerance() const;
   double effective_atol() const { return atol > 0.0 ? atol : 1e-2 * rtol; }
-  void validate() const;           // throws InputError on non-positive or non-finite tolerances
+  void validate() const;  // InputError for a field outside its option row's range (integrator_option_rows)
 };
+
+// The options of the integrator as a scene and Python give them: key, range, doc and the field each sets.
+const OptionRows<IntegratorOptions>& integrator_option_rows();
 
 struct IntegratorStatistics {
   long steps = 0, rhs_evaluations = 0, linear_iterations = 0, jacobian_vector_products = 0;

@@ -16,7 +16,7 @@
 #include <cstddef>
 #include <functional>
 
-#include "solvers/kernels.hpp"
+#include "solvers/separable_form.hpp"
 
 namespace aggkit {
 

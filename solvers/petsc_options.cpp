@@ -3,10 +3,11 @@
 #include <petscsnes.h>
 
 #include <mutex>
+#include <stdexcept>
 
 #include "analysis/input_error.hpp"
 #include "solvers/petsc_session.hpp"
-#include "solvers/petsc_shell.hpp"
+#include "solvers/petsc_database.hpp"
 
 namespace aggkit {
 
@@ -23,6 +24,12 @@ void set_command_line_petsc_options(const std::string& options) {
 std::string command_line_petsc_options() {
   std::lock_guard lock(command_line_mutex);
   return command_line_options;
+}
+
+void check_petsc(PetscErrorCode code, const char* what) {
+  if (code != 0)
+    throw std::runtime_error(std::string("PETSc: ") + what + " failed with code " + std::to_string(code) + ": " +
+                             petsc_error_text(code));
 }
 
 std::string petsc_error_text(PetscErrorCode code) {

@@ -2,15 +2,8 @@
 
 #include <stdexcept>
 
-#include "solvers/petsc_options.hpp"
 
 namespace aggkit {
-
-void check_petsc(PetscErrorCode code, const char* what) {
-  if (code != 0)
-    throw std::runtime_error(std::string("PETSc: ") + what + " failed with code " + std::to_string(code) + ": " +
-                             petsc_error_text(code));
-}
 
 namespace {
 

@@ -35,6 +35,11 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
 
 }  // namespace
 
+bool implicit_dashpot_wanted(const DemSettings& settings, double lightest_mass) {
+  const double x = settings.dt * (settings.damping_per_mass + settings.damping / (0.5 * lightest_mass));
+  return settings.friction == 0 && x > 0 && x > settings.implicit_dashpot_above;
+}
+
 Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box_(box), settings_(settings) {
   if (box.dimension != 3) throw std::invalid_argument("dem: 3-D only");
   const std::size_t n = start.size();
@@ -73,10 +78,7 @@ Dem::Dem(const Box& box, ParticleStart start, const DemSettings& settings) : box
   q_.assign(n, {1, 0, 0, 0});
   if (settings_.gravity_substeps < 1) settings_.gravity_substeps = 1;
   {
-    // The largest γ_n dt/m* of a pair (m* ≥ m_min/2) or a wall (m* = m_i ≥ m_min).
-    const double lightest = *std::min_element(mass_.begin(), mass_.end());
-    const double x = settings_.dt * (settings_.damping_per_mass + settings_.damping / (0.5 * lightest));
-    implicit_dashpot_ = settings_.friction == 0 && x > 0 && x > settings_.implicit_dashpot_above;
+    implicit_dashpot_ = implicit_dashpot_wanted(settings_, *std::min_element(mass_.begin(), mass_.end()));
     if (implicit_dashpot_ && !(settings_.stiffness_per_mass > 0 || settings_.stiffness > 0))
       throw std::invalid_argument("dem: the implicit dashpot needs a stiffness > 0");
   }

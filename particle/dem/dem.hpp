@@ -7,7 +7,7 @@
 // walls, the wall as an infinite mass) or open boundaries.
 // The dashpot of step n+1 sees the predicted velocity v(n+½) + (dt/2) F(n)/m (second order): the half-step
 // velocity alone lags by dt/2. The dashpot's jump at the onset of a contact is integrated to second order
-// (dem.cpp: the first sample's weight); at walls it is not (first order in dt). That explicit dashpot is
+// (dem_contacts.cpp: the first sample's weight); at walls it is not (first order in dt). That explicit dashpot is
 // stable only while x = γ_n dt/m* < 1 (it reverses an overdamped approach beyond); when some pair's x exceeds
 // `implicit_dashpot_above` (and there is no friction) every dashpot is integrated implicitly instead
 // (implicit_dashpot.hpp: unconditionally stable, exact relaxation e^{−x} of a pair, second order for small x).
@@ -60,6 +60,11 @@ struct DemSettings {
   // (and walls) exceeds this and friction is off; explicitly otherwise. 0: always implicit; +∞: never.
   double implicit_dashpot_above = 0.2;
 };
+
+// The dashpot rule: whether Dem integrates the dashpots implicitly for these settings and the lightest
+// particle's mass: the largest γ_n dt/m* of a pair (m* ≥ m_min/2) or a wall (m* = m_i ≥ m_min) exceeds
+// settings.implicit_dashpot_above, and there is no friction.
+bool implicit_dashpot_wanted(const DemSettings& settings, double lightest_mass);
 
 struct DemCounters {
   std::uint64_t steps = 0;

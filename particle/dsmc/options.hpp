@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "analysis/option_rows.hpp"
+
 namespace aggkit::dsmc {
 
 enum class Method {
@@ -30,8 +32,11 @@ struct Options {
   bool population_halving = false;
   std::size_t threads = 0;           // worker threads for an ensemble; 0 = hardware concurrency
 
-  // Throws InputError (keys dsmc.<option>) for particles < 2, runs < 1, bucket < 1.
+  // InputError for a field outside its option row's range (option_rows()).
   void validate() const;
 };
+
+// The options of a DSMC run as a scene and Python give them: key, range, doc and the field each sets.
+const OptionRows<Options>& option_rows();
 
 }  // namespace aggkit::dsmc

@@ -44,8 +44,7 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       links_(positions.size()) {
   if (positions.size() != velocities.size() || positions.size() < 2)
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
-  if (!(settings.interaction_range >= 2.0))
-    throw InputError("interaction_range", format_value(settings.interaction_range), "Δ_W / R >= 2 (links touch at 2R)");
+  settings.validate();
   for (const CellCoords& o : grid_.stencil())
     if (o[2] > 0 || (o[2] == 0 && (o[1] > 0 || (o[1] == 0 && o[0] >= 0)))) half_stencil_.push_back(o);
   half_neighbours_.assign(grid_.size() * half_stencil_.size(), no_cell);

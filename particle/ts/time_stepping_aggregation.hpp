@@ -64,6 +64,7 @@
 #include <span>
 #include <vector>
 
+#include "analysis/option_rows.hpp"
 #include "particle/common/box.hpp"
 #include "particle/common/cell_grid.hpp"
 #include "particle/common/cell_list.hpp"
@@ -85,7 +86,13 @@ struct TsSettings {
   bool quiet_flights = true;       // skip detection within a pass's safe time (see the header); same run
   bool near_recheck = true;        // after contact-time merges re-check only the spheres that can meet
                                    // another cluster (see the header); same run
+  // InputError for a field outside its option row's range (ts_option_rows), or a damping δ c̄ > 1.
+  void validate() const;
 };
+
+// The options of the time-stepping engine as a scene and Python give them: key, range, doc and the field
+// of TsSettings each sets.
+const OptionRows<TsSettings>& ts_option_rows();
 
 struct TsCounters {
   std::uint64_t steps = 0;

@@ -9,6 +9,7 @@ arguments are the scene keys, and bad input raises ValueError with the message t
     sol = aggkit.integrate(model, times=np.linspace(1, 2000, 2000))
     sol.moment(0)        # M0(t)
 """
+import inspect
 import json
 import os
 
@@ -34,6 +35,23 @@ def engine_options(engine):
 def _options_doc(engine):
     rows = engine_options(engine)
     return "\n".join(f"    {r['key']} (default {r['default']}; {r['allowed']}): {r['doc']}" for r in rows)
+
+
+def _engine_keywords(function, engine):
+    """Gives `function` (which passes its **keywords on to `engine`) a signature with the engine's options as
+    keyword-only parameters, their defaults those of the option table (None: none, or computed at run time as
+    the table's `default` says; a keyword left out is not passed, so the run uses the engine's own default)."""
+    signature = inspect.signature(function)
+    values = {r["key"]: r["value"] for r in engine_options(engine)}
+    # A named parameter that is an option (dsmc's method, runs, seed) shows the table's default.
+    named = [p.replace(default=values[p.name]) if p.name in values and p.default is None else p
+             for p in signature.parameters.values() if p.kind != inspect.Parameter.VAR_KEYWORD]
+    rest = [p for p in signature.parameters.values() if p.kind == inspect.Parameter.VAR_KEYWORD]
+    taken = {p.name for p in named}
+    options = [inspect.Parameter(r["key"], inspect.Parameter.KEYWORD_ONLY, default=r["value"])
+               for r in engine_options(engine) if r["key"] not in taken]
+    function.__signature__ = signature.replace(parameters=named + options + rest)
+    return function
 
 
 class Model:
@@ -134,6 +152,7 @@ The truncated equations integrated by SUNDIALS CVODE to each of `times` (increas
 given, is called with a line of text at most ten times a second; Ctrl-C interrupts. Options (the cvode
 engine's option table):
 """ + _options_doc("cvode")
+_engine_keywords(integrate, "cvode")
 
 
 class SteadyState:
@@ -159,6 +178,7 @@ steady_state.__doc__ = """steady_state(model, progress=None, **options) -> Stead
 
 The steady state of the truncated equations by PETSc SNES Newton–Krylov (λ > 0, constant). Options:
 """ + _options_doc("snes")
+_engine_keywords(steady_state, "snes")
 
 
 class EnsembleSolution:
@@ -173,18 +193,21 @@ class EnsembleSolution:
         self.statistics = raw["statistics"]
 
 
-def dsmc(model, particles, times, method="ar", runs=1, seed=0, observables=("M0", "M1", "M2", "M3"), progress=None,
+def dsmc(model, particles, times, method=None, runs=None, seed=None, observables=("M0", "M1", "M2", "M3"), progress=None,
          **options):
-    engine = {"name": "dsmc", "particles": particles, "method": method, "runs": runs, "seed": seed, **options}
+    # method, runs and seed keep their places; None (not given) leaves the engine's default.
+    given = {"method": method, "runs": runs, "seed": seed}
+    engine = {"name": "dsmc", "particles": particles, **{k: v for k, v in given.items() if v is not None}, **options}
     return EnsembleSolution(model._run(times, engine, observables, True, progress))
 
 
-dsmc.__doc__ = """dsmc(model, particles, times, method="ar", runs=1, seed=0, observables=("M0", "M1", "M2", "M3"),
-     progress=None, **options) -> EnsembleSolution
+dsmc.__doc__ = """dsmc(model, particles, times, method="ar", runs=1, seed=1, observables=("M0", "M1", "M2", "M3"),
+     progress=None, **options) -> EnsembleSolution (the defaults are the option table's)
 
 Direct Simulation Monte Carlo of the model; with runs > 1 every observable gets its standard error.
 Options:
 """ + _options_doc("dsmc")
+_engine_keywords(dsmc, "dsmc")
 
 
 class ParticleRun:
@@ -232,6 +255,7 @@ Event-driven ballistic aggregation of hard discs/spheres. The [particles] keys (
 volume_fraction or box, boundary, initial, seed, realizations, ...) come as the dict `particles` or as
 keywords; keywords in the engine's option table go to the engine:
 """ + _options_doc("ed")
+_engine_keywords(ed, "ed")
 
 
 def rightmost_eigenvalues(model, state, count=6):
@@ -259,6 +283,7 @@ ts.__doc__ = """ts(times, particles=None, series=("clusters", "kinetic_energy", 
 Time-stepping ballistic aggregation (damped Arrow–Hurwicz minimisation) on the same [particles] as ed;
 keywords in the engine's option table go to the engine:
 """ + _options_doc("ts")
+_engine_keywords(ts, "ts")
 
 
 def dem(times, particles=None, series=("kinetic_energy", "components_fraction"), final=("components_fraction",),
@@ -272,6 +297,7 @@ dem.__doc__ = """dem(times, particles=None, series=("kinetic_energy", "component
 3-D soft-sphere DEM with optional self-gravity on the [particles] keys (per-particle radii and masses, open
 clouds, cold starts); keywords in the engine's option table go to the engine:
 """ + _options_doc("dem")
+_engine_keywords(dem, "dem")
 
 
 def run(scene, out=None, force=False, plot=False):
@@ -291,3 +317,32 @@ def run(scene, out=None, force=False, plot=False):
     else:
         raise ValueError(f"scene = {scene!r}: a path to a scene file or a dict")
     return json.loads(_aggkit.run_scene(text, source, "" if out is None else os.fspath(out), force, plot))
+
+
+def _generic_engine(kind):
+    """The function of an engine without one of its own above (a new engine's, until it gets one): a particle
+    engine's like ed, a kinetic engine's returning an EnsembleSolution of the requested observables."""
+    name = kind["name"]
+    if kind["particles"]:
+        def run_particles(times, particles=None, series=("kinetic_energy",), final=(), progress=None, **keywords):
+            return _particle_engine(name, times, particles, series, final, progress, keywords)
+        function = run_particles
+        head = f"""{name}(times, particles=None, series=("kinetic_energy",), final=(), progress=None, **keywords) -> ParticleRun"""
+    else:
+        def run_kinetic(model, times, observables=("M0",), progress=None, **options):
+            return EnsembleSolution(model._run(times, {"name": name, **options}, observables, True, progress))
+        function = run_kinetic
+        head = f"""{name}(model, times, observables=("M0",), progress=None, **options) -> EnsembleSolution"""
+    function.__name__ = function.__qualname__ = name
+    function.__doc__ = f"""{head}
+
+{kind["description"]}. Options:
+""" + _options_doc(name)
+    return _engine_keywords(function, name)
+
+
+# Every engine of the registry is a function of the module: those above by name, any other generically.
+for _kind in _aggkit.engine_kinds():
+    if _kind["name"] not in globals() and _kind["name"] not in ("cvode", "snes"):
+        globals()[_kind["name"]] = _generic_engine(_kind)
+        __all__.append(_kind["name"])

@@ -1,6 +1,7 @@
-"""Analysis of particle configurations from any code: numpy arrays of positions (N×2 or N×3) of equal
-spheres of radius R, with an optional box (its sides) that may be periodic. The same functions the
-particle engines' observables use."""
+"""Analysis of particle configurations from any code: numpy arrays of positions (N×2 or N×3) of spheres of
+radius R (a number) or of their own radii (an array, one per particle: contact ranges are then those of each
+pair, R_i + R_j, with their mean as the reference radius), with an optional box (its sides) that may be
+periodic. The same functions the particle engines' observables use."""
 from ._aggkit import (box_counting_dimension, contact_clusters, gyration, mass_radius_dimension, pair_distribution,
                       relative_contacts)
 

@@ -235,6 +235,12 @@ TEST_CASE("cli: run --help lists every engine with options whose defaults the sc
   const auto folder = aggkit::testing::scratch_folder("cli-help");
   const Outcome help = aggkit_cli({"run", "--help"}, folder);
   CHECK(help.exit_code == 0);
+  for (const aggkit::EngineType& type : aggkit::engine_types()) {
+    INFO(type.name);
+    CHECK_THAT(help.out, Contains("  " + type.name + ": " + type.description));
+    for (const aggkit::OptionSpec& option : type.options)
+      CHECK_THAT(help.out, Contains("    " + option.key + " (default " + option.default_text() + "; " + option.allowed() + ")"));
+  }
   const std::vector<HelpOption> options = help_options(help.out);
   // Every engine of the suite (DESIGN.md) is listed with options; cvode's are the documented ones.
   std::set<std::string> engines;

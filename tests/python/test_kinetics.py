@@ -122,6 +122,36 @@ def test_locate_hopf_finds_where_the_rightmost_pair_crosses():
         assert sign * aggkit.rightmost_eigenvalues(m, aggkit.steady_state(m), 2)[0].real > 0
 
 
+def test_keyword_defaults_are_the_option_tables():
+    # One declaration: the signature's default of every option is the table's value, and a keyword left out
+    # runs the engine's own default — DSMC's seed 1, as the command line.
+    import inspect
+    for function, engine in [(aggkit.integrate, "cvode"), (aggkit.steady_state, "snes"), (aggkit.dsmc, "dsmc"),
+                             (aggkit.ed, "ed"), (aggkit.ts, "ts"), (aggkit.dem, "dem")]:
+        parameters = inspect.signature(function).parameters
+        for row in aggkit.engine_options(engine):
+            if row["key"] in parameters and row["key"] != "particles":  # dsmc's particles is required
+                assert parameters[row["key"]].default == row["value"], (engine, row["key"])
+    assert inspect.signature(aggkit.dsmc).parameters["seed"].default == 1
+    model = aggkit.Model("constant", size=100)
+    left_out = aggkit.dsmc(model, particles=2000, times=[1.0], observables=["M2"])
+    given = aggkit.dsmc(model, particles=2000, times=[1.0], observables=["M2"], seed=1)
+    other = aggkit.dsmc(model, particles=2000, times=[1.0], observables=["M2"], seed=0)
+    assert left_out.series["M2"][0] == given.series["M2"][0]
+    assert other.series["M2"][0] != given.series["M2"][0]
+    positional = aggkit.dsmc(model, 2000, [1.0], "ar", 1, 1, ["M2"])  # method, runs, seed keep their places
+    assert positional.series["M2"][0] == given.series["M2"][0]
+
+
+def test_an_engine_without_a_function_of_its_own_gets_one_from_the_registry():
+    # The closed-form engine has no hand-written function: the registry gives aggkit.exact, against CVODE.
+    model = aggkit.Model("constant", size=4096)
+    exact = aggkit.exact(model, [1.0, 5.0], observables=["M0"])
+    cvode = aggkit.integrate(model, [1.0, 5.0], rtol=1e-10)
+    assert np.allclose(exact.series["M0"], cvode.moment(0), rtol=1e-8)
+    assert "exact" in aggkit.__all__
+
+
 def test_graded_grid_from_python():
     # The graded grid (sizes 1..16, then sections growing by 10 % up to N = 2^30): fixed pivots keep number
     # and mass, so the constant kernel's M0 = 2/(t+2) and M1 = 1 are exact on it (to rtol); M2 = 1 + t is

@@ -305,6 +305,28 @@ std::vector<double> vtu_array(const std::filesystem::path& vtu, const std::strin
   return values;
 }
 
+TEST_CASE("dem: a step beyond t_c/20 is warned about through the observer: summary.json and the terminal", "[dem]") {
+  // t_c = 0.05: dt = 0.004 > t_c/20 = 0.0025 (allowed up to t_c/2); the default step t_c/50 is not warned about.
+  const auto warnings = [](const std::string& keys) {
+    const auto out = aggkit::testing::scratch_folder("dem-warning");
+    RunOptions options = aggkit::testing::quiet_run(out);
+    std::ostringstream terminal;
+    options.warnings = &terminal;
+    const RunResult result =
+        run_scene(aggkit::testing::parse_checked(dem_scene("restitution = 0.5\ncontact_time = 0.05\n" + keys, "", "4.0")), options);
+    REQUIRE(result.records[0].completed());
+    std::ifstream in(out / "summary.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    return std::pair{summary.dump(), terminal.str()};
+  };
+  const auto [summary, terminal] = warnings("dt = 0.004\n");
+  CHECK_THAT(summary, Contains("dt = 0.004 > t_c/20 = 0.0025 [Trivino2025, eq. 8]"));
+  CHECK_THAT(terminal, Contains("warning: engine dem: dt = 0.004 > t_c/20 = 0.0025"));
+  const auto [quiet_summary, quiet_terminal] = warnings("");
+  CHECK_THAT(quiet_summary, !Contains("t_c/20"));
+  CHECK(quiet_terminal.empty());
+}
+
 TEST_CASE("dem: an overdamped contact keeps the default step t_c/50 (implicit dashpot) unless friction makes it explicit", "[dem]") {
   // k̃_n = 10^6, m_eff = m/2: t_c = π √(0.5/10^6) = 2.22e-3; γ_n = 500 (ζ = 0.35, γ dt/m* = 0.044): dt = t_c/50,
   // explicit dashpot; γ_n = 2·10^4 (ζ = 14, γ dt/m* = 1.8): dt = t_c/50 still, the dashpot implicit.

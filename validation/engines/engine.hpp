@@ -1,7 +1,8 @@
 #pragma once
 // Engines: the solvers a scene can run (`[[engine]] name = ...`). Each kind is one file engine_<name>.cpp
-// defining <name>_engine_type() — its option table, what its states give the observables, the files it
-// writes and how it is built — and one line in engine_registry.cpp. Particle engines are built on the
+// defining <name>_engine_type() — its option table (the rows of the settings it configures, declared with
+// its physics), what its states give the observables, the files it writes and how it is built — and one
+// line in engine_registry.cpp. Particle engines are built on the
 // particle runner (particle_runner.hpp), which gives them realizations, threads, final-state observables,
 // profiles, conservation checks, timing and snapshots.
 #include <cstdint>
@@ -64,7 +65,11 @@ struct EngineObserver {
 
 class Engine {
  public:
-  Engine(std::string name, std::string label) : name_(std::move(name)), label_(std::move(label)) {}
+  // `settings`: the values of its options a run uses (option key -> value, from the rows' fields).
+  Engine(std::string name, std::string label, nlohmann::json settings)
+      : name_(std::move(name)), label_(std::move(label)), settings_(std::move(settings)) {}
+  // An engine without options (or one that does not report them).
+  Engine(std::string name, std::string label) : Engine(std::move(name), std::move(label), nlohmann::json::object()) {}
   virtual ~Engine() = default;
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
@@ -72,6 +77,7 @@ class Engine {
   const std::string& name() const { return name_; }    // the kind: "cvode", "exact", ...
   const std::string& label() const { return label_; }  // unique in a scene: output folder, comparison key
   virtual std::string describe() const = 0;           // the options in one line
+  const nlohmann::json& settings() const { return settings_; }  // option key -> the value this engine runs with
 
   // Runs `scene`, reporting the state at every time of scene.time.outputs in order. Throws InputError
   // for input found bad only now, any other exception if the run fails.
@@ -80,6 +86,7 @@ class Engine {
  private:
   std::string name_;
   std::string label_;
+  nlohmann::json settings_;
 };
 
 // An engine kind.

@@ -1,7 +1,5 @@
 // Engine "cvode": the truncated rate equations integrated by SUNDIALS CVODE (solvers/cvode_integrator.hpp).
 // Its options are the table below (`aggkit run --help` prints it).
-#include <limits>
-
 #include "solvers/cvode_integrator.hpp"
 #include "validation/engines/engine.hpp"
 #include "analysis/input_error.hpp"
@@ -14,34 +12,14 @@ namespace aggkit {
 namespace {
 
 const OptionTable& cvode_options() {
-  static const OptionTable table{
-      word_option("method", "bdf-gmres", "BDF with matrix-free GMRES, BDF with a dense Jacobian (small N), or Adams",
-                  {"bdf-gmres", "bdf-dense", "adams"}),
-      number_option("rtol", "1e-06", "relative tolerance", 0.0, 1.0, true),
-      number_option("atol", "rtol/100", "absolute tolerance of n_1 (atol_k = atol / k^atol_exponent); 0 = default", 0.0,
-                    std::numeric_limits<double>::infinity()),
-      number_option("atol_exponent", "3", "q of atol_k = atol / k^q (3 controls M0..M3)", 0.0, 6.0),
-      number_option("atol_floor", "0", "lower bound of atol_k relative to the largest initial density (0: 1e-10 rtol)",
-                    0.0, std::numeric_limits<double>::infinity()),
-      word_option("rhs", "fast", "right-hand side: FFT/low-rank O(N R log N), or the direct O(N^2) sums", {"fast", "direct"}),
-      number_option("lowrank_tolerance", "min(1e-8, 1e-3 rtol)", "relative error of the low-rank kernel (0: default)",
-                    0.0, 0.1),
-      number_option("jacobian_tolerance", "1e-2", "low-rank tolerance of the Jacobian-vector products", 0.0, 0.1),
-      number_option("negligible_fraction", "1e-6",
-                    "sizes beyond the last with |n_k| > this fraction of atol_k take no part (adaptive active range; 0: off)",
-                    0.0, 0.1),
-      word_option("preconditioner", "monomer", "bdf-gmres preconditioner", {"monomer", "jacobi", "none"}),
-      integer_option("krylov", "0", "Krylov subspace dimension (0: CVODE's default 5)", 0, 500),
-      integer_option("max_steps", "10000000", "most internal steps", 1),
-      flag_option("project_mass", true, "project steps and outputs onto the conserved mass"),
-  };
+  static const OptionTable table = option_table(integrator_option_rows());
   return table;
 }
 
 class CvodeEngine final : public Engine {
  public:
   CvodeEngine(std::string label, IntegratorOptions options, std::function<std::string(const std::string&)> keys)
-      : Engine("cvode", std::move(label)), options_(options), keys_(std::move(keys)) {}
+      : Engine("cvode", std::move(label), integrator_option_rows().values(options)), options_(options), keys_(std::move(keys)) {}
 
   std::string describe() const override {
     return to_string(options_.method) + ", rhs " + to_string(options_.rates) + ", rtol " + shortest_text(options_.rtol) +
@@ -107,19 +85,7 @@ std::unique_ptr<Engine> build_cvode(const EngineOptions& given, const EngineSpec
   // The integrator names its own parameters ("rtol"); the scene's key is "engine[i].rtol".
   const auto rekey = [&given](const std::string& parameter) { return given.key(leaf_key(parameter)); };
   IntegratorOptions options;
-  options.method = integrator_method_from_name(given.word("method", to_string(options.method)));
-  options.rates = rates_path_from_name(given.word("rhs", to_string(options.rates)));
-  options.preconditioner = preconditioner_from_name(given.word("preconditioner", to_string(options.preconditioner)));
-  options.rtol = given.number("rtol", options.rtol);
-  options.atol = given.number("atol", options.atol);
-  options.atol_exponent = given.number("atol_exponent", options.atol_exponent);
-  options.atol_floor = given.number("atol_floor", options.atol_floor);
-  options.lowrank_tolerance = given.number("lowrank_tolerance", options.lowrank_tolerance);
-  options.jacobian_tolerance = given.number("jacobian_tolerance", options.jacobian_tolerance);
-  options.negligible_fraction = given.number("negligible_fraction", options.negligible_fraction);
-  options.krylov_dimension = int(given.integer("krylov", options.krylov_dimension));
-  options.max_steps = long(given.integer("max_steps", options.max_steps));
-  options.project_mass = given.boolean("project_mass", options.project_mass);
+  given.read(integrator_option_rows(), options);
   under_key(rekey, [&] { options.validate(); });
   // The absolute tolerance atol/k^q bounds the error of M_p by about atol Σ_k k^(p-q): up to p = q + 1 that
   // is at most atol N²/2 (the sum kernel's M3 at q = 2, N = 16384 is measured to 4e-8), beyond it the far

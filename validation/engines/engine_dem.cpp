@@ -3,12 +3,9 @@
 // Everything an ensemble shares comes from the particle runner; this file is the engine's options and one
 // realization. The runner's `threads` runs realizations at once; `force_threads` runs the integration,
 // contacts and gravity of one realization on several threads (results do not depend on it).
-// Contact law: exactly one of (restitution, contact_time), (stiffness, damping) or
-// (stiffness_normalized, damping) [Trivino2025, eqs. 2, 6, 15], with the corrected calibration
-// k_n = m*(π² + ln² e)/t_c², γ_n = −2 m* ln(e)/t_c, or `calibration = "exact"`: γ_n solved so that the
-// clipped binary collision returns e (particle/dem/contact_law.hpp).
-// Friction (μ > 0): tangential springs with history and rotation (particle/dem/dem.hpp); the walls are
-// frictionless, so friction is refused with reflecting walls.
+// The options, the contact-law calibration, the default step and the dashpot rule are particle/dem's
+// (dem_parameters.hpp: DemParameters, dem_option_rows(), calibrate()); warnings about the step go to the
+// observer (summary.json and the terminal).
 // Its states give collision_frequency, virial_pressure and compressibility_factor (validation/observables/):
 // collisions are pairs that start to overlap, the virial ∫ Σ r_ij·F_ij dt over the contacts.
 // final.json gains steps, collisions, clamped_contacts, max_overlap (δ/R_min), realised_restitution,
@@ -16,12 +13,14 @@
 // aggregation_time (NaN when the largest cluster never held the threshold), max_friction_ratio (with
 // friction), energy_drift (elastic runs: no damping), and with gravity potential_energy (−Σ G m_i m_j / r_ij,
 // unsoftened), virial_ratio (K/|P|), free_fall_time and aggregation_time_ff, and dashpot_solves and
-// dashpot_iterations when the dashpots are integrated implicitly (particle/dem/implicit_dashpot.hpp).
+// dashpot_iterations when the dashpots are integrated implicitly (particle/dem/implicit_dashpot.hpp). With
+// gravity and no stop rule, the observe.final values, K/|P| and the largest cluster's mass fraction at T_agg
+// as <name>_at_agg; with gravity, observe.times_ff (t_ff of the start, particle_runner.hpp).
 // `gravity_substeps` K > 1 evaluates gravity every K contact steps (impulse splitting, particle/dem/dem.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <iostream>
+#include <functional>
 #include <limits>
 
 #include "analysis/input_error.hpp"
@@ -29,63 +28,27 @@
 #include "particle/dem/contact_law.hpp"
 #include "particle/dem/dashpot_scheme.hpp"
 #include "particle/dem/dem.hpp"
+#include "particle/dem/dem_parameters.hpp"
 #include "particle/common/box_configuration.hpp"
 #include "validation/engines/particle_runner.hpp"
 #include "validation/io/machine.hpp"
+#include "validation/scene/scene_table.hpp"
 
 namespace aggkit {
 
 namespace {
 
 const OptionTable& dem_options() {
-  static const OptionTable table{
-      number_option("restitution", "none", "restitution e of a binary collision (with contact_time)", 0.0, 1.0, true),
-      number_option("contact_time", "none", "contact time t_c (with restitution): k_n = m*(π² + ln² e)/t_c²", 0.0,
-                    std::numeric_limits<double>::infinity(), true),
-      number_option("stiffness", "none", "k_n for every pair (with damping)", 0.0, std::numeric_limits<double>::infinity(), true),
-      number_option("damping", "none", "γ_n for every pair (with stiffness or stiffness_normalized)", 0.0,
-                    std::numeric_limits<double>::infinity()),
-      number_option("stiffness_normalized", "none",
-                    "k̃_n = k_n R³/(G m²) with the mean radius and mass (with damping and gravity) [Trivino2025, eq. 15]", 0.0,
-                    std::numeric_limits<double>::infinity(), true),
-      word_option("calibration", "formula",
-                  "formula: γ_n = −2 m* ln(e)/t_c; exact: γ_n such that the clipped binary collision returns e (k_n of the formula)",
-                  {"formula", "exact"}),
-      number_option("friction", "0",
-                    "Coulomb coefficient μ: tangential spring with history per contact, rotation (not at walls: refused with "
-                    "reflecting walls)",
-                    0.0, std::numeric_limits<double>::infinity()),
-      number_option("tangential_stiffness_ratio", "2/7", "k_t / k_n of the tangential spring (with friction)", 0.0, 1e3, true),
-      number_option("dt", "t_c/50; explicit dashpot: min(t_c/50, m_eff/(5 γ_n))",
-                    "time step (refused above t_c/2, warned above t_c/20 [Trivino2025, eq. 8] and above m_eff/(5 γ_n))", 0.0,
-                    std::numeric_limits<double>::infinity(), true),
-      custom_option("gravity", "off", "self-gravity G m_i m_j/(r² + ε²) along each pair [Trivino2025, eq. 1]",
-                    "{ G = number > 0, softening = number >= 0 (default 1e-3 R_min), method = \"direct\" | \"tree\", "
-                    "opening_angle = θ in (0, 1] (tree; default 0.5) }"),
-      custom_option("stop", "at time.end", "\"aggregated\": stop once the largest cluster holds aggregation_threshold of the mass",
-                    "\"aggregated\""),
-      number_option("aggregation_threshold", "0.9", "mass fraction of the largest cluster that defines T_agg", 0.0, 1.0, true),
-      number_option("contact_tolerance", "0.01", "contact graph: centre distance < R_i + R_j + contact_tolerance · R_min", 0.0, 1.0),
-      integer_option("gravity_substeps", "1",
-                     "impulse splitting: gravity evaluated every K contact steps, kicks of K dt/2 (r-RESPA)", 1, 100000),
-      number_option("steps_per_contact", "none",
-                    "N: dt = t_c/N with t_c of [Trivino2025, eq. 8] (instead of dt; for sweeps over the stiffness at a fixed "
-                    "resolution), N >= 2",
-                    2.0, 1e9),
-      word_option("dashpot", "auto",
-                  "normal dashpot: explicit (stable while x = γ_n dt/m* < 1, warned above), implicit (stable at any x), "
-                  "auto (implicit above x = 0.2 without friction) (particle/dem/dashpot_scheme.hpp)",
-                  {"auto", "explicit", "implicit"}),
-      integer_option("force_threads", "1", "threads for the integration, contacts and gravity of one realization (results do not depend on it)", 1, 4096),
-  };
+  static const OptionTable table = option_table(dem_option_rows());
   return table;
 }
 
+// What one realization runs with (calibrate() and the stop rule of DemParameters).
 struct Settings {
   DemSettings dem;
   bool stop_aggregated = false;
-  double threshold = 0.9;
-  double realised_restitution = std::numeric_limits<double>::quiet_NaN();
+  double threshold = 0;  // DemParameters::aggregation_threshold
+  double realised_restitution = 0;
   bool elastic = false;
   // Runs that go on past T_agg record these observe.final observables (and K/|P|) at T_agg too, as
   // <name>_at_agg (NaN where the run never aggregates).
@@ -136,8 +99,12 @@ class DemSimulation final : public ParticleSimulation {
   ParticleConfiguration configuration() const override {
     double mean = 0;
     for (double r : dem_.radii()) mean += r;
-    // One radius: the mean (the engine's own cluster labels use R_i + R_j).
-    return configuration_in(dem_.box(), mean / double(dem_.size()), dem_.positions());
+    // The reference radius is the mean; unequal radii go along, so contacts are within R_i + R_j (as the
+    // engine's own cluster labels).
+    ParticleConfiguration config = configuration_in(dem_.box(), mean / double(dem_.size()), dem_.positions());
+    const std::vector<double>& radii = dem_.radii();
+    if (std::adjacent_find(radii.begin(), radii.end(), std::not_equal_to<>()) != radii.end()) config.radii = radii;
+    return config;
   }
   std::vector<Vector3> velocities() const override { return dem_.velocities(); }
   std::vector<double> masses() const override { return dem_.masses(); }
@@ -251,159 +218,32 @@ void check_particles(const ParticleSystem& system) {
 ParticleEngineKind::Setup setup_dem(const EngineOptions& given, const Scene& scene) {
   const ParticleSystem& system = *scene.particles;
   check_particles(system);
-  Settings settings;
-  DemSettings& dem = settings.dem;
-
-  dem.friction = given.number("friction", 0.0);
-  dem.tangential_stiffness_ratio = given.number("tangential_stiffness_ratio", dem.tangential_stiffness_ratio);
-  if (dem.friction > 0 && system.box.boundary == Boundary::reflecting)
-    given.fail("friction", "0 with boundary = \"reflecting\" (the walls are frictionless: wall friction is not implemented yet)");
-
-  if (given.has("gravity")) {
-    const nlohmann::json& g = given.value("gravity");
-    const std::string forms = "{ G = number > 0, softening = number >= 0, method = \"direct\" | \"tree\", opening_angle = θ }";
-    if (!g.is_object()) given.fail("gravity", forms);
-    for (auto it = g.begin(); it != g.end(); ++it)
-      if (it.key() != "G" && it.key() != "softening" && it.key() != "method" && it.key() != "opening_angle")
-        throw InputError(given.key("gravity") + "." + it.key(), option_text(it.value()), "a key of " + forms);
-    if (!g.contains("G") || !g["G"].is_number() || !(g["G"].get<double>() > 0))
-      throw InputError(given.key("gravity") + ".G", g.contains("G") ? option_text(g["G"]) : "(missing)", "a number > 0");
-    if (system.box.boundary == Boundary::periodic)
-      throw InputError("particles.boundary", "\"periodic\"", "\"open\" or \"reflecting\" with gravity (a periodic box would need Ewald sums)");
-    dem.gravity = true;
-    dem.G = g["G"].get<double>();
-    if (g.contains("softening")) {
-      if (!g["softening"].is_number() || !(g["softening"].get<double>() >= 0) || !std::isfinite(g["softening"].get<double>()))
-        throw InputError(given.key("gravity") + ".softening", option_text(g["softening"]), "a finite number >= 0");
-      dem.softening = g["softening"].get<double>();
-    }
-    if (g.contains("method")) {
-      const nlohmann::json& m = g["method"];
-      if (!m.is_string() || (m.get<std::string>() != "direct" && m.get<std::string>() != "tree"))
-        throw InputError(given.key("gravity") + ".method", option_text(m), "\"direct\" or \"tree\"");
-      dem.tree = m.get<std::string>() == "tree";
-    }
-    if (g.contains("opening_angle")) {
-      const nlohmann::json& a = g["opening_angle"];
-      if (!a.is_number() || !(a.get<double>() > 0 && a.get<double>() <= 1))
-        throw InputError(given.key("gravity") + ".opening_angle", option_text(a), "a number in (0, 1]");
-      if (!dem.tree)
-        throw InputError(given.key("gravity") + ".opening_angle", option_text(a), "an opening angle only with method = \"tree\"");
-      dem.opening_angle = a.get<double>();
-    }
-  }
-
+  DemParameters parameters;
+  given.read(dem_option_rows(), parameters);
+  // particle/dem names the options in its own terms ("gravity.G"); the scene's key is engine[i].gravity.G.
+  const auto rekey = [&given](const std::string& key) { return key.rfind("particles.", 0) == 0 ? key : given.key(key); };
   // Realization 0's start gives the masses the default time step is measured on.
-  const ParticleStart start0 = system.initial_state(0);
-  const double m_min = *std::min_element(start0.masses.begin(), start0.masses.end());
-  double mean_mass = 0, mean_radius = 0;
-  for (std::size_t i = 0; i < start0.size(); ++i) mean_mass += start0.masses[i], mean_radius += start0.radii[i];
-  mean_mass /= double(start0.size());
-  mean_radius /= double(start0.size());
-
-  const bool by_restitution = given.has("restitution") || given.has("contact_time");
-  const bool by_stiffness = given.has("stiffness");
-  const bool by_normalized = given.has("stiffness_normalized");
-  const std::string forms = "exactly one of (restitution, contact_time), (stiffness, damping), (stiffness_normalized, damping)";
-  if (int(by_restitution) + int(by_stiffness) + int(by_normalized) != 1) {
-    if (by_stiffness && by_normalized) given.fail("stiffness_normalized", forms);
-    if (by_restitution && (by_stiffness || by_normalized)) given.fail(by_stiffness ? "stiffness" : "stiffness_normalized", forms);
-    throw InputError(given.key("restitution"), "(missing)", forms);
-  }
-  const bool exact = given.word("calibration", "formula") == "exact";
-  double contact_time = 0;  // t_c for the default step and its checks
-  const double reference_reduced = 0.5 * m_min;  // [Trivino2025, eq. 8]: m_eff ≈ min(m_i)/2
-  if (by_restitution) {
-    if (!given.has("restitution")) throw InputError(given.key("restitution"), "(missing)", "a number in (0, 1] with contact_time");
-    if (!given.has("contact_time")) throw InputError(given.key("contact_time"), "(missing)", "a number > 0 with restitution");
-    if (given.has("damping")) given.fail("damping", "no damping with (restitution, contact_time)");
-    const double e = given.number("restitution", 1.0);
-    contact_time = given.number("contact_time", 1.0);
-    const double log_e = std::log(e);
-    const double rate = (M_PI * M_PI + log_e * log_e) / (contact_time * contact_time);  // k_n / m*
-    dem.stiffness_per_mass = rate;
-    // ζ = γ/(2√(k m*)): the formula's −ln e/√(π² + ln² e), or the root of the clipped collision.
-    const double zeta = exact ? exact_damping_ratio(e) : formula_damping_ratio(e);
-    dem.damping_per_mass = 2 * zeta * std::sqrt(rate);
-    settings.realised_restitution = clipped_collision(zeta).restitution;
-    settings.elastic = e == 1;
-  } else {
-    if (exact) given.fail("calibration", "\"formula\" (exact calibration needs restitution and contact_time)");
-    if (!given.has("damping")) throw InputError(given.key("damping"), "(missing)", "a number >= 0 with " + std::string(by_stiffness ? "stiffness" : "stiffness_normalized"));
-    dem.damping = given.number("damping", 0.0);
-    if (by_stiffness) {
-      dem.stiffness = given.number("stiffness", 1.0);
-    } else {
-      if (!dem.gravity)
-        given.fail("stiffness_normalized", "stiffness (stiffness_normalized = k_n R³/(G m²) needs gravity = { G = ... })");
-      // k* = G m²/R³ with the mean mass and radius [Trivino2025, eqs. 14–15].
-      dem.stiffness = given.number("stiffness_normalized", 1.0) * dem.G * mean_mass * mean_mass / (mean_radius * mean_radius * mean_radius);
-    }
-    contact_time = M_PI * std::sqrt(reference_reduced / dem.stiffness);  // [Trivino2025, eq. 8]
-    // The realised restitution of a pair of mean masses.
-    const double reduced = 0.5 * mean_mass;
-    settings.realised_restitution = clipped_collision(dem.damping / (2 * std::sqrt(dem.stiffness * reduced))).restitution;
-    settings.elastic = dem.damping == 0;
-  }
-  // The dashpot's own time m_eff/γ_n (fastest for the lightest pair): the explicit dashpot relaxes a contact's
-  // normal velocity by a factor 1 − γ_n dt/m* per step, which overshoots and reverses it once γ_n dt/m* > 1 —
-  // an overdamped collision then rebounds instead of sticking (measured: γ_n = 2·10^4 at k̃_n = 10^6 with
-  // dt = t_c/50 left the whole cloud unaggregated). `dashpot = "auto"` integrates such dashpots implicitly
-  // without friction (particle/dem/implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50;
-  // an explicit dashpot (`dashpot = "explicit"`, or auto with friction) gets a default step that resolves it
-  // with 5 steps; a given step is taken as given, warned above t_c/20 or x > 1 (particle/dem/dashpot_scheme.hpp).
-  const DashpotScheme scheme = dashpot_scheme_from_word(given.word("dashpot", "auto"));
-  if (scheme == DashpotScheme::implicit && dem.friction > 0)
-    given.fail("dashpot", "\"auto\" or \"explicit\" with friction (the implicit dashpot has no tangential springs)");
-  dem.implicit_dashpot_above = implicit_dashpot_threshold(scheme);
-  const double damping_rate = by_restitution ? dem.damping_per_mass : dem.damping / reference_reduced;  // 1/time
-  const double damping_time = damping_rate > 0 ? 1 / damping_rate : std::numeric_limits<double>::infinity();
-  const bool explicit_dashpot = scheme == DashpotScheme::explicit_verlet || (scheme == DashpotScheme::automatic && dem.friction > 0);
-  if (given.has("dt") && given.has("steps_per_contact")) given.fail("steps_per_contact", "either dt or steps_per_contact, not both");
-  dem.dt = given.has("dt")                  ? given.number("dt", 0.0)
-           : given.has("steps_per_contact") ? contact_time / given.number("steps_per_contact", 50.0)
-           : explicit_dashpot               ? std::min(contact_time / 50, damping_time / 5)
-                                            : contact_time / 50;
-  if (dem.dt > contact_time / 2)
-    given.fail("dt", "dt <= t_c/2 = " + format_value(contact_time / 2) + " (a contact must span several steps)");
-  const DashpotStepCheck step_check = check_dashpot_step(scheme, damping_rate * dem.dt, dem.dt, contact_time, dem.friction > 0);
-  std::vector<std::string> warnings = step_check.warnings;
+  const DemCalibration c = under_key(rekey, [&] { return calibrate(parameters, system.initial_state(0), system.box); });
+  const Settings settings{c.settings, parameters.stop_aggregated, parameters.aggregation_threshold, c.realised_restitution, c.elastic,
+                          scene.observe.final_state};
+  const DemSettings& dem = settings.dem;
   std::string warning;
-  if (dem.dt > contact_time / 20) warning = "; WARNING dt > t_c/20 = " + format_value(contact_time / 20) + " [Trivino2025, eq. 8]";
-  if (explicit_dashpot && dem.dt > damping_time / 5) {
-    warning += "; WARNING dt > m_eff/(5 γ_n) = " + format_value(damping_time / 5) + " (the dashpot is under-resolved)";
-    if (step_check.damping_factor <= 1)
-      warnings.push_back("dt = " + format_value(dem.dt) + " > m_eff/(5 γ_n) = " + format_value(damping_time / 5) +
-                         ": the explicit dashpot is under-resolved (x = γ_n dt/m* = " + format_value(step_check.damping_factor) + ")");
-  }
-  if (!step_check.implicit && step_check.damping_factor > 1) warning += "; WARNING explicit dashpot above its stability limit x > 1";
-  const bool implicit = step_check.implicit;  // as Dem decides
-  dem.contact_tolerance = given.number("contact_tolerance", dem.contact_tolerance);
-  dem.force_threads = std::size_t(given.integer("force_threads", 1));
-  dem.gravity_substeps = std::size_t(given.integer("gravity_substeps", 1));
-  if (dem.gravity_substeps > 1 && !dem.gravity) given.fail("gravity_substeps", "1 without gravity");
-  settings.threshold = given.number("aggregation_threshold", 0.9);
-  settings.at_aggregation = scene.observe.final_state;
+  for (const std::string& w : c.step_notes) warning += "; WARNING " + w;
   if (!scene.observe.times_ff.empty() && !dem.gravity)
     throw InputError("observe.times_ff", "[" + format_value(scene.observe.times_ff.front()) + ", ...]",
                      "free-fall times need gravity = { G = ... } on engine dem (t_ff = √(R³/(G M)) [Trivino2025, eq. 9])");
-  if (given.has("stop")) {
-    const nlohmann::json& stop = given.value("stop");
-    if (!stop.is_string() || stop.get<std::string>() != "aggregated") given.fail("stop", "\"aggregated\"");
-    settings.stop_aggregated = true;
-  }
   const Box box = system.box;
   std::string description = "soft-sphere DEM, k_n/m* " + format_value(dem.stiffness_per_mass) + ", γ_n/m* " + format_value(dem.damping_per_mass) +
                             ", k_n " + format_value(dem.stiffness) + ", γ_n " + format_value(dem.damping) + ", dt " + format_value(dem.dt) +
                             (dem.friction > 0 ? ", friction μ " + format_value(dem.friction) : "") + (dem.gravity ? (dem.tree ? ", tree gravity (θ " + format_value(dem.opening_angle) + ") G " : ", direct gravity G ") + format_value(dem.G) +
                                                (dem.gravity_substeps > 1 ? " every " + std::to_string(dem.gravity_substeps) + " steps" : "")
                                          : ", no gravity") +
-                            (implicit ? ", implicit dashpot (γ_n dt/m_eff " + format_value(damping_rate * dem.dt) + ")"
-                             : scheme == DashpotScheme::explicit_verlet ? ", explicit dashpot (γ_n dt/m_eff " + format_value(damping_rate * dem.dt) + ")"
-                                                                        : "") +
+                            (c.implicit_dashpot ? ", implicit dashpot (γ_n dt/m_eff " + format_value(c.damping_factor) + ")"
+                             : parameters.dashpot == DashpotScheme::explicit_verlet ? ", explicit dashpot (γ_n dt/m_eff " + format_value(c.damping_factor) + ")"
+                                                                                    : "") +
                             (settings.stop_aggregated ? ", stop when aggregated" : ", stop at time.end") + warning;
   return {[system, settings, box](std::size_t r) { return std::make_unique<DemSimulation>(box, system.initial_state(r), settings); },
-          description, warnings};
+          description, dem_option_rows().values(parameters), c.warnings};
 }
 
 }  // namespace

@@ -39,8 +39,8 @@ class SnapshotState final : public ObservedState {
 class DsmcEngine final : public Engine {
  public:
   DsmcEngine(std::string label, dsmc::Options options, std::function<std::string(const std::string&)> keys,
-             double max_wall_seconds)
-      : Engine("dsmc", std::move(label)), options_(options), keys_(std::move(keys)), max_wall_seconds_(max_wall_seconds) {}
+             double max_wall_seconds, nlohmann::json settings)
+      : Engine("dsmc", std::move(label), std::move(settings)), options_(options), keys_(std::move(keys)), max_wall_seconds_(max_wall_seconds) {}
 
   std::string describe() const override {
     return dsmc::to_string(options_.method) + ", " + std::to_string(options_.particles) + " particles, " +
@@ -122,21 +122,21 @@ class DsmcEngine final : public Engine {
   double max_wall_seconds_;
 };
 
+// What the harness adds to a DSMC run.
+struct Budget {
+  double max_wall_seconds = 0;  // 0: none
+};
+
+const OptionRows<Budget>& budget_rows() {
+  static const OptionRows<Budget> rows{{
+      Bind<Budget>::number("max_wall_seconds", &Budget::max_wall_seconds, closed(0.0, 1e9),
+                           "wall-time budget of the whole ensemble; the run fails when it is spent (0: none)"),
+  }};
+  return rows;
+}
+
 const OptionTable& dsmc_options() {
-  static const OptionTable table{
-      word_option("method", "ar", "acceptance-rejection against a binned majorant, or two-stage fast DSMC", {"ar", "fast"}),
-      integer_option("particles", "100000", "initial number of particles N(0)", 2, 1e12),
-      integer_option("seed", "1", "master seed of the ensemble", 0, 1.8446744073709552e19),
-      integer_option("runs", "1", "independent realisations (threads); > 1 gives standard errors", 1, 1e6),
-      integer_option("bucket", "1024", "sizes <= bucket are grouped per size", 1, 67108864),
-      flag_option("truncate", false, "apply model.size and model.truncation (default: the untruncated system)"),
-      flag_option("population_control", true, "duplicate the population when it falls below N(0)/2"),
-      flag_option("population_halving", false,
-                  "with population_control, halve the population by pairs when it exceeds 2 N(0) (faster, noisier late)"),
-      integer_option("threads", "0", "worker threads (0: every core)", 0),
-      number_option("max_wall_seconds", "0", "wall-time budget of the whole ensemble; the run fails when it is spent (0: none)",
-                    0.0, 1e9),
-  };
+  static const OptionTable table = option_table(dsmc::option_rows(), budget_rows());
   return table;
 }
 
@@ -170,19 +170,15 @@ void check_resources(const EngineOptions& given, const dsmc::Options& options, c
 std::unique_ptr<Engine> build_dsmc(const EngineOptions& given, const EngineSpec& spec, const Scene& scene) {
   const auto rekey = [&given](const std::string& parameter) { return given.key(leaf_key(parameter)); };
   dsmc::Options options;
-  options.method = dsmc::method_from_name(given.word("method", dsmc::to_string(options.method)));
-  options.particles = std::uint64_t(given.integer("particles", std::int64_t(options.particles)));
-  if (given.has("seed")) options.seed = given.value("seed").get<std::uint64_t>();
-  options.runs = std::size_t(given.integer("runs", std::int64_t(options.runs)));
-  options.bucket = std::uint64_t(given.integer("bucket", std::int64_t(options.bucket)));
-  options.truncate = given.boolean("truncate", options.truncate);
-  options.population_control = given.boolean("population_control", options.population_control);
-  options.population_halving = given.boolean("population_halving", options.population_halving);
-  options.threads = std::size_t(given.integer("threads", std::int64_t(options.threads)));
+  given.read(dsmc::option_rows(), options);
+  Budget budget;
+  given.read(budget_rows(), budget);
   under_key(rekey, [&] { options.validate(); });  // the model (λ >= 0, N, start) is validated with the scene
   check_resources(given, options, scene);
-  return std::make_unique<DsmcEngine>(spec.label, options, solver_keys(spec, dsmc_options()),
-                                      given.number("max_wall_seconds", 0.0));
+  nlohmann::json settings = dsmc::option_rows().values(options);
+  settings.update(budget_rows().values(budget));
+  return std::make_unique<DsmcEngine>(spec.label, options, solver_keys(spec, dsmc_options()), budget.max_wall_seconds,
+                                      std::move(settings));
 }
 
 }  // namespace

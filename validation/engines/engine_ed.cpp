@@ -25,25 +25,31 @@ namespace aggkit {
 
 namespace {
 
-const OptionTable& ed_options() {
-  static const OptionTable table{
-      cluster_stop_option(),
-      integer_option("cells", "0", "wanted number of broad-phase cells (0: about one per particle)", 0, 4294967295.0),
-      integer_option("thermalize", "particles.thermalize or 0",
-                     "elastic collisions per particle before sticking (collisions = \"elastic\": before the clock starts)", 0, 1e9),
-      word_option("collisions", "sticking",
-                  "sticking: aggregation; elastic: a hard-sphere gas (no clusters form; collision and virial observables)",
-                  {"sticking", "elastic"}),
-  };
-  return table;
-}
-
 struct EdSettings {
   std::size_t target_clusters = 0;  // 0: stop at time.end
   std::size_t cells = 0;
   std::size_t thermalize = 0;
   bool elastic = false;
 };
+
+const OptionRows<EdSettings>& ed_rows() {
+  using B = Bind<EdSettings>;
+  static const OptionRows<EdSettings> rows{{
+      cluster_stop_row(&EdSettings::target_clusters),
+      B::integer("cells", &EdSettings::cells, closed(0, 4294967295.0), "wanted number of broad-phase cells (0: about one per particle)"),
+      B::integer("thermalize", &EdSettings::thermalize, closed(0, 1e9),
+                 "elastic collisions per particle before sticking (collisions = \"elastic\": before the clock starts)",
+                 "particles.thermalize or 0"),
+      B::word("collisions", &EdSettings::elastic, std::vector<std::pair<std::string, bool>>{{"sticking", false}, {"elastic", true}},
+              "sticking: aggregation; elastic: a hard-sphere gas (no clusters form; collision and virial observables)"),
+  }};
+  return rows;
+}
+
+const OptionTable& ed_options() {
+  static const OptionTable table = option_table(ed_rows());
+  return table;
+}
 
 class EdSimulation final : public ParticleSimulation {
  public:
@@ -224,13 +230,13 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
   const ParticleSystem& system = *scene.particles;
   check_particles(system);
   EdSettings settings;
-  settings.target_clusters = cluster_stop_target(given, system.count);
-  settings.cells = std::size_t(given.integer("cells", 0));
+  settings.thermalize = system.thermalize;
   if (given.has("thermalize") && system.thermalize > 0)
     given.fail("thermalize", "thermalize given once: [particles] thermalize = " + std::to_string(system.thermalize) +
                                  " is also set (the engine's key is the one to keep)");
-  settings.thermalize = std::size_t(given.integer("thermalize", std::int64_t(system.thermalize)));
-  settings.elastic = given.word("collisions", "sticking") == "elastic";
+  given.read(ed_rows(), settings);
+  check_cluster_stop(given, settings.target_clusters, system.count);
+  const nlohmann::json values = ed_rows().values(settings);
   if (settings.elastic) {
     if (settings.target_clusters > 0)
       given.fail("stop", "no cluster target with collisions = \"elastic\" (no clusters form): leave stop out to run to time.end");
@@ -241,7 +247,8 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
             },
             "event-driven elastic hard-sphere gas" +
                 (settings.thermalize > 0 ? ", after " + std::to_string(settings.thermalize) + " collisions per particle" : std::string()) +
-                ", stop at time.end"};
+                ", stop at time.end",
+            values, {}};
   }
   // Sticking collisions leave no pair virial (the clusters are rigid) and count merges, not collisions.
   if (const auto asked = observable_needing(scene, need::collisions | need::virial))
@@ -253,7 +260,7 @@ ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scen
   return {[system, settings](std::size_t r) {
             return std::make_unique<EdSimulation>(system, system.initial_state(r), settings);
           },
-          "event-driven, stop " + stop};
+          "event-driven, stop " + stop, values, {}};
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ class ExactState final : public ObservedState {
 
 class ExactEngine final : public Engine {
  public:
-  explicit ExactEngine(std::string label) : Engine("exact", std::move(label)) {}
+  explicit ExactEngine(std::string label) : Engine("exact", std::move(label), nlohmann::json::object()) {}
   std::string describe() const override { return "closed-form solution of the untruncated system"; }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {

@@ -98,7 +98,7 @@ std::string engines_help() {
   for (const auto& type : engine_types()) {
     help += "  " + type.name + ": " + type.description + "\n";
     for (const OptionSpec& o : type.options)
-      help += "    " + o.key + " (default " + o.default_text + "; " + o.allowed() + "): " + o.doc + "\n";
+      help += "    " + o.key + " (default " + o.default_text() + "; " + o.allowed() + "): " + o.doc + "\n";
   }
   return help;
 }

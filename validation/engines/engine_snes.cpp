@@ -4,12 +4,11 @@
 // the scene's output times lie in the relaxed regime), DIR/<label>/distribution.csv holds it (columns
 // k,n), and summary.json gets the scene's series observables evaluated on it ("steady_<name>") with
 // Newton/GMRES counts and the final relative residual.
-#include <limits>
 #include <sstream>
 
 #include "analysis/input_error.hpp"
 #include "solvers/petsc_options.hpp"
-#include "solvers/steady_state.hpp"
+#include "solvers/steady_state_options.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/text.hpp"
@@ -22,7 +21,7 @@ namespace {
 class SnesEngine final : public Engine {
  public:
   SnesEngine(std::string label, SteadyStateOptions options, std::function<std::string(const std::string&)> keys)
-      : Engine("snes", std::move(label)), options_(options), keys_(std::move(keys)) {}
+      : Engine("snes", std::move(label), steady_state_option_rows().values(options)), options_(options), keys_(std::move(keys)) {}
 
   std::string describe() const override {
     std::string line = "Newton-Krylov (PETSc SNES), rhs " + to_string(options_.rates) + ", tolerance " +
@@ -77,35 +76,14 @@ class SnesEngine final : public Engine {
 };
 
 const OptionTable& snes_options() {
-  static const OptionTable table{
-      number_option("tolerance", "1e-10", "relative residual ||F|| / ||F(n(0))|| at which Newton stops", 0.0, 1.0, true),
-      integer_option("max_newton_iterations", "50", "most Newton iterations", 1, 10000),
-      word_option("rhs", "fast", "right-hand side: FFT/low-rank, or the direct O(N^2) sums", {"fast", "direct"}),
-      number_option("start_time", "20", "the initial guess is the CVODE solution at this time", 0.0,
-                    std::numeric_limits<double>::infinity(), true),
-      flag_option("precondition", true, "precondition GMRES (false: plain GMRES, for comparison only)"),
-      custom_option("petsc_options", "\"\"",
-                    "PETSc options for the SNES, its KSP and PC, applied after the above (e.g. \"-snes_rtol 1e-12 "
-                    "-ksp_type bcgs\"); the command line's (aggkit run ... -- OPTIONS) come after these",
-                    "a string of PETSc options \"-name value -flag ...\""),
-  };
+  static const OptionTable table = option_table(steady_state_option_rows());
   return table;
 }
 
 std::unique_ptr<Engine> build_snes(const EngineOptions& given, const EngineSpec& spec, const Scene& scene) {
   const auto rekey = [&given](const std::string& parameter) { return given.key(leaf_key(parameter)); };
   SteadyStateOptions options;
-  options.relative_tolerance = given.number("tolerance", options.relative_tolerance);
-  options.max_newton_iterations = int(given.integer("max_newton_iterations", options.max_newton_iterations));
-  options.rates = rates_path_from_name(given.word("rhs", to_string(options.rates)));
-  options.start_time = given.number("start_time", options.start_time);
-  options.precondition = given.boolean("precondition", options.precondition);
-  if (given.has("petsc_options")) {
-    const nlohmann::json& value = given.value("petsc_options");
-    if (!value.is_string()) given.fail("petsc_options", "a string of PETSc options \"-name value -flag ...\"");
-    options.petsc_options = value.get<std::string>();
-    check_petsc_options(options.petsc_options, given.key("petsc_options"));  // bad input before any output
-  }
+  given.read(steady_state_option_rows(), options);
   under_key(rekey, [&] { options.validate(); });
   if (!scene.model.lambda.is_constant())
     throw InputError("model.lambda", scene.model.lambda.describe(), "a constant shattering rate for engine snes");

@@ -15,43 +15,30 @@
 #include "validation/engines/particle_runner.hpp"
 #include "validation/engines/sticky_spheres.hpp"
 #include "validation/io/machine.hpp"
+#include "validation/scene/scene_table.hpp"
 
 namespace aggkit {
 
 namespace {
 
-const OptionTable& ts_options() {
-  static const OptionTable table{
-      number_option("dt_factor", "0.01", "Δt(0) = dt_factor · L / max|V(0)|, growing to 2Δt(0) at one cluster [Degond2024, Table 1]",
-                    0.0, 1.0, true),
-      cluster_stop_option(),
-      number_option("c_bar", "2", "damping c̄ of the DAHA (c = δ c̄ per iteration, at most 1/δ)", 0.0, 1e6, true),
-      number_option("delta", "0.15", "DAHA step δ", 0.0, 10.0, true),
-      number_option("alpha", "0.3", "DAHA force coefficient α (attraction and multipliers)", 0.0, 1e6, true),
-      number_option("gamma", "1", "DAHA coefficient γ of the φλ∇φ term", 0.0, 1e6),
-      number_option("beta_bar", "1.5", "multiplier rate β̄ (β = δ β̄)", 0.0, 1e6, true),
-      number_option("eps_c", "0.01", "ε_c: mean √|φ| over the links at convergence (paper units, R = 0.2)", 0.0, 1.0, true),
-      number_option("eps_s", "0.001", "ε_s: largest move of a sphere in the last iteration (paper units, R = 0.2)", 0.0, 1.0, true),
-      number_option("interaction_range", "4", "Δ_W / R: links attract only within Δ_W; free spheres lie within Δ_W of a new link", 2.0,
-                    1e6),
-      flag_option("contact_time", true, "merge a binary collision at its contact time (rewound along the flight, merged, flown on); "
-                                        "false: every contact resolved from its end-of-flight overlap by the DAHA, as [Degond2024]"),
-      number_option("substep_displacement", "0.25", "largest flight of a cluster in one substep, in diameters 2R: a longer step is "
-                    "flown in substeps, each followed by contact detection along the flown paths", 0.0, 1e6, true),
-      integer_option("max_iterations", "100000", "iteration cap of one minimisation (hits are counted)", 1, 1e9),
-      word_option("variant", "local", "local: almost rigid clusters [Degond2024, Sec. 3.3]; global: every sphere of the clusters touched "
-                                      "moves, all their pairs constrained (Sec. 3.1, O(n²))",
-                  {"local", "global"}),
-      integer_option("cluster_threads", "1", "workers for the minimisations of separate clusters in one step (results do not depend on it)",
-                     1, 4096),
-  };
-  return table;
-}
-
 struct Settings {
   TsSettings ts;
   std::size_t target_clusters = 0;  // 0: stop at time.end
 };
+
+const OptionRows<Settings>& stop_rows() {
+  static const OptionRows<Settings> rows{{cluster_stop_row(&Settings::target_clusters)}};
+  return rows;
+}
+
+const OptionTable& ts_options() {
+  static const OptionTable table = [] {
+    OptionTable t = option_table(ts_option_rows(), stop_rows());
+    std::rotate(t.begin() + 1, t.end() - 1, t.end());  // stop after dt_factor, as --help has always listed it
+    return t;
+  }();
+  return table;
+}
 
 class TsSimulation final : public ParticleSimulation {
  public:
@@ -136,28 +123,19 @@ ParticleEngineKind::Setup setup_ts(const EngineOptions& given, const Scene& scen
   const ParticleSystem& system = *scene.particles;
   check_particles(system);
   Settings settings;
-  settings.target_clusters = cluster_stop_target(given, system.count);
-  TsSettings& ts = settings.ts;
-  ts.dt_factor = given.number("dt_factor", ts.dt_factor);
-  ts.daha.c_bar = given.number("c_bar", ts.daha.c_bar);
-  ts.daha.delta = given.number("delta", ts.daha.delta);
-  ts.daha.alpha = given.number("alpha", ts.daha.alpha);
-  ts.daha.gamma = given.number("gamma", ts.daha.gamma);
-  ts.daha.beta_bar = given.number("beta_bar", ts.daha.beta_bar);
-  ts.daha.eps_c = given.number("eps_c", ts.daha.eps_c);
-  ts.daha.eps_s = given.number("eps_s", ts.daha.eps_s);
-  ts.daha.max_iterations = std::size_t(given.integer("max_iterations", std::int64_t(ts.daha.max_iterations)));
-  ts.interaction_range = given.number("interaction_range", ts.interaction_range);
-  ts.substep_displacement = given.number("substep_displacement", ts.substep_displacement);
-  ts.contact_time = given.boolean("contact_time", ts.contact_time);
-  ts.global = given.word("variant", "local") == "global";
-  ts.threads = std::size_t(given.integer("cluster_threads", 1));
-  if (ts.daha.delta * ts.daha.c_bar > 1.0)
-    given.fail("c_bar", "c_bar <= 1/delta = " + format_value(1.0 / ts.daha.delta) + " (the damping δ c̄ of one iteration is at most 1)");
+  given.read(ts_option_rows(), settings.ts);
+  given.read(stop_rows(), settings);
+  check_cluster_stop(given, settings.target_clusters, system.count);
+  const auto rekey = [&given](const std::string& parameter) { return given.key(parameter); };
+  under_key(rekey, [&] { settings.ts.validate(); });
+  const TsSettings& ts = settings.ts;
+  nlohmann::json values = ts_option_rows().values(ts);
+  values.update(stop_rows().values(settings));
   const std::string stop = settings.target_clusters == 0 ? "at time.end" : "at " + std::to_string(settings.target_clusters) + " cluster(s)";
   return {[system, settings](std::size_t r) { return std::make_unique<TsSimulation>(system, system.initial_state(r), settings); },
           "time-stepping (" + std::string(ts.global ? "global" : "local") + " DAHA, dt_factor " + format_value(ts.dt_factor) +
-              "), stop " + stop};
+              "), stop " + stop,
+          values, {}};
 }
 
 }  // namespace

@@ -56,7 +56,7 @@ class ParticleEngine final : public Engine {
  public:
   ParticleEngine(std::string name, std::string label, ParticleEngineKind::Setup setup, std::size_t threads,
                  double max_wall_seconds)
-      : Engine(std::move(name), std::move(label)), setup_(std::move(setup)), threads_(threads),
+      : Engine(std::move(name), std::move(label), setup.settings), setup_(std::move(setup)), threads_(threads),
         max_wall_seconds_(max_wall_seconds) {}
 
   std::string describe() const override {
@@ -64,10 +64,10 @@ class ParticleEngine final : public Engine {
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
-    const ParticleSystem& system = *scene.particles;
-    const std::size_t realizations = system.realizations;
     if (observer.warning)
       for (const std::string& warning : setup_.warnings) observer.warning(warning);
+    const ParticleSystem& system = *scene.particles;
+    const std::size_t realizations = system.realizations;
     std::vector<RealizationResult> results(realizations);
     std::mutex report;  // progress and status lines come from every thread
 
@@ -224,11 +224,31 @@ std::optional<std::pair<std::string, std::string>> observable_needing(const Scen
   return std::nullopt;
 }
 
+namespace {
+
+// What the runner adds to every particle engine.
+struct RunnerSettings {
+  std::size_t threads = 1;
+  double max_wall_seconds = 0;  // 0: none
+};
+
+const OptionRows<RunnerSettings>& runner_rows() {
+  using B = Bind<RunnerSettings>;
+  static const OptionRows<RunnerSettings> rows{{
+      B::integer("threads", &RunnerSettings::threads, closed(0, 4096),
+                 "realizations run at once (0: one per core); results do not depend on it"),
+      B::number("max_wall_seconds", &RunnerSettings::max_wall_seconds, closed(0.0, 1e9),
+                "wall-time budget of each realization; the run fails when it is spent (0: none)"),
+  }};
+  return rows;
+}
+
+}  // namespace
+
 EngineType particle_engine_type(ParticleEngineKind kind) {
   OptionTable options = kind.options;
-  options.push_back(integer_option("threads", "1", "realizations run at once (0: one per core); results do not depend on it", 0, 4096));
-  options.push_back(number_option("max_wall_seconds", "0", "wall-time budget of each realization; the run fails when it is spent (0: none)",
-                                  0.0, 1e9));
+  const OptionTable runner = runner_rows().table();
+  options.insert(options.end(), runner.begin(), runner.end());
   std::vector<std::string> files{"final.json", "final.vtu", "final.png"};
   for (auto& f : profile_files()) files.push_back(f);
   auto setup = kind.setup;
@@ -241,9 +261,11 @@ EngineType particle_engine_type(ParticleEngineKind kind) {
               throw InputError(asked->first, "\"" + asked->second + "\"",
                                "an observable of a periodic box (particles.boundary = \"periodic\"): the pressure from the "
                                "virial theorem needs one");
-            const auto threads = std::size_t(given.integer("threads", 1));
-            return std::make_unique<ParticleEngine>(name, spec.label, setup(given, scene), threads,
-                                                    given.number("max_wall_seconds", 0.0));
+            RunnerSettings runner;
+            given.read(runner_rows(), runner);
+            ParticleEngineKind::Setup run = setup(given, scene);
+            run.settings.update(runner_rows().values(runner));
+            return std::make_unique<ParticleEngine>(name, spec.label, std::move(run), runner.threads, runner.max_wall_seconds);
           }};
 }
 

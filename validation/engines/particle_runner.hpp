@@ -80,8 +80,8 @@ struct ParticleEngineKind {
   struct Setup {
     std::function<std::unique_ptr<ParticleSimulation>(std::size_t realization)> start;
     std::string description;
-    std::vector<std::string> warnings = {};  // about the options as given (a step beyond a stability bound): each
-                                             // reported through EngineObserver::warning when the engine runs
+    nlohmann::json settings;  // option key -> the value the run uses (the rows' values of its settings)
+    std::vector<std::string> warnings;  // what the user should know about the run (EngineObserver::warning)
   };
   std::function<Setup(const EngineOptions& options, const Scene& scene)> setup;
   // What its states give the observables: the configuration, and for engines of colliding particles

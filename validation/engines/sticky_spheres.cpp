@@ -18,26 +18,26 @@ void require_sticky_spheres(const ParticleSystem& system, const std::string& eng
     throw InputError("particles.initial.speed", "0", "a speed > 0 for engine " + engine + " (" + why_moving + ")");
 }
 
-OptionSpec cluster_stop_option() {
-  return custom_option("stop", "at time.end",
-                       "run until this many clusters remain (beyond time.end if needed); a stopped realization "
-                       "holds its final state for the later output times",
-                       "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count");
+std::size_t cluster_stop_from(const nlohmann::json& value, const std::string& key) {
+  if (value.is_string() && value.get<std::string>() == "one_cluster") return 1;
+  if (value.is_object() && value.size() == 1 && value.contains("clusters")) {
+    const nlohmann::json& k = value["clusters"];
+    if (k.is_number_integer() && k.get<std::int64_t>() >= 1) return std::size_t(k.get<std::int64_t>());
+    throw InputError(key + ".clusters", option_text(k), cluster_stop_forms);
+  }
+  throw InputError(key, option_text(value), cluster_stop_forms);
 }
 
-std::size_t cluster_stop_target(const EngineOptions& given, std::size_t particles) {
-  if (!given.has("stop")) return 0;
-  const nlohmann::json& stop = given.value("stop");
-  const std::string forms =
-      "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count = " + std::to_string(particles);
-  if (stop.is_string() && stop.get<std::string>() == "one_cluster") return 1;
-  if (stop.is_object() && stop.size() == 1 && stop.contains("clusters")) {
-    const nlohmann::json& k = stop["clusters"];
-    if (k.is_number_integer() && k.get<std::int64_t>() >= 1 && std::uint64_t(k.get<std::int64_t>()) <= particles)
-      return std::size_t(k.get<std::int64_t>());
-    throw InputError(given.key("stop") + ".clusters", option_text(k), forms);
-  }
-  given.fail("stop", forms);
+nlohmann::json cluster_stop_value(std::size_t target) {
+  if (target == 0) return nullptr;
+  if (target == 1) return "one_cluster";
+  return nlohmann::json{{"clusters", target}};
+}
+
+void check_cluster_stop(const EngineOptions& given, std::size_t target, std::size_t particles) {
+  if (target <= particles) return;
+  const std::string forms = "\"one_cluster\" or { clusters = K } with 1 <= K <= particles.count = " + std::to_string(particles);
+  throw InputError(given.key("stop") + ".clusters", std::to_string(target), forms);
 }
 
 }  // namespace aggkit

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Plots the series of an `aggkit run` (one panel per observable, every engine overlaid) and, if any were
-written, the size distributions n_k (log-log). Called by the harness (validation/plot.cpp):
+written, the size distributions n_k (log-log). Called by the harness (validation/harness/plot.cpp):
 
   plot_series.py --output FILE.png --title NAME [--reference LABEL]
                  --series LABEL series.csv [--series ...] [--distribution LABEL distribution.csv ...]

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Draws a particle configuration as discs coloured by cluster. Called by
-validation/particle_snapshot.cpp:
+validation/io/particle_snapshot.cpp:
 
   plot_clusters.py --points points.csv --output picture.png --radius R --dimension 2|3 [--box LX LY]
 

@@ -142,11 +142,7 @@ bool offset_seeds(toml::table& document, std::size_t r) {
       if (!type) continue;
       for (const OptionSpec& option : type->options)
         if (option.key == "seed") {
-          std::int64_t fallback = 1;
-          try {
-            fallback = std::stoll(option.default_text);
-          } catch (const std::exception&) {
-          }
+          const std::int64_t fallback = option.fallback.get<std::int64_t>();  // the engine's default seed
           engine->insert_or_assign("seed", integer_or(engine->get("seed"), fallback) + std::int64_t(r));
           any = true;
         }

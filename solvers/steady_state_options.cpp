@@ -1,0 +1,31 @@
+#include "solvers/steady_state_options.hpp"
+
+#include "solvers/petsc_options.hpp"
+
+namespace aggkit {
+
+const OptionRows<SteadyStateOptions>& steady_state_option_rows() {
+  using O = SteadyStateOptions;
+  using B = Bind<O>;
+  static const OptionRows<O> rows{{
+      B::number("tolerance", &O::relative_tolerance, left_open(0.0, 1.0),
+                "relative residual ||F|| / ||F(n(0))|| at which Newton stops"),
+      B::integer("max_newton_iterations", &O::max_newton_iterations, closed(1, 10000), "most Newton iterations"),
+      B::named("rhs", &O::rates, std::vector{RatesPath::fast, RatesPath::direct},
+               "right-hand side: FFT/low-rank, or the direct O(N^2) sums"),
+      B::number("start_time", &O::start_time, greater_than(0.0), "the initial guess is the CVODE solution at this time"),
+      B::flag("precondition", &O::precondition, "precondition GMRES (false: plain GMRES, for comparison only)"),
+      B::custom("petsc_options", "a string of PETSc options \"-name value -flag ...\"",
+                "PETSc options for the SNES, its KSP and PC, applied after the above (e.g. \"-snes_rtol 1e-12 "
+                "-ksp_type bcgs\"); the command line's (aggkit run ... -- OPTIONS) come after these",
+                "", [](const O& o) { return nlohmann::json(o.petsc_options); },
+                [](O& o, const nlohmann::json& value, const std::string& key) {
+                  if (!value.is_string()) throw InputError(key, option_text(value), "a string of PETSc options \"-name value -flag ...\"");
+                  o.petsc_options = value.get<std::string>();
+                  check_petsc_options(o.petsc_options, key);  // bad input before any output
+                }),
+  }};
+  return rows;
+}
+
+}  // namespace aggkit
