@@ -41,12 +41,13 @@ void sort_rightmost(std::vector<Complex>& values) {
 }
 
 // A = J_{<m,<m} + J_{<m,m} t^T (the Jacobian on the mass shell, t_k = -x_k/x_m) from the direct dense
-// Jacobian.
-Eigen::MatrixXd mass_shell_jacobian(const AggregationModel& model, std::span<const double> n, std::size_t m) {
+// Jacobian; the rates' own where they hold it (the graded grid's pair table, built once per analysis).
+Eigen::MatrixXd mass_shell_jacobian(const AggregationModel& model, Rates& rates, std::span<const double> n,
+                                    std::size_t m) {
   const std::size_t N = model.unknowns();
   const std::vector<double> x = model.pivots();
   std::vector<double> jacobian(N * N);
-  dense_jacobian(model, 0.0, n, jacobian);
+  if (!rates.dense_jacobian(0.0, n, jacobian)) dense_jacobian(model, 0.0, n, jacobian);
   Eigen::MatrixXd A(m, m);
   for (std::size_t i = 0; i < m; ++i)
     for (std::size_t k = 0; k < m; ++k) A(i, k) = jacobian[i * N + k] - jacobian[i * N + m] * x[k] / x[m];
@@ -54,8 +55,9 @@ Eigen::MatrixXd mass_shell_jacobian(const AggregationModel& model, std::span<con
 }
 
 // All eigenvalues of A.
-std::vector<Complex> dense_spectrum(const AggregationModel& model, std::span<const double> n, std::size_t m) {
-  const Eigen::MatrixXd A = mass_shell_jacobian(model, n, m);
+std::vector<Complex> dense_spectrum(const AggregationModel& model, Rates& rates, std::span<const double> n,
+                                    std::size_t m) {
+  const Eigen::MatrixXd A = mass_shell_jacobian(model, rates, n, m);
   Eigen::EigenSolver<Eigen::MatrixXd> solver(A, false);
   if (solver.info() != Eigen::Success) throw std::runtime_error("dense eigenvalue solver failed (Eigen QR)");
   std::vector<Complex> values(solver.eigenvalues().begin(), solver.eigenvalues().end());
@@ -142,9 +144,10 @@ class ShiftInvertOperator {
 // (Spectra's DenseGenRealShiftSolve, Eigen's partial-pivoting LU): O(m^3/3) once, then O(m^2) per
 // application. For the graded grid's few hundred to few thousand unknowns this replaces both the full
 // dense QR (O(10 m^3)) and the matrix-free GMRES solves (hundreds of iterations each).
-std::vector<Complex> dense_shift_invert_spectrum(const AggregationModel& model, std::span<const double> n, std::size_t m,
+std::vector<Complex> dense_shift_invert_spectrum(const AggregationModel& model, Rates& rates, std::span<const double> n,
+                                                 std::size_t m,
                                                  const StabilityOptions& options, int wanted, StabilityResult& result) {
-  const Eigen::MatrixXd A = mass_shell_jacobian(model, n, m);
+  const Eigen::MatrixXd A = mass_shell_jacobian(model, rates, n, m);
   Spectra::DenseGenRealShiftSolve<double> op(A);
   const Eigen::Index size = Eigen::Index(m);
   const Eigen::Index nev = std::min<Eigen::Index>(std::max(wanted, options.krylov_eigenvalues), size - 2);
@@ -217,8 +220,8 @@ StabilityResult analyse_stability(const AggregationModel& model, std::span<const
   // A graded grid's Krylov path is the dense shift-invert one (its unknowns always fit a dense LU).
   StabilityResult result;
   result.method = dense ? "dense" : graded ? "dense-shift-invert" : "krylov";
-  std::vector<Complex> values = dense    ? dense_spectrum(model, steady_state, m)
-                                : graded ? dense_shift_invert_spectrum(model, steady_state, m, options, count, result)
+  std::vector<Complex> values = dense    ? dense_spectrum(model, system.rates(), steady_state, m)
+                                : graded ? dense_shift_invert_spectrum(model, system.rates(), steady_state, m, options, count, result)
                                          : krylov_spectrum(system, steady_state, options, count, result);
   sort_rightmost(values);
   if (values.size() > std::size_t(count)) {
