@@ -75,6 +75,18 @@ TEST_CASE("scan point: a = 0.9, lambda = 0.01 is damped towards the steady state
   CHECK(r.decay_rate < -2 * r.rightmost_real);
 }
 
+TEST_CASE("scan point: a relaxation without a steady state to confirm it is unresolved, not damped") {
+  // a = 0.95, λ = 1e-6 (λ_crit = 0.0127: the steady state is unstable) on N = 2048: the steady tail needs
+  // N ≥ 8/λ = 8·10^6, so no steady state is found, and by t = 1000 the run shows only the coarsening of
+  // nearly pure aggregation, M0 decaying monotonically — which the time series alone would call damped.
+  const ScanPlan plan = parse_scan_plan(scene);
+  const ScanRecord r = run_scan_point(plan, {2, 0.95, 1e-6}, plan.size());
+  INFO(r.regime << ": " << r.note);
+  CHECK(r.regime_stability.empty());
+  CHECK(r.regime == "unresolved");
+  CHECK_THAT(r.note, Catch::Contains("no steady state was found"));
+}
+
 TEST_CASE("scan point: the progress line's outcome names only the numbers the regime has") {
   ScanRecord steady;
   steady.regime = "steady";

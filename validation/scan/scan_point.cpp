@@ -82,7 +82,9 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   // A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability
   // finds unstable (Re μ > 0) cannot relax, so a damped or steady time series there means the run is too
   // short for the period (or the truncation too short for the tail); and a damped verdict whose own
-  // convergence check failed (too few cycles, a slow drift) is no verdict either. Such points are
+  // convergence check failed (too few cycles, a slow drift) is no verdict either, nor is a relaxation with no
+  // steady state to relax to (at λ far below 1/t_end the run sees the coarsening of pure aggregation, whose
+  // M0 decays monotonically, while the steady state's tail lies beyond the grid). Such points are
   // "unresolved": neither damped nor sustained.
   if (r.regime == "damped" || r.regime == "steady") {
     std::string why;
@@ -90,6 +92,8 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
       why = "linear stability: unstable steady state (Re mu = " + shortest_text(r.rightmost_real) + ")";
     else if (r.regime == "damped" && !r.converged)
       why = "the decay did not converge in the run";
+    else if (plan.stability && r.regime_stability.empty())
+      why = "no steady state was found to confirm the relaxation (a coarsening transient relaxes too)";
     if (!why.empty()) {
       r.note = "was " + r.regime + " in the run; " + why + (r.note.empty() ? "" : "; " + r.note);
       r.regime = "unresolved";
