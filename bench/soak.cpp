@@ -10,9 +10,9 @@
 //   ED               2-D periodic ballistic aggregation, N = 20000 at ν = 0.1 to one cluster [Degond2024]:
 //                    total momentum conserved (periodic box, momentum-weighted merges) to 1e-10 of Σ|v|, the
 //                    largest pair overlap ≤ the engine's contact round-off bound (overlap_tolerance, 1e-9)
-//   TS               the same start with the time-stepping engine: momentum to 1e-10 of Σ|v|, no pair of
-//                    pair (same cluster or not) overlapping beyond the engine's tolerance: the largest 1 − |Δx|/2R ≤ its
-//                    engine's same-cluster tolerance (1e-2)
+//   TS               the same start with the time-stepping engine: momentum to 1e-10 of Σ|v|, no pair
+//                    (same cluster or not) overlapping beyond the engine's tolerance: the largest 1 − |Δx|/2R ≤
+//                    its same-cluster tolerance (1e-2)
 //   DEM              elastic spheres (restitution 1: no dashpot, no friction), N = 4000, φ = 0.2, periodic,
 //                    dt = t_c/50: total energy (kinetic + spring) within 1e-3 of E(0) at every check — velocity
 //                    Verlet is symplectic, so the error stays bounded at O((ω dt)²) ≈ (π/50)² ≈ 4e-3 of the energy
