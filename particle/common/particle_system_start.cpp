@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -53,6 +54,39 @@ std::vector<Vector3> velocities_of(const ParticleSystem& system, std::uint64_t r
     for (auto& u : v) u = u - centre_of_mass_velocity;
   }
   return v;
+}
+
+// The last cloud placement of this process, handed out again when the same one is asked for: RSA is a
+// function of (box, region, radii, seed) alone, so the copy is the placement it would make. Before a run
+// starts the same particles are otherwise placed many times over: the scene check places realization 0
+// (particle_system.cpp), DEM calibrates its time step on realization 0, and a sweep plan reads and builds
+// the scene of every swept value and of its first points (each placing realization 0 again). One entry: the
+// memory is one start's positions and radii.
+Packing placement(const Box& box, const PackingRegion& region, const std::vector<double>& radii, std::uint64_t seed) {
+  struct Last {
+    Box box;
+    PackingRegion region;
+    std::vector<double> radii;
+    std::uint64_t seed = 0;
+    Packing packing;
+  };
+  static std::mutex mutex;
+  static Last last;
+  static bool held = false;
+  const auto same = [&] {
+    return held && last.seed == seed && last.box.dimension == box.dimension && last.box.side == box.side &&
+           last.box.boundary == box.boundary && last.region.shape == region.shape && last.region.centre == region.centre &&
+           last.region.size == region.size && last.radii == radii;
+  };
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (same()) return last.packing;
+  }
+  Packing packing = random_sequential_addition(box, region, radii, seed);
+  const std::lock_guard<std::mutex> lock(mutex);
+  last = Last{box, region, radii, seed, packing};
+  held = true;
+  return packing;
 }
 
 // The placement of a cloud could not be completed: name the key that set the density.
@@ -109,7 +143,7 @@ ParticleStart ParticleSystem::initial_state(std::size_t realization) const {
     return s;
   }
   const PackingRegion region = cloud_region();
-  Packing packing = random_sequential_addition(box, region, s.radii, stream_seed(run, StartStream::positions));
+  Packing packing = placement(box, region, s.radii, stream_seed(run, StartStream::positions));
   if (!packing.complete()) cloud_jammed(*this, region, s.radii, packing);
   s.positions = std::move(packing.positions);
   return s;

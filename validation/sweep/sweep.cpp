@@ -59,7 +59,9 @@ std::string point_words(const SweepPlan& plan, std::size_t point, std::size_t re
 }
 
 // The final values of one run: each engine's final.json entries, then its series at the last output time
-// (those not among them); "<label>." before each name when the scene has several engines.
+// (those not among them); "<label>." before each name when the scene has several engines. A particle
+// engine's "wall_seconds" is how long the run took, not a result: it goes to timing.csv (the run's seconds),
+// never into sweep.csv, whose bytes a rerun or a resumed sweep reproduces.
 std::vector<std::pair<std::string, double>> final_columns(const Scene& scene, const RunResult& result) {
   std::vector<std::pair<std::string, double>> columns;
   const bool prefixed = result.records.size() > 1;
@@ -67,6 +69,7 @@ std::vector<std::pair<std::string, double>> final_columns(const Scene& scene, co
     const std::string prefix = prefixed ? record.label + "." : "";
     std::vector<std::string> names;
     for (const FinalStatistic& f : record.finals) {
+      if (f.name == "wall_seconds") continue;
       columns.emplace_back(prefix + f.name, f.mean);
       names.push_back(f.name);
     }

@@ -5,7 +5,8 @@
 // (validation/scan/run_store.hpp, shared with `aggkit scan`). Outputs (rank 0, each written atomically):
 //   DIR/sweep.csv        one row per point and realization: the swept values (a column per key, as written),
 //                        realization, then the run's final values — every entry of each engine's final.json
-//                        (particle engines: observe.final and the engine's own values), and the observe.series
+//                        (particle engines: observe.final and the engine's own values, except its wall_seconds,
+//                        which is timing.csv's), and the observe.series
 //                        values at the last output time not among them; with several engines each column is
 //                        prefixed "<label>." — NaN where a value is undefined (e.g. T_agg of a run that never
 //                        aggregated)

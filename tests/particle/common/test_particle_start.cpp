@@ -8,6 +8,7 @@
 
 #include "analysis/input_error.hpp"
 #include "particle/common/particle_system.hpp"
+#include "particle/common/random_packing.hpp"
 #include "particle/common/seeds.hpp"
 
 using namespace aggkit;
@@ -128,6 +129,28 @@ TEST_CASE("clouds: no overlaps, fresh per realization, velocities on their own s
     CHECK(a.velocities == initial_velocities(d, s.count, VelocityLaw::fixed_speed, 1.0, run_seed(3, 0)));
     CHECK(b.velocities == s.initial_velocities(1));
   }
+}
+
+TEST_CASE("clouds: a placement asked again is RSA's own, and a changed box, region, radius or seed places anew", "[particles][start]") {
+  // initial_state keeps the last placement of the process and hands it out again for the same (box, region,
+  // radii, seed): each answer must be what random_sequential_addition gives for that system, whatever came before.
+  const ParticleSystem base = cloud_system(3);
+  ParticleSystem other_box = base, fixed_radius = base, sphere = base;
+  other_box.box.side[2] *= 1.01;
+  fixed_radius.radius_law = PropertyLaw::fixed(0.75);
+  ParticleSystem other_seed = fixed_radius;  // the same radii: only the positions' stream differs
+  other_seed.seed = 4;
+  sphere.start = CloudStart{CloudShape::sphere, std::nullopt, 0.3};
+  for (double& side : sphere.box.side) side *= 1.5;  // the sphere holding the particles at ν = 0.3 fits
+  for (const ParticleSystem* s : std::vector<const ParticleSystem*>{&base, &fixed_radius, &other_seed, &base, &other_box, &sphere, &base, &base}) {
+    const ParticleStart start = s->initial_state(0);
+    const Packing direct = random_sequential_addition(s->box, s->cloud_region(), start.radii,
+                                                      stream_seed(run_seed(s->seed, 0), StartStream::positions));
+    REQUIRE(direct.complete());
+    CHECK(start.positions == direct.positions);
+  }
+  CHECK(fixed_radius.initial_state(0).positions != other_seed.initial_state(0).positions);
+  CHECK(base.initial_state(0).positions != other_box.initial_state(0).positions);
 }
 
 TEST_CASE("open space: a sphere cloud of a given volume fraction around the origin", "[particles][start]") {
