@@ -112,6 +112,7 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
   hopf.start_sizes.assign(start_sizes.begin(), start_sizes.end());
   double guess = lambda_guess, half_width = options.bracket;
   std::size_t previous = 0;  // 1 + index in by_size of the last λ_crit found at N / 2 (0: none)
+  std::size_t retried_at = 0;  // the N last searched again with a ±50 % bracket
   std::vector<double> last_sizes;  // pivots of the N that found the last λ_crit (graded grid)
   for (; N <= max_size; N *= 2) {
     AggregationModel model = base;
@@ -129,13 +130,15 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
     }
     result.sizes.push_back(N);
     // A guess off by more than the stepped bracket reaches (λ_crit falls by orders of magnitude per 0.05 in
-    // a below a = 0.7): once per a, the same N again with a bracket of ±50 %, whose steps then span e^±12.
-    if (!result.by_size.back().found && previous == 0 && half_width < 0.5 &&
+    // a below a = 0.7, and a λ_crit found at an N still too short for it moves by more than the ±convergence
+    // bracket of the next N): once per N, the same N again with a bracket of ±50 %, whose steps then span e^±12.
+    if (!result.by_size.back().found && retried_at != N && half_width < 0.5 &&
         (result.by_size.back().note.find("stable at lambda_lo") != std::string::npos ||
          result.by_size.back().note.find("unstable at lambda_hi") != std::string::npos)) {
       result.evaluations += result.by_size.back().evaluations;
       result.note += "N = " + std::to_string(N) + ": " + result.by_size.back().note + "; retried with a +-50 % bracket; ";
       half_width = 0.5;
+      retried_at = N;
       N /= 2;  // the loop doubles it back
       continue;
     }
