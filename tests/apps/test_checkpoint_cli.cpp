@@ -92,6 +92,37 @@ series = ["clusters", "kinetic_energy", "M2"]
 final = ["clusters", "contacts"]
 )";
 
+// Two DSMC engines (acceptance-rejection and fast): the kill lands in the second, so the first is taken
+// from its completed record; each state holds the population, running sums and generator of every run.
+const char* dsmc_scene = R"(name = "checkpoint-dsmc"
+[model]
+kernel = { name = "ballistic" }
+lambda = 0.01
+size = 2000
+truncation = "drop"
+initial = { kind = "monodisperse" }
+[time]
+end = 10.0
+every = 0.25
+[[engine]]
+name = "dsmc"
+label = "dsmc-ar"
+method = "ar"
+particles = 4000
+runs = 2
+seed = 2024
+[[engine]]
+name = "dsmc"
+label = "dsmc-fast"
+method = "fast"
+particles = 4000
+runs = 2
+seed = 4048
+[observe]
+series = ["M0", "M2", "M3"]
+distributions = [5.0, 10.0]
+)";
+
 int aggkit_run(const std::string& arguments, const std::filesystem::path& folder) {
   const int status = std::system((quoted(AGGKIT_CLI) + " " + arguments + " >/dev/null 2>" + quoted((folder / "stderr.txt").string())).c_str());
   REQUIRE(WIFEXITED(status));
@@ -118,8 +149,9 @@ std::string without_wall_time(const std::filesystem::path& file) {
   return std::regex_replace(read_text(file), std::regex("\\s*\"wall_seconds(_stderr)?\": [^\\n]*\\n"), "\n");
 }
 
-// Kills a run of `scene` (SIGKILL after a random delay of up to 40 ms past its first checkpoint, then
-// SIGTERM) and resumes it; its `files` must equal those of an uninterrupted run byte for byte.
+// Kills a run of `scene` (SIGKILL after a random delay of up to 40 ms past the first checkpoint of engine
+// `label`, then SIGTERM) and resumes it; its `files` ("<label>/<file>") must equal those of an uninterrupted
+// run byte for byte (final.json: but for wall_seconds).
 void check_identical_continuation(const std::string& name, const std::string& scene_text, const std::string& label,
                                   const std::vector<std::string>& files) {
   const auto folder = aggkit::testing::scratch_folder("checkpoint-" + name);
@@ -138,10 +170,11 @@ void check_identical_continuation(const std::string& name, const std::string& sc
     CHECK_FALSE(std::filesystem::exists(out / "summary.json"));
     REQUIRE(aggkit_run("run --resume " + quoted(out.string()) + " --quiet", folder) == 0);
     CHECK_FALSE(std::filesystem::exists(out / "checkpoint"));  // a finished run removes its checkpoints
-    for (const std::string& file : files) {
+    for (const std::string& file : files) {  // each "<label>/<file>"
       INFO(file);
-      if (file == "final.json") CHECK(without_wall_time(out / label / file) == without_wall_time(folder / "whole" / label / file));
-      else CHECK(read_text(out / label / file) == read_text(folder / "whole" / label / file));
+      REQUIRE(std::filesystem::exists(out / file));
+      if (file.ends_with("final.json")) CHECK(without_wall_time(out / file) == without_wall_time(folder / "whole" / file));
+      else CHECK(read_text(out / file) == read_text(folder / "whole" / file));
     }
   }
 }
@@ -149,15 +182,20 @@ void check_identical_continuation(const std::string& name, const std::string& sc
 }  // namespace
 
 TEST_CASE("checkpoint cli: DEM with gravity and friction continues bit for bit after SIGKILL and SIGTERM") {
-  check_identical_continuation("dem", dem_scene, "dem", {"series.csv", "final.json"});
+  check_identical_continuation("dem", dem_scene, "dem", {"dem/series.csv", "dem/final.json"});
 }
 
 TEST_CASE("checkpoint cli: TS continues bit for bit after SIGKILL and SIGTERM") {
-  check_identical_continuation("ts", ts_scene, "ts", {"series.csv", "final.json"});
+  check_identical_continuation("ts", ts_scene, "ts", {"ts/series.csv", "ts/final.json"});
 }
 
 TEST_CASE("checkpoint cli: ED continues bit for bit after SIGKILL and SIGTERM") {
-  check_identical_continuation("ed", ed_scene, "ed", {"series.csv", "final.json", "pair_distribution.csv"});
+  check_identical_continuation("ed", ed_scene, "ed", {"ed/series.csv", "ed/final.json", "ed/pair_distribution.csv"});
+}
+
+TEST_CASE("checkpoint cli: DSMC (both methods) continues bit for bit after SIGKILL and SIGTERM") {
+  check_identical_continuation("dsmc", dsmc_scene, "dsmc-fast",
+                               {"dsmc-ar/series.csv", "dsmc-ar/distribution.csv", "dsmc-fast/series.csv", "dsmc-fast/distribution.csv"});
 }
 
 TEST_CASE("checkpoint cli: damaged, truncated and changed-scene checkpoints are refused with exit 2") {
