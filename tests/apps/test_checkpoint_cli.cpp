@@ -45,7 +45,8 @@ series = ["clusters", "kinetic_energy", "M2"]
 final = ["clusters", "contacts", "pair_distribution"]
 )";
 
-// Gravity and friction: angular velocities, orientations and tangential histories are part of the state.
+// Gravity and friction: angular velocities, orientations and tangential histories are part of the state; the
+// trajectory's frames written before the kill and after the resume are those of the whole run.
 const char* dem_scene = R"(name = "checkpoint-dem"
 [particles]
 dimension = 3
@@ -70,6 +71,7 @@ force_threads = 2
 [observe]
 series = ["clusters", "kinetic_energy", "largest_cluster"]
 final = ["clusters", "kinetic_energy"]
+snapshots = { every = 2.0 }
 )";
 
 const char* ts_scene = R"(name = "checkpoint-ts"
@@ -205,7 +207,9 @@ void check_identical_continuation(const std::string& name, const std::string& sc
 }  // namespace
 
 TEST_CASE("checkpoint cli: DEM with gravity and friction continues bit for bit after SIGKILL and SIGTERM") {
-  check_identical_continuation("dem", dem_scene, "dem", {"dem/series.csv", "dem/final.json"});
+  check_identical_continuation("dem", dem_scene, "dem",
+                               {"dem/series.csv", "dem/final.json", "dem/final.vtu", "dem/trajectory.pvd",
+                                "dem/trajectory/frame_00000.vtu", "dem/trajectory/frame_00002.vtu", "dem/trajectory/frame_00004.vtu"});
 }
 
 TEST_CASE("checkpoint cli: TS continues bit for bit after SIGKILL and SIGTERM") {

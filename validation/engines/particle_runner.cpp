@@ -14,6 +14,7 @@
 #include "validation/engines/particle_outputs.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/particle_snapshot.hpp"
+#include "validation/io/trajectory.hpp"
 #include "validation/io/text.hpp"
 
 namespace aggkit {
@@ -127,6 +128,13 @@ RealizationResult get_result(StateReader& in) {
   get_pairs(in, result.counters);
   in.get(result.picture);
   return result;
+}
+
+// A snapshot of the simulation's state: the final one, or a frame of the trajectory.
+void write_snapshot(const std::filesystem::path& path, const ParticleSimulation& simulation) {
+  const ParticleView state(simulation);
+  write_vtu_snapshot(path, state.configuration(), state.cluster_labels(), state.velocities(), simulation.radii(),
+                     simulation.angular_velocities());
 }
 
 // What a checkpoint holds of each realization: nothing yet (it starts from its start), its state at an
@@ -310,6 +318,11 @@ class ParticleEngine final : public Engine {
       }
     } else {
       simulation->prepare(status);
+      if (r == 0 && scene.observe.frame_every > 0) {  // a fresh trajectory, from t = 0
+        std::filesystem::remove_all(observer.folder / "trajectory");
+        std::filesystem::create_directories(observer.folder / "trajectory");
+        write_snapshot(trajectory_frame(observer.folder, 0), *simulation);
+      }
       p0 = simulation->momentum() + simulation->wall_impulse();
       const std::vector<Vector3> v = simulation->velocities();
       const std::vector<double> m = simulation->masses();
@@ -357,6 +370,11 @@ class ParticleEngine final : public Engine {
       record_ff(t);
       if (!stopped) stopped = simulation->advance(t, status);
       result.series.push_back(observer.measure(t, ParticleView(*simulation)));
+      if (r == 0) {  // the trajectory's frame of this output, if it has one
+        const auto& frames = scene.observe.frame_outputs;
+        if (const auto at = std::find(frames.begin(), frames.end(), k); at != frames.end())
+          write_snapshot(trajectory_frame(observer.folder, std::size_t(at - frames.begin()) + 1), *simulation);
+      }
       if (r == 0 && observer.progress) {
         std::lock_guard lock(report);
         observer.progress(t);
@@ -381,9 +399,13 @@ class ParticleEngine final : public Engine {
     result.finals.emplace_back("stop_time", simulation->time());
     result.counters = simulation->counters();
     if (r == 0 && observer.final_configuration) observer.final_configuration(final);
+    if (r == 0 && scene.observe.frame_every > 0) {
+      std::vector<double> times{0.0};
+      for (std::size_t k : scene.observe.frame_outputs) times.push_back(outputs[k]);
+      write_trajectory_collection(observer.folder, times);
+    }
     if (r == 0 && scene.observe.snapshots) {
-      write_vtu_snapshot(observer.folder / "final.vtu", final.configuration(), final.cluster_labels(), final.velocities(),
-                         simulation->radii(), simulation->angular_velocities());
+      write_snapshot(observer.folder / "final.vtu", *simulation);
       std::string error;
       result.picture = write_cluster_picture(observer.folder / "final.png", final.configuration(), final.cluster_labels(), &error)
                            ? "final.png"
@@ -444,7 +466,7 @@ EngineType particle_engine_type(ParticleEngineKind kind) {
   OptionTable options = kind.options;
   const OptionTable runner = runner_rows().table();
   options.insert(options.end(), runner.begin(), runner.end());
-  std::vector<std::string> files{"final.json", "final.vtu", "final.png"};
+  std::vector<std::string> files{"final.json", "final.vtu", "final.png", "trajectory.pvd"};
   for (auto& f : profile_files()) files.push_back(f);
   auto setup = kind.setup;
   const std::string name = kind.name;
