@@ -124,7 +124,11 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
         *options.warnings << "aggkit: warning: engine " << engine.label() << ": " << warning << "\n";
     if (result.records.back().completed()) {
       write_engine_outputs(scene, result.records.back(), folder);
-      if (checkpoints) checkpoints->complete(engine, result.records.back());
+      if (checkpoints) {
+        checkpoints->complete(engine, result.records.back());
+        // A signal during an engine that saves no state of its own (snes, exact): its record is the checkpoint.
+        if (options.catch_signals && stop_signal() != 0) throw RunInterrupted{stop_signal()};
+      }
     } else if (options.warnings)
       *options.warnings << "aggkit: warning: engine " << engine.label() << " failed: " << *result.records.back().failure
                         << "\n";
