@@ -13,6 +13,8 @@
 #include <sys/wait.h>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/apps/command_fixture.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
@@ -195,6 +197,10 @@ void check_identical_continuation(const std::string& name, const std::string& sc
     CHECK_FALSE(std::filesystem::exists(out / "summary.json"));
     REQUIRE(aggkit_run("run --resume " + quoted(out.string()) + " --quiet", folder) == 0);
     CHECK_FALSE(std::filesystem::exists(out / "checkpoint"));  // a finished run removes its checkpoints
+    // It continued from the checkpoint (a run started again would give the same bytes too).
+    const auto statistics = nlohmann::json::parse(read_text(out / "summary.json"))["engines"][label]["statistics"];
+    INFO(statistics.dump());
+    CHECK((statistics.value("resumed_realizations", 0) >= 1 || statistics.value("resumed_at", 0.0) > 0));
     for (const std::string& file : files) {  // each "<label>/<file>"
       INFO(file);
       REQUIRE(std::filesystem::exists(out / file));
@@ -290,6 +296,7 @@ TEST_CASE("checkpoint cli: CVODE continues within its integration tolerance afte
     INFO("signal " << signal << " " << delay.count() << " ms after the first checkpoint");
     CHECK(interrupted_run(scene, out, "cvode", signal, delay, folder) == (signal == "KILL" ? 137 : 4));
     REQUIRE(aggkit_run("run --resume " + quoted(out.string()) + " --quiet", folder) == 0);
+    CHECK(nlohmann::json::parse(read_text(out / "summary.json"))["engines"]["cvode"]["statistics"].value("resumed_at", 0.0) > 0);
     const auto resumed = aggkit::testing::csv_rows(out / "cvode" / "series.csv");
     REQUIRE(resumed.size() == whole.size());
     // The outputs before the checkpoint are those of the first run, to the bit; the continuation restarts

@@ -179,7 +179,8 @@ def test_run_resumes_a_stopped_run_to_the_same_outputs(tmp_path):
         time.sleep(0.002)
     process.send_signal(signal.SIGTERM)
     assert process.wait() == 4  # the last checkpoint written
-    aggkit.run(scene, out, resume=True)
+    summary = aggkit.run(scene, out, resume=True)
+    assert summary["engines"]["dem"]["statistics"]["resumed_realizations"] >= 1  # continued, not run again
     assert _text(out / "dem" / "series.csv") == _text(tmp_path / "whole" / "dem" / "series.csv")
     assert not (out / "checkpoint").exists()
     # resume=True without checkpoints starts the run (with them), to the same outputs.

@@ -81,7 +81,7 @@ class CvodeEngine final : public Engine {
                        " densities below -atol_k at one output; the most negative n_k = " +
                        shortest_text(s.most_negative_beyond_tolerance) + " at k = " + std::to_string(s.most_negative_size) +
                        ", t = " + shortest_text(s.most_negative_time) + " (tighten rtol or atol)");
-    return {
+    EngineStatistics statistics{
         {"method", to_string(options_.method)},
         {"rhs", to_string(options_.rates)},
         {"preconditioner", to_string(options_.preconditioner)},
@@ -110,6 +110,9 @@ class CvodeEngine final : public Engine {
         {"negative_beyond_tolerance", std::int64_t(s.negative_beyond_tolerance)},
         {"most_negative_beyond_tolerance", s.most_negative_beyond_tolerance},
     };
+    // A resume: the output time it continued from (the statistics above count the steps since then).
+    if (restart) statistics.push_back({"resumed_at", restart->time});
+    return statistics;
   }
 
   IntegratorOptions options_;

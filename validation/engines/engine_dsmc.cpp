@@ -116,7 +116,7 @@ class DsmcEngine final : public Engine {
       frozen += s.frozen;
       if (s.frozen && !(first_frozen <= s.frozen_time)) first_frozen = s.frozen_time;
     }
-    return {
+    EngineStatistics statistics{
         {"method", dsmc::to_string(options_.method)},
         {"particles", std::int64_t(options_.particles)},
         {"runs", std::int64_t(options_.runs)},
@@ -138,6 +138,8 @@ class DsmcEngine final : public Engine {
         {"frozen_runs", frozen},
         {"first_frozen_time", first_frozen},
     };
+    if (first > 0) statistics.push_back({"resumed_at", outputs[first - 1]});  // a resume: the output it continued from
+    return statistics;
   }
 
   dsmc::Options options_;

@@ -51,6 +51,7 @@ struct RealizationResult {
   NamedProfiles profiles;
   std::vector<std::pair<std::string, std::int64_t>> counters;
   std::string picture = "not requested";
+  bool resumed = false;  // continued from a checkpoint (its state, or its result), not from its start
 };
 
 void put_measurement(StateWriter& out, const Measurement& m) {
@@ -205,6 +206,7 @@ class ParticleEngine final : public Engine {
           if (in.read<RealizationStage>() != RealizationStage::finished) continue;
           results[r] = get_result(in);
           in.expect_end();
+          results[r].resumed = true;
           finished[r] = true;
           states.set(r, std::move(resumed[r]));
         }
@@ -268,6 +270,12 @@ class ParticleEngine final : public Engine {
       statistics.push_back({results.front().counters[c].first, total});
     }
     statistics.push_back({"picture", results.front().picture});
+    // A resume: how many realizations continued from the checkpoint (the others started again).
+    if (observer.checkpoint && !observer.checkpoint->resumed().empty()) {
+      std::int64_t resumed = 0;
+      for (const auto& result : results) resumed += result.resumed;
+      statistics.push_back({"resumed_realizations", resumed});
+    }
     return statistics;
   }
 
@@ -312,6 +320,7 @@ class ParticleEngine final : public Engine {
         saved.expect_end();
         if (next_output > outputs.size() || result.series.size() != next_output)
           throw CheckpointError("the checkpoint's output count does not fit this scene's output times");
+        result.resumed = true;
       } catch (const CheckpointError& e) {
         throw InputError("--resume", label(), "a checkpoint this engine can continue from; realization " + std::to_string(r + 1) +
                                                   ": " + e.what());

@@ -127,8 +127,10 @@ constexpr double frame_bytes_per_particle = (12 * 8 + 4 + 1) * 4.0 / 3.0;
 void read_snapshots(const SceneTable& observe, const Scene& scene, Observation& observation) {
   const toml::node* value = observe.find("snapshots");
   if (!value) return;
-  if (!value->is_table()) {
-    observation.snapshots = observe.boolean("snapshots");
+  if (value->is_boolean()) {
+    observation.snapshots = value->as_boolean()->get();
+  } else if (!value->is_table()) {
+    observe.fail("snapshots", "true, false or { every = Δt } (a trajectory)");
   } else {
     const SceneTable form = observe.table("snapshots");
     form.allow_only({"every", "max_frames", "max_megabytes"});
