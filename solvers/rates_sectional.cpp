@@ -1,17 +1,22 @@
-// The aggregation-shattering right-hand side on a graded size grid (solvers/size_grid.hpp) by the
-// fixed-pivot technique [Kumar1996].
+// The aggregation-shattering right-hand side on a graded size grid (solvers/size_grid.hpp): aggregates
+// between pivots shared by the three-moment shares [Alopaeus2006] (the default) or the fixed-pivot
+// technique [Kumar1996].
 //
 // Derivation. The unknowns N_i are the numbers of clusters at the pivots x_1 < ... < x_M = N. A collision
 // of classes i and j happens at rate K(x_i, x_j) N_i N_j per unordered pair (½ K N_i² for i = j). With
-// probability 1/(1+λ) it aggregates: the new cluster of size v = x_i + x_j lies between the pivots x_p ≤ v
-// < x_{p+1} and is shared as η to p and 1 - η to p + 1 with η = (x_{p+1} - v)/(x_{p+1} - x_p), the only
-// shares that keep both number (η + (1 - η) = 1) and mass (η x_p + (1 - η) x_{p+1} = v) [Kumar1996]. With
-// rate λ K it shatters both partners into x_i + x_j monomers, which is exact on any grid (x_1 = 1). So,
-// summing over unordered pairs i ≤ j with w_ij = K(x_i, x_j) (½ K(x_i, x_i) on the diagonal),
+// probability 1/(1+λ) it aggregates: the new cluster of size v = x_i + x_j is shared among the pivots
+// around it with weights w_m (pivot_share, solvers/size_grid.hpp). Fixed pivot: x_p ≤ v < x_{p+1} gets
+// η = (x_{p+1} - v)/(x_{p+1} - x_p) to p and 1 - η to p + 1, the only two shares that keep both number
+// (η + (1 - η) = 1) and mass (η x_p + (1 - η) x_{p+1} = v) [Kumar1996]. Three moments: the nearest three
+// pivots q, q+1, q+2 get the Lagrange weights w_m = Π_{l≠m} (v - x_l)/(x_m - x_l), the only three shares
+// with Σ w_m x_m^k = v^k for k = 0, 1, 2, which also keep the second moment and so add no numerical
+// spread to the aggregate [Alopaeus2006]. With rate λ K it shatters both partners into x_i + x_j
+// monomers, which is exact on any grid (x_1 = 1). So, summing over unordered pairs i ≤ j with
+// w_ij = K(x_i, x_j) (½ K(x_i, x_i) on the diagonal),
 //   dN/dt = Σ_{i≤j} w_ij N_i N_j V_ij,
-//   V_ij  = η e_p + (1 - η) e_{p+1} - (1 + λ)(e_i + e_j) + λ (x_i + x_j) e_1.
-// The section–section gain terms are the first two entries of V_ij: class p gains from every pair whose
-// sum lands in [x_{p-1}, x_{p+1}), weighted by the share of p. On integer pivots v is a pivot, η = 1, and
+//   V_ij  = Σ_m w_m e_m - (1 + λ)(e_i + e_j) + λ (x_i + x_j) e_1.
+// The section–section gain terms are the first sum of V_ij: class m gains from every pair whose sum lands
+// within its stencil, weighted by its share. On integer pivots v is a pivot, it lands there whole, and
 // this is the discrete equation of solvers/model.hpp term by term: the loss -(1+λ) N_k Σ_j K_kj N_j, the
 // gain ½ Σ_{i+j=k} K_ij N_i N_j and the monomer gain λ N_1 Σ_{j≥2} x_j K_1j N_j + (λ/2) Σ_{i,j≥2}
 // (x_i + x_j) K_ij N_i N_j (for i = j = 1, V = e_2 - 2e_1: shattering two monomers changes nothing).
@@ -20,9 +25,9 @@
 // the grid, so mass is conserved exactly (to round-off) under cutoff, and under drop up to the leak.
 //
 // The form is bilinear in N, so J v = Σ_{i≤j} w_ij (N_i v_j + N_j v_i) V_ij exactly. Cost O(M²) per
-// evaluation with the pair table (target p, share η, weight w) stored: M is a few hundred to a few
-// thousand on a graded grid, where M² pair sums beat the FFT path's O(N log N) over all N sizes by orders
-// of magnitude (N reaches 2^40).
+// evaluation with the pair table (stencil, shares, weight) stored: M is a few hundred to a few thousand
+// on a graded grid, where M² pair sums beat the FFT path's O(N log N) over all N sizes by orders of
+// magnitude (N reaches 2^62).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -37,7 +42,8 @@ namespace {
 class SectionalRates final : public Rates {
  public:
   explicit SectionalRates(const AggregationModel& model)
-      : Rates(model.unknowns()), lambda_(model.lambda), x_(model.pivots()), cutoff_(model.truncation == Truncation::cutoff) {
+      : Rates(model.unknowns()), lambda_(model.lambda), x_(model.pivots()), cutoff_(model.truncation == Truncation::cutoff),
+        scheme_(model.grid.scheme) {
     const std::size_t M = x_.size();
     if (M > max_classes)
       throw InputError("grid", model.grid.describe() + " on N = " + std::to_string(model.size) + " (" +
@@ -54,9 +60,10 @@ class SectionalRates final : public Rates {
           pair.target = std::uint32_t(M);  // leaves the grid (drop) or does not collide (cutoff)
           if (cutoff_) pair.weight = 0.0;
         } else {
-          const auto [p, share] = fixed_pivot_share(x_, v);
-          pair.target = std::uint32_t(p);
-          pair.share = share;
+          const PivotShare share = pivot_share(x_, v, model.grid.scheme, model.grid.resolved);
+          pair.target = std::uint32_t(share.first);
+          pair.count = std::uint32_t(share.count);
+          for (int m = 0; m < 3; ++m) pair.share[m] = share.weight[m];
         }
         pairs_.push_back(pair);
       }
@@ -126,13 +133,14 @@ class SectionalRates final : public Rates {
         }
   }
 
-  std::string describe() const override { return "fixed-pivot sections, O(M^2), M = " + std::to_string(x_.size()); }
+  std::string describe() const override { return std::string(scheme_name(scheme_)) + " sections, O(M^2), M = " + std::to_string(x_.size()); }
 
  private:
   struct Pair {
-    double weight = 0.0;    // w_ij
-    double share = 1.0;     // η: the part of the aggregate given to pivot `target`
-    std::uint32_t target = 0;  // p (M: beyond N)
+    double weight = 0.0;                // w_ij
+    double share[3] = {1.0, 0.0, 0.0};  // the parts of the aggregate given to pivots target, target + 1, ..
+    std::uint32_t target = 0;           // the first pivot of the stencil (M: beyond N)
+    std::uint32_t count = 1;            // pivots in the stencil
   };
 
   // out += scale Σ_{i≤j} w_ij (u_i v_j + u_j v_i) V_ij.
@@ -152,10 +160,8 @@ class SectionalRates final : public Rates {
         out[j] -= loss * r;
         monomers += (xi + x_[j]) * r;
         const std::size_t p = pair->target;
-        if (p < M) {
-          out[p] += pair->share * r;
-          if (pair->share < 1.0) out[p + 1] += (1.0 - pair->share) * r;
-        }
+        if (p < M)
+          for (std::uint32_t m = 0; m < pair->count; ++m) out[p + m] += pair->share[m] * r;
       }
       out[i] -= loss * lost_i;
     }
@@ -180,10 +186,8 @@ class SectionalRates final : public Rates {
           add(j, column, -loss * d);
           add(0, column, lambda * (x_[i] + x_[j]) * d);
           const std::size_t p = pair->target;
-          if (p < M) {
-            add(p, column, pair->share * d);
-            if (pair->share < 1.0) add(p + 1, column, (1.0 - pair->share) * d);
-          }
+          if (p < M)
+            for (std::uint32_t m = 0; m < pair->count; ++m) add(p + m, column, pair->share[m] * d);
         }
       }
   }
@@ -191,6 +195,7 @@ class SectionalRates final : public Rates {
   ShatteringRate lambda_;
   std::vector<double> x_;
   bool cutoff_;
+  GridScheme scheme_;
   std::vector<Pair> pairs_;
 };
 

@@ -9,6 +9,16 @@
 
 namespace aggkit {
 
+const char* scheme_name(GridScheme scheme) {
+  return scheme == GridScheme::three_moment ? "three-moment" : "fixed-pivot";
+}
+
+GridScheme scheme_from_name(const std::string& name) {
+  if (name == "three-moment") return GridScheme::three_moment;
+  if (name == "fixed-pivot") return GridScheme::fixed_pivot;
+  throw InputError("grid.scheme", name, "\"three-moment\" (the default) or \"fixed-pivot\"");
+}
+
 void SizeGrid::validate() const {
   if (uniform()) return;
   if (resolved < 2) throw InputError("grid.resolved", std::to_string(resolved), "an integer >= 2 (or 0: the uniform grid)");
@@ -19,7 +29,8 @@ void SizeGrid::validate() const {
 std::string SizeGrid::describe() const {
   if (uniform()) return "uniform";
   char text[96];
-  std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g)", resolved, ratio);
+  if (scheme == GridScheme::three_moment) std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g)", resolved, ratio);
+  else std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g, %s)", resolved, ratio, scheme_name(scheme));
   return text;
 }
 
@@ -64,6 +75,32 @@ std::pair<std::size_t, double> fixed_pivot_share(std::span<const double> x, doub
   const std::size_t p = std::size_t(std::upper_bound(x.begin(), x.end(), v) - x.begin()) - 1;
   if (x[p] == v || p + 1 == M) return {p, 1.0};
   return {p, (x[p + 1] - v) / (x[p + 1] - x[p])};
+}
+
+PivotShare pivot_share(std::span<const double> x, double v, GridScheme scheme, std::size_t resolved) {
+  const std::size_t M = x.size();
+  const auto [p, eta] = fixed_pivot_share(x, v);
+  PivotShare share;
+  share.first = p;
+  if (p >= M || eta == 1.0) return share;  // beyond N, or on a pivot
+  share.count = 2;
+  share.weight[0] = eta;
+  share.weight[1] = 1.0 - eta;
+  if (scheme != GridScheme::three_moment || M < 3) return share;
+  // The nearest three pivots: x_{p-1}, x_p, x_{p+1} when v is nearer x_p, else x_p, x_{p+1}, x_{p+2}.
+  // Below x_K the unit spacing jumps to the sections' (x_{K+1} - x_K ≫ 1 at coarse r), and a stencil
+  // across the jump gives its far pivot a large negative share: just above x_K the stencil looks forward.
+  std::size_t q = v - x[p] < x[p + 1] - v && p > 0 ? p - 1 : p;
+  if (q + 1 < resolved) q = p;
+  if (q + 2 >= M) q = M - 3;
+  if (q + 1 < resolved) return share;  // fewer than two sections: the fixed-pivot pair
+  const double a = x[q], b = x[q + 1], c = x[q + 2];
+  share.first = q;
+  share.count = 3;
+  share.weight[0] = (v - b) * (v - c) / ((a - b) * (a - c));
+  share.weight[1] = (v - a) * (v - c) / ((b - a) * (b - c));
+  share.weight[2] = (v - a) * (v - b) / ((c - a) * (c - b));
+  return share;
 }
 
 std::vector<double> to_grid(std::span<const double> x, std::span<const double> per_size) {

@@ -65,17 +65,20 @@ class Model:
         evaluation; checked at 1001 points of [0, t_end]).
     size: the truncation N >= 2.  truncation: "drop" or "cutoff".
     initial: None (unit monodisperse start) or an array n_1.. of densities (padded with zeros to N).
-    grid: None (every size 1..N) or {"resolved": K, "ratio": r}: sizes 1..K one by one, then fixed-pivot
-        sections growing by r up to N (about K + ln(N/K)/ln r unknowns; N may then reach 2^62). Results
-        then hold one entry per section: `sizes` are their pivots, `n` the numbers of clusters they stand for.
+    grid: None (every size 1..N) or {"resolved": K, "ratio": r} (optionally "scheme": "three-moment", the
+        default, or "fixed-pivot"): sizes 1..K one by one, then sections growing by r up to N (about
+        K + ln(N/K)/ln r unknowns; N may then reach 2^62). Results then hold one entry per section: `sizes`
+        are their pivots, `n` the numbers of clusters they stand for.
     kernel_parameters: the kernel's parameters by name (a=0.95, mu=0.5, A=1, B=0).
     """
 
     def __init__(self, kernel, lam=0.0, size=None, truncation="drop", initial=None, grid=None, **kernel_parameters):
         if size is None:
             raise ValueError("size = None: the truncation N, an integer >= 2, is required")
-        if grid is not None and (not isinstance(grid, dict) or set(grid) != {"resolved", "ratio"}):
-            raise ValueError(f"grid = {grid!r}: None or a dict {{'resolved': K, 'ratio': r}}")
+        if grid is not None and (not isinstance(grid, dict) or not {"resolved", "ratio"} <= set(grid)
+                                 or not set(grid) <= {"resolved", "ratio", "scheme"}):
+            raise ValueError(f"grid = {grid!r}: None or a dict {{'resolved': K, 'ratio': r}} with an optional "
+                             "'scheme' ('three-moment' or 'fixed-pivot')")
         self.grid = None if grid is None else dict(grid)
         self.kernel = kernel
         self.lam = lam

@@ -91,6 +91,7 @@ inline std::vector<BadScene> bad_scenes() {
       bad("negative initial density", [](SceneText& s) { s.model += "initial = { kind = \"table\", n = [1.0, -0.25] }\n"; s.engines = "[[engine]]\nname = \"cvode\"\n"; s.compare = ""; }, "model.initial.n[1]", "-0.25"),
       bad("initial table longer than N", [](SceneText& s) { s.model = "kernel = { name = \"constant\" }\nsize = 2\ninitial = { kind = \"table\", n = [1, 0, 0] }\n"; s.engines = "[[engine]]\nname = \"cvode\"\n"; s.compare = ""; }, "model.initial.n", "3"),
       bad("zero monodisperse density", [](SceneText& s) { s.model += "initial = { kind = \"monodisperse\", density = 0 }\n"; }, "model.initial.density", "0"),
+      bad("unknown grid scheme", [](SceneText& s) { s.model += "grid = { resolved = 16, ratio = 1.1, scheme = \"cell-average\" }\n"; }, "model.grid.scheme", "cell-average", cli),
       bad("unknown model key", [](SceneText& s) { s.model += "kernal = 1\n"; }, "model.kernal", "1", cli),
       // [time]
       bad("zero end time", [](SceneText& s) { s.time = "end = 0.0\n"; }, "time.end", "0"),

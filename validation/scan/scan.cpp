@@ -217,7 +217,8 @@ void converged_lambda_crit(const ScanPlan& plan, const std::filesystem::path& po
       "lambda_crit_half_ratio,change_half_ratio,note";
   const auto file = [&](double a) {
     std::string name = "hopfcurve_a";
-    name += shortest_text(a) + "_K" + std::to_string(plan.hopf_grid.resolved) + "_r" + shortest_text(plan.hopf_grid.ratio) + ".csv";
+    name += shortest_text(a) + "_K" + std::to_string(plan.hopf_grid.resolved) + "_r" + shortest_text(plan.hopf_grid.ratio) + "_" +
+            scheme_name(plan.hopf_grid.scheme) + ".csv";
     return points / name;
   };
   const auto parse = [&](double a) -> std::optional<std::vector<std::string>> {

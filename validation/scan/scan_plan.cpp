@@ -151,11 +151,12 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   plan.stability = scan.optional_boolean("stability").value_or(true);
   plan.hopf_grid = scene.model.grid;
   if (const auto grid = scan.optional_table("hopf_grid")) {
-    grid->allow_only({"resolved", "ratio"});
+    grid->allow_only({"resolved", "ratio", "scheme"});
     plan.hopf_grid.resolved = grid->count("resolved", 2);
     plan.hopf_grid.ratio = grid->number("ratio", Bound::any);
-    under_key([&](const std::string& k) { return scan.key("hopf_grid") + "." + k.substr(k.find('.') + 1); },
-              [&] { plan.hopf_grid.validate(); });
+    const auto key = [&](const std::string& k) { return scan.key("hopf_grid") + "." + k.substr(k.find('.') + 1); };
+    if (grid->find("scheme")) plan.hopf_grid.scheme = under_key(key, [&] { return scheme_from_name(grid->string("scheme")); });
+    under_key(key, [&] { plan.hopf_grid.validate(); });
   }
 
   if (const auto check = scan.optional_table("truncation_check")) {

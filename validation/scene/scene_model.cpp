@@ -13,14 +13,16 @@ constexpr std::size_t max_size = 100'000'000;  // N beyond this cannot be stored
 // stay ordered in double precision).
 constexpr std::size_t max_graded_size = std::size_t(1) << 62;
 
-// grid = { resolved = K, ratio = r } (solvers/size_grid.hpp); absent: the uniform grid.
+// grid = { resolved = K, ratio = r, scheme = "three-moment" | "fixed-pivot" } (solvers/size_grid.hpp);
+// absent: the uniform grid.
 SizeGrid read_grid(const SceneTable& model) {
   SizeGrid grid;
   if (!model.find("grid")) return grid;
   const SceneTable table = model.table("grid");
-  table.allow_only({"resolved", "ratio"});
+  table.allow_only({"resolved", "ratio", "scheme"});
   grid.resolved = table.count("resolved", 2);
   grid.ratio = table.number("ratio", Bound::any);
+  if (table.find("scheme")) grid.scheme = under_key(model_key, [&] { return scheme_from_name(table.string("scheme")); });
   under_key(model_key, [&] { grid.validate(); });
   return grid;
 }
