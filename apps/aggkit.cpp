@@ -1,13 +1,16 @@
 // The `aggkit` command line: parses arguments and calls the libraries.
-//   aggkit run SCENE --out DIR [--quiet] [--no-plot] [-- PETSC_OPTIONS]
+//   aggkit run SCENE --out DIR [--checkpoint-every 10m] [--quiet] [--no-plot] [-- PETSC_OPTIONS]
+//   aggkit run --resume DIR [--quiet]
 //   [mpirun -np K] aggkit scan SCENE --out DIR [--quiet] [--no-plot]
 //   aggkit validate [--tier fast|full] [--out DIR] [--jobs K] [--quiet] [--no-plot] [--rerun] [SCENE ...]
 //   [mpirun -np K] aggkit sweep SCENE --out DIR [--quiet] [--no-plot]
 //   aggkit kernels
 //   aggkit --version
 // Exit status: 0 pass; 1 a comparison failed (or an engine failed); 2 bad input (bad scene or command
-// line, unreadable scene, unwritable output folder); 3 an unexpected internal error.
+// line, unreadable scene, unwritable output folder, a checkpoint that cannot be continued); 3 an unexpected
+// internal error; 4 stopped by SIGTERM or SIGINT after writing the last checkpoint.
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <iostream>
 #include <filesystem>
@@ -22,6 +25,7 @@
 #include "validation/io/exit_code.hpp"
 #include "validation/harness/harness.hpp"
 #include "validation/harness/output_folder.hpp"
+#include "validation/harness/run_checkpoint.hpp"
 #include "validation/scene/kernel_catalogue.hpp"
 #include "validation/scan/scan.hpp"
 #include "validation/scan/scan_mpi.hpp"
@@ -39,7 +43,9 @@ const char* exit_status_help =
     "  1  a comparison exceeded its tolerance, or an engine failed during its run\n"
     "  2  bad input: scene (key, value and what is allowed are named), command line, missing or\n"
     "     unreadable scene file, output folder that cannot be created or written\n"
-    "  3  an unexpected internal error (please report it)\n";
+    "  3  an unexpected internal error (please report it)\n"
+    "  4  aggkit run stopped by SIGTERM or SIGINT after writing its last checkpoint (continue it with\n"
+    "     aggkit run --resume DIR)\n";
 
 std::string engine_help() {
   return aggkit::engines_help() + "\n" + aggkit::observables_help() + "\n" + exit_status_help;
@@ -51,6 +57,8 @@ struct RunArguments {
   bool quiet = false;
   bool no_plot = false;
   bool force = false;
+  std::string checkpoint_every;  // a duration: "600", "10m", "1.5h"
+  std::string resume;            // the output folder of a run to continue
   std::string petsc_options;  // after `--`: PETSc options for the snes engines
 };
 
@@ -68,17 +76,65 @@ void use_petsc_options(const aggkit::Scene& scene, const std::string& options) {
   aggkit::set_command_line_petsc_options(options);
 }
 
-int run(const RunArguments& arguments) {
-  // Before the scene is read: a run refused for bad input must not leave an earlier run's summary behind.
-  aggkit::OutputFolder(arguments.out).forget_summary();
+// A wall-time duration: seconds, or a number with the unit s, m, h or d ("10m", "1.5h").
+double parse_duration(const std::string& text, const std::string& key) {
+  const std::string allowed = "a duration > 0: seconds, or a number with s, m, h or d (600, 10m, 1.5h)";
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    throw aggkit::InputError(key, "\"" + text + "\"", allowed);
+  }
+  const std::string unit = text.substr(used);
+  const double scale = unit.empty() || unit == "s" ? 1 : unit == "m" ? 60 : unit == "h" ? 3600 : unit == "d" ? 86400 : 0;
+  if (scale == 0 || !(value > 0) || !std::isfinite(value * scale)) throw aggkit::InputError(key, "\"" + text + "\"", allowed);
+  return value * scale;
+}
+
+int run(RunArguments arguments) {
+  aggkit::RunOptions options;
+  if (!arguments.resume.empty()) {
+    if (!arguments.scene.empty() || !arguments.out.empty() || !arguments.checkpoint_every.empty())
+      throw aggkit::InputError("--resume", arguments.resume,
+                               "the folder of the run to continue, alone: its scene, --out and --checkpoint-every are "
+                               "those of the run (DIR/checkpoint/run.json)");
+    const aggkit::CheckpointedRun run = aggkit::read_checkpointed_run(arguments.resume);
+    const std::uint64_t now = aggkit::scene_fingerprint(run.scene, "--resume");
+    if (now != run.fingerprint)
+      throw aggkit::InputError("--resume", arguments.resume,
+                               "a run whose scene is unchanged: " + run.scene.string() +
+                                   " changed since the checkpoint (its text's fingerprint differs); restore it, or start "
+                                   "a new run");
+    arguments.scene = run.scene.string();
+    arguments.out = arguments.resume;
+    arguments.no_plot = !run.plot;
+    options.checkpoint_every = run.interval;
+    options.resume = true;
+  } else {
+    if (arguments.scene.empty()) throw aggkit::InputError("scene", "(none)", "a scene file (or --resume DIR)");
+    if (arguments.out.empty()) throw aggkit::InputError("--out", "(none)", "an output folder (or --resume DIR)");
+    if (!arguments.checkpoint_every.empty())
+      options.checkpoint_every = parse_duration(arguments.checkpoint_every, "--checkpoint-every");
+    // Before the scene is read: a run refused for bad input must not leave an earlier run's summary behind.
+    aggkit::OutputFolder(arguments.out).forget_summary();
+  }
   const aggkit::Scene scene = aggkit::load_scene(arguments.scene);
   use_petsc_options(scene, arguments.petsc_options);
-  aggkit::RunOptions options;
   options.out = arguments.out;
   options.plot = !arguments.no_plot;
   options.force = arguments.force;
+  options.scene_file = std::filesystem::absolute(arguments.scene);
+  options.scene_fingerprint = aggkit::scene_fingerprint(arguments.scene, "scene");
+  options.catch_signals = true;
   if (arguments.quiet) options.progress = nullptr;
-  return aggkit::run_scene(scene, options).exit_code;
+  try {
+    return aggkit::run_scene(scene, options).exit_code;
+  } catch (const aggkit::RunInterrupted& stop) {
+    std::cerr << "aggkit: stopped by signal " << stop.signal << " after the last checkpoint; continue with: aggkit run --resume "
+              << arguments.out << "\n";
+    return aggkit::exit_interrupted;
+  }
 }
 
 // MPI is initialised for the scan only (a singleton job without mpirun); the other commands never touch it.
@@ -133,8 +189,12 @@ int sweep(const RunArguments& arguments, int* argc, char*** argv) {
 // The subcommands: each declares its arguments and help on `app` and returns its parser.
 CLI::App* add_run_command(CLI::App& app, RunArguments& arguments) {
   CLI::App* run_command = app.add_subcommand("run", "run a scene and write its outputs, comparisons and report");
-  run_command->add_option("scene", arguments.scene, "scene file (TOML; see validation/scenes/)")->required();
-  run_command->add_option("--out,-o", arguments.out, "output folder (created if needed)")->required();
+  run_command->add_option("scene", arguments.scene, "scene file (TOML; see validation/scenes/)");
+  run_command->add_option("--out,-o", arguments.out, "output folder (created if needed)");
+  run_command->add_option("--checkpoint-every", arguments.checkpoint_every,
+                          "write each engine's state to DIR/checkpoint/ this often (600, 10m, 1.5h; at output times); "
+                          "SIGTERM/SIGINT write a last one and exit 4");
+  run_command->add_option("--resume", arguments.resume, "continue the run in this folder from its last checkpoint");
   run_command->add_flag("--quiet,-q", arguments.quiet, "no progress lines on stderr");
   run_command->add_flag("--no-plot", arguments.no_plot, "do not draw report.png");
   run_command->add_flag("--force", arguments.force,

@@ -19,10 +19,12 @@
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
+#include "particle/common/checkpoint.hpp"
 #include "solvers/stability.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/harness/engine_record.hpp"
 #include "validation/harness/harness.hpp"
+#include "validation/harness/run_checkpoint.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/text.hpp"
 
@@ -130,6 +132,11 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     scene.model.validate(scene.time.end);  // keys as the Python arguments name them ("initial.n[3]")
   }
   const std::unique_ptr<Engine> engine = build_engine(scene, engine_index);
+  if (const auto every = engine->settings().find("checkpoint_every");
+      every != engine->settings().end() && every->is_number() && every->get<double>() > 0)
+    throw InputError("checkpoint_every", shortest_text(every->get<double>()),
+                     "0 here: checkpoints need an output folder — aggkit.run(scene, out, checkpoint_every=...) or a "
+                     "scene's engine option with aggkit.run(scene, out, resume=True)");
 
   EngineRecord record;
   record.label = engine->label();
@@ -221,15 +228,32 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
   return out;
 }
 
-// The whole harness on a scene: returns summary.json's text.
+// The whole harness on a scene: returns summary.json's text. `resume`: continue from the checkpoints in
+// `out` if it has them (the scene's text must be the one they were written for), else start with them;
+// `checkpoint_every`: wall seconds between checkpoints (0: each engine's own option).
 std::string run_scene_text(const std::string& scene_text, const std::string& source, const std::string& out,
-                           bool force, bool plot) {
+                           bool force, bool plot, bool resume, double checkpoint_every) {
   const Scene scene = parse_scene(scene_text, source);
+  if ((resume || checkpoint_every > 0) && out.empty())
+    throw InputError(resume ? "resume" : "checkpoint_every", resume ? "True" : shortest_text(checkpoint_every),
+                     "checkpoints need an output folder: out = DIR");
+  if (!(checkpoint_every >= 0) || !std::isfinite(checkpoint_every))
+    throw InputError("checkpoint_every", shortest_text(checkpoint_every), "wall seconds >= 0 (0: the engines' own option)");
   const std::unique_ptr<ScratchFolder> scratch = out.empty() ? std::make_unique<ScratchFolder>() : nullptr;
   RunOptions options;
   options.out = out.empty() ? scratch->path / "run" : std::filesystem::path(out);
   options.force = force;
   options.plot = plot;
+  options.scene_fingerprint = fnv1a64(scene_text);
+  if (std::filesystem::exists(source)) options.scene_file = std::filesystem::absolute(source);
+  options.checkpoint_every = checkpoint_every;
+  if (resume && std::filesystem::exists(options.out / "checkpoint" / "run.json")) {
+    const CheckpointedRun earlier = read_checkpointed_run(options.out);
+    if (earlier.fingerprint != options.scene_fingerprint)
+      throw InputError("resume", "True", "a scene unchanged since the checkpoints in " + out + " were written (its text differs)");
+    options.resume = true;
+    if (checkpoint_every == 0) options.checkpoint_every = earlier.interval;
+  }
   options.report = nullptr;
   options.progress = nullptr;
   options.warnings = nullptr;
@@ -311,7 +335,7 @@ void bind_runs(py::module_& m) {
   m.def("run_engine", &run_engine, py::arg("scene_text"), py::arg("engine") = 0, py::arg("kernel") = py::none(),
         py::arg("initial") = py::none(), py::arg("lam") = py::none(), py::arg("progress") = py::none());
   m.def("run_scene", &run_scene_text, py::arg("scene_text"), py::arg("source"), py::arg("out"), py::arg("force"),
-        py::arg("plot"));
+        py::arg("plot"), py::arg("resume") = false, py::arg("checkpoint_every") = 0.0);
   m.def("option_table", &engine_option_table, py::arg("engine"));
   m.def("engine_kinds", [] {
     py::list kinds;

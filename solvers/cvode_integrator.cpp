@@ -265,7 +265,8 @@ void check(int flag, const char* call, const Problem& problem) {
 }  // namespace
 
 IntegratorStatistics integrate(const AggregationModel& model, std::span<const double> output_times,
-                               const IntegratorOptions& options, const OutputCallback& on_output) {
+                               const IntegratorOptions& options, const OutputCallback& on_output,
+                               const IntegratorRestart* restart) {
   options.validate();
   const double t_end = output_times.empty() ? 0.0 : output_times.back();
   model.validate(t_end);
@@ -304,6 +305,14 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
     abstol[k] = std::max(options.effective_atol() * std::pow(problem.sizes[k], -options.atol_exponent),
                          options.effective_atol_floor() * density_scale);
   y[N] = 0.0;
+  const double t0 = restart ? restart->time : 0.0;
+  if (restart) {  // the tolerances and the mass above stay those of the start
+    if (restart->densities.size() != N || !(t0 >= 0.0) || !std::isfinite(t0))
+      throw InputError("restart", std::to_string(restart->densities.size()) + " densities at t = " + format_value(t0),
+                       std::to_string(N) + " densities at a time >= 0");
+    std::copy(restart->densities.begin(), restart->densities.end(), y);
+    y[N] = restart->leaked_mass;
+  }
   if (options.negligible_fraction > 0.0) {  // the adaptive active range: ν_k = fraction · atol_k
     std::vector<double> levels(N);
     for (std::size_t k = 0; k < N; ++k) levels[k] = options.negligible_fraction * abstol[k];
@@ -321,7 +330,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   s.cvode = CVodeCreate(options.method == IntegratorMethod::adams ? CV_ADAMS : CV_BDF, s.context);
   if (!s.cvode) throw std::runtime_error("CVodeCreate failed");
   check(CVodeSetErrHandlerFn(s.cvode, error_handler, &problem), "CVodeSetErrHandlerFn", problem);
-  check(CVodeInit(s.cvode, rhs, 0.0, s.y), "CVodeInit", problem);
+  check(CVodeInit(s.cvode, rhs, t0, s.y), "CVodeInit", problem);
   check(CVodeSetUserData(s.cvode, &problem), "CVodeSetUserData", problem);
   check(CVodeWFtolerances(s.cvode, error_weights), "CVodeWFtolerances", problem);
 
@@ -358,8 +367,9 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
     N_Vector v;
     ~Free() { N_VDestroy(v); }
   } free_out{out};
-  double t = 0.0;
+  double t = t0;
   for (double t_out : output_times) {
+    if (restart && t_out <= t0) continue;
     if (t_out == 0.0) {
       on_output(0.0, view(s.y, N), 0.0);
       continue;

@@ -120,9 +120,22 @@ struct IntegratorStatistics {
 // Called at each output time with the densities (sizes 1..N) and the mass leaked so far (drop).
 using OutputCallback = std::function<void(double t, std::span<const double> n, double leaked_mass)>;
 
-// Integrates from t = 0 to each of `output_times` (increasing, > 0; t = 0 itself is reported if listed).
-// Throws std::runtime_error with CVODE's flag and the time reached if the integrator fails.
+// A continuation from a state an earlier run reported at one of its output times: the densities (one per
+// class) and the leaked mass at `time`. The tolerances and the conserved mass are those of the model's start,
+// as in the uninterrupted run; CVODE's BDF history (order, step size, Nordsieck array) is not kept — the
+// continuation starts at order 1 — so it agrees with the uninterrupted run within the integration tolerance,
+// not to the bit.
+struct IntegratorRestart {
+  double time = 0.0;
+  std::vector<double> densities;
+  double leaked_mass = 0.0;
+};
+
+// Integrates from t = 0 (or restart->time) to each of `output_times` (increasing, > 0; t = 0 itself is
+// reported if listed; with a restart, only the times after it). Throws std::runtime_error with CVODE's flag
+// and the time reached if the integrator fails.
 IntegratorStatistics integrate(const AggregationModel& model, std::span<const double> output_times,
-                               const IntegratorOptions& options, const OutputCallback& on_output);
+                               const IntegratorOptions& options, const OutputCallback& on_output,
+                               const IntegratorRestart* restart = nullptr);
 
 }  // namespace aggkit

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "particle/common/checkpoint.hpp"
+
 namespace aggkit {
 
 class CellList {
@@ -35,6 +37,23 @@ class CellList {
   std::uint32_t first(std::size_t cell) const { return head_[cell]; }
   std::uint32_t next(std::uint32_t particle) const { return next_[particle]; }
   std::size_t cell_of(std::uint32_t particle) const { return cell_[particle]; }
+
+  // Checkpoints: the lists as they are (their order depends on the history of moves).
+  void save(StateWriter& out) const {
+    out.put(head_);
+    out.put(next_);
+    out.put(prev_);
+    out.put(cell_);
+  }
+  void restore(StateReader& in) {
+    const std::size_t cells = head_.size(), particles = next_.size();
+    in.get(head_);
+    in.get(next_);
+    in.get(prev_);
+    in.get(cell_);
+    if (head_.size() != cells || next_.size() != particles || prev_.size() != particles || cell_.size() != particles)
+      throw CheckpointError("the checkpoint's cell list has another number of cells or particles");
+  }
 
  private:
   std::vector<std::uint32_t> head_, next_, prev_, cell_;

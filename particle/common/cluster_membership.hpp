@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "particle/common/checkpoint.hpp"
+
 namespace aggkit {
 
 class ClusterMembership {
@@ -39,6 +41,27 @@ class ClusterMembership {
 
   // Labels 0..C-1 in order of first appearance over the particles, and the size of each label.
   std::vector<std::uint32_t> labels() const;
+
+  // Checkpoints: the membership lists as they are (their order is that of the merges).
+  void save(StateWriter& out) const {
+    out.put(cluster_);
+    out.put(first_);
+    out.put(last_);
+    out.put(next_);
+    out.put(size_);
+    out.put(std::uint64_t(clusters_));
+  }
+  void restore(StateReader& in) {
+    const std::size_t n = cluster_.size();
+    in.get(cluster_);
+    in.get(first_);
+    in.get(last_);
+    in.get(next_);
+    in.get(size_);
+    clusters_ = std::size_t(in.read<std::uint64_t>());
+    if (cluster_.size() != n || first_.size() != n || last_.size() != n || next_.size() != n || size_.size() != n || clusters_ > n)
+      throw CheckpointError("the checkpoint's cluster membership has another number of particles");
+  }
 
  private:
   std::vector<std::uint32_t> cluster_, first_, last_, next_;

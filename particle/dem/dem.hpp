@@ -37,6 +37,9 @@
 
 namespace aggkit {
 
+class StateWriter;
+class StateReader;
+
 struct DemSettings {
   // Pair law: k_n = stiffness_per_mass · m* + stiffness, γ_n = damping_per_mass · m* + damping (one of the
   // two forms used; the (e, t_c) calibration gives the per-mass rates, (stiffness, damping) the absolute).
@@ -133,6 +136,13 @@ class Dem {
   // largest_cluster_mass_fraction() >= fraction, answered without the components when the contact graph has
   // too few edges for any component to hold that much mass (the usual case in a gas).
   bool largest_cluster_reaches(double fraction) const;
+
+  // Checkpoints (particle/common/checkpoint.hpp): everything step() carries from step to step — positions,
+  // velocities, forces, angular state, the Verlet list with its contact states and tangential histories, the
+  // clock and the counters. restore() into a Dem built from the same start and settings continues to the
+  // same bits; CheckpointError if the state is of another size.
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
 
  private:
   // The Verlet list: pairs (i < j) within 2 R_max + tolerance + skin at its build, sorted by (i, j), each

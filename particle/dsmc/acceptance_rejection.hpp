@@ -43,6 +43,9 @@ class AcceptanceRejection final : public Stepper {
   std::uint64_t leaked_mass() const override { return leaked_; }
   std::size_t bins() const { return population_.bins(); }
 
+  void save(StateWriter& out) const override;
+  void restore(StateReader& in) override;
+
  private:
   double bound(std::size_t b, std::size_t c) const { return majorant_[b * max_bins + c]; }
   void ensure_bins(std::size_t bins);  // majorant entries for bins < `bins`

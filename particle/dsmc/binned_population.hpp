@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "particle/common/checkpoint.hpp"
 #include "particle/dsmc/fenwick.hpp"
 #include "particle/dsmc/random.hpp"
 #include "particle/dsmc/size_bins.hpp"
@@ -39,6 +40,9 @@ class BinnedPopulation {
   void duplicate();  // every particle doubled (population control)
   void halve(Random& random);  // equal sizes paired, one of each pair removed (population_control.hpp)
   void for_each_group(const std::function<void(std::uint64_t size, std::uint64_t count)>& f) const;
+
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
 
  private:
   struct Bin {

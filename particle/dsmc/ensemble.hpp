@@ -23,6 +23,8 @@ class Ensemble {
   std::size_t runs() const { return runs_.size(); }
   std::size_t threads() const { return threads_; }
   const Simulation& run(std::size_t r) const { return *runs_[r]; }
+  void save(StateWriter& out) const;  // every realisation (Simulation::save)
+  void restore(StateReader& in);
 
  private:
   std::vector<std::unique_ptr<Simulation>> runs_;

@@ -26,6 +26,9 @@ class FastDsmc final : public Stepper {
   void for_each_group(const std::function<void(std::uint64_t, std::uint64_t)>& f) const override;
   std::uint64_t leaked_mass() const override { return leaked_; }
 
+  void save(StateWriter& out) const override;
+  void restore(StateReader& in) override;
+
  private:
   struct Group {
     std::uint64_t size;

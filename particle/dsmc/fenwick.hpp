@@ -41,6 +41,10 @@ class Fenwick {
     for (auto& entry : tree_) entry *= factor;
   }
 
+ // Checkpoints (particle/common/checkpoint.hpp).
+  template <class Writer> void save(Writer& out) const { out.put(tree_), out.put(top_); }
+  template <class Reader> void restore(Reader& in) { in.get(tree_), in.get(top_); }
+
  private:
   std::vector<std::uint64_t> tree_;
   std::uint64_t top_ = 1;

@@ -54,6 +54,11 @@ class Simulation {
   std::uint64_t mass() const;
   std::uint64_t control_mass() const { return control_mass_; }  // mass() right after the last control event
   std::uint64_t initial_mass() const { return initial_mass_; }
+  // Checkpoints: the population, the running sums, the random generator's state, the clock and the
+  // counters; restore() into a Simulation built with the same model, options, seed and end continues to
+  // the same bits.
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
 
  private:
   bool no_pair_can_interact() const;  // exact check, for the cutoff watchdog

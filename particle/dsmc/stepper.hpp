@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "particle/common/checkpoint.hpp"
 #include "particle/dsmc/interaction.hpp"
 #include "particle/dsmc/random.hpp"
 
@@ -30,6 +31,11 @@ class Stepper {
   virtual std::uint64_t particles() const = 0;
   virtual void for_each_group(const std::function<void(std::uint64_t size, std::uint64_t count)>& f) const = 0;
   virtual std::uint64_t leaked_mass() const = 0;  // mass of merged clusters removed by a `drop` truncation
+  // Checkpoints: the population and every running sum as they are (sums rebuilt afresh would round
+  // differently, and the run would not continue to the same bits); restore() into a stepper built for the
+  // same model and options.
+  virtual void save(StateWriter& out) const = 0;
+  virtual void restore(StateReader& in) = 0;
 };
 
 }  // namespace aggkit::dsmc

@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "particle/common/checkpoint.hpp"
+
 #include "particle/common/cell_grid.hpp"
 
 namespace aggkit {
@@ -27,6 +29,10 @@ class ClusterIndex {
   // First member of `cluster` in `cell` (unwrapped; wrapped here along periodic axes), none if empty.
   std::uint32_t first(std::uint32_t cluster, const CellCoords& cell) const;
   std::uint32_t next(std::uint32_t particle) const { return next_[particle]; }
+
+  // Checkpoints: the hash table and member lists as they are.
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
 
  private:
   struct Slot {

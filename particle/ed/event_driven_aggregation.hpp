@@ -96,6 +96,14 @@ class EventDrivenAggregation {
   // max over all pairs of 1 − |Δx|/2R (0 if no pair overlaps); O(N) with a cell list built for the call.
   double largest_overlap() const;
 
+  // Checkpoints (particle/common/checkpoint.hpp): clusters and their members, per-cluster origins, clocks,
+  // velocities, boxes and stamps, the broad phase (grid and cluster index), the event queue as it is, the
+  // clock and counters. The queue is saved, not rebuilt: predictions made afresh from the restored state
+  // would order events of equal times differently and the run would not continue to the same bits.
+  // restore() into a run built from the same start continues to the same bits.
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
+
  private:
   struct Contact {
     double time;  // from now

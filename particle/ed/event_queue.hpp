@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "particle/common/checkpoint.hpp"
+
 namespace aggkit {
 
 enum class EventKind : std::uint8_t { collision, cell_crossing, wall, pair_check };
@@ -43,6 +45,9 @@ class EventQueue {
     std::make_heap(heap_.begin(), heap_.end(), later);
   }
   void clear() { heap_.clear(); }
+  // Checkpoints: the heap as it is (a rebuilt heap could order events of equal times differently).
+  void save(StateWriter& out) const { out.put(heap_); }
+  void restore(StateReader& in) { in.get(heap_); }
 
  private:
   static bool later(const Event& x, const Event& y) { return x.time > y.time; }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "particle/common/box.hpp"
+#include "particle/common/checkpoint.hpp"
 
 namespace aggkit {
 
@@ -49,6 +50,11 @@ class HierarchicalGrid {
   // Clusters living at `level` (owners) or at a finer level (passengers) in a cell.
   const std::vector<Entry>& owners(int level, std::uint32_t cell) const { return cells_[level][cell].owners; }
   const std::vector<Entry>& passengers(int level, std::uint32_t cell) const { return cells_[level][cell].passengers; }
+
+  // Checkpoints: the cells' owners and passengers, every cluster's ranges and slots (the shape is the
+  // constructor's).
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
 
  private:
   int wrap(int level, int axis, std::int64_t i) const;

@@ -162,6 +162,12 @@ class TimeSteppingAggregation {
   double scale() const { return scale_; }  // DAHA units per length unit (0.2 / R)
   std::size_t links() const;
 
+  // Checkpoints (particle/common/checkpoint.hpp): the configuration, clusters, links, cell list, the flight
+  // and safe-time state, clock and counters. The DAHA multipliers are not kept: each minimisation starts them
+  // afresh [eq. 3.26]. restore() into a run built from the same start and settings continues to the same bits.
+  void save(StateWriter& out) const;
+  void restore(StateReader& in);
+
  private:
   struct Group {
     std::uint32_t cluster;

@@ -303,10 +303,28 @@ clouds, cold starts); keywords in the engine's option table go to the engine:
 _engine_keywords(dem, "dem")
 
 
-def run(scene, out=None, force=False, plot=False):
+def _seconds(duration, key):
+    """A wall-time duration: seconds, or a string with the unit s, m, h or d ("10m", "1.5h")."""
+    if isinstance(duration, str):
+        units = {"s": 1, "m": 60, "h": 3600, "d": 86400}
+        number, scale = (duration[:-1], units[duration[-1]]) if duration[-1:] in units else (duration, 1)
+        try:
+            return float(number) * scale
+        except ValueError:
+            raise ValueError(f"{key} = {duration!r}: a duration > 0: seconds, or a number with s, m, h or d") from None
+    return float(duration)
+
+
+def run(scene, out=None, force=False, plot=False, resume=False, checkpoint_every=None):
     """Runs a scene (a path to a TOML file, or a dict with its structure) through the harness, as
     `aggkit run`, and returns summary.json as a dict. `out`: the output folder (None: a scratch folder that
-    is removed)."""
+    is removed).
+
+    Checkpoints (`out` needed): `checkpoint_every` (seconds, or "10m", "1.5h") writes each engine's state to
+    out/checkpoint/ at output times at least that far apart (None: the engines' own option checkpoint_every);
+    `resume=True` continues from the checkpoints in `out` when there are any (the scene must be unchanged,
+    else ValueError) and otherwise starts the run with them — so a script that is killed can be run again
+    as it is. Outputs of the particle engines and DSMC continue to the bit, CVODE's within its tolerance."""
     if isinstance(scene, (str, os.PathLike)):
         path = os.fspath(scene)
         try:
@@ -319,7 +337,8 @@ def run(scene, out=None, force=False, plot=False):
         text, source = _scene.document(scene), "scene"
     else:
         raise ValueError(f"scene = {scene!r}: a path to a scene file or a dict")
-    return json.loads(_aggkit.run_scene(text, source, "" if out is None else os.fspath(out), force, plot))
+    every = 0.0 if checkpoint_every is None else _seconds(checkpoint_every, "checkpoint_every")
+    return json.loads(_aggkit.run_scene(text, source, "" if out is None else os.fspath(out), force, plot, bool(resume), every))
 
 
 def _generic_engine(kind):

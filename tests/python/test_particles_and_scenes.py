@@ -133,3 +133,86 @@ def test_each_default_in_help_is_the_value_the_engine_runs_with():
             np.testing.assert_array_equal(np.array(run(**{row["key"]: value})), plain, err_msg=f"{name}.{row['key']} = {value!r}")
             checked += 1
     assert checked >= 20  # 10 of cvode, 4 of snes, 4 of ed today
+
+CHECKPOINT_SCENE = """name = "python-checkpoint"
+[particles]
+dimension = 3
+count = 100
+radius = 1.0
+mass = 1.0
+boundary = "open"
+initial = { cloud = "cube", volume_fraction = 0.05, speed = 0.3 }
+seed = 3
+realizations = 2
+[time]
+end = 6.0
+every = 0.25
+[[engine]]
+name = "dem"
+restitution = 0.5
+contact_time = 0.05
+friction = 0.5
+gravity = { G = 1.0, method = "direct" }
+[observe]
+series = ["clusters", "kinetic_energy"]
+final = ["clusters"]
+"""
+
+
+def _text(path):
+    with open(path) as f:
+        return f.read()
+
+
+def test_run_resumes_a_stopped_run_to_the_same_outputs(tmp_path):
+    import subprocess
+    import time
+    scene = tmp_path / "scene.toml"
+    scene.write_text(CHECKPOINT_SCENE)
+    aggkit.run(scene, tmp_path / "whole")
+    # The command line (beside the module in the build tree) stopped by SIGTERM after its first checkpoint.
+    cli = os.path.join(os.path.dirname(aggkit.__file__), os.pardir, os.pardir, "aggkit")
+    out = tmp_path / "stopped"
+    process = subprocess.Popen([cli, "run", str(scene), "--out", str(out), "--quiet", "--no-plot", "--checkpoint-every", "0.001"],
+                               stderr=subprocess.DEVNULL)
+    while not (out / "checkpoint" / "dem.state").exists() and process.poll() is None:
+        time.sleep(0.002)
+    process.send_signal(signal.SIGTERM)
+    assert process.wait() == 4  # the last checkpoint written
+    summary = aggkit.run(scene, out, resume=True)
+    assert summary["engines"]["dem"]["statistics"]["resumed_realizations"] >= 1  # continued, not run again
+    assert _text(out / "dem" / "series.csv") == _text(tmp_path / "whole" / "dem" / "series.csv")
+    assert not (out / "checkpoint").exists()
+    # resume=True without checkpoints starts the run (with them), to the same outputs.
+    fresh = tmp_path / "fresh"
+    aggkit.run(scene, fresh, resume=True, checkpoint_every="1h")
+    assert _text(fresh / "dem" / "series.csv") == _text(tmp_path / "whole" / "dem" / "series.csv")
+
+
+def test_run_refuses_a_resume_of_a_changed_scene_and_checkpoints_without_a_folder(tmp_path):
+    import subprocess
+    import time
+    scene = tmp_path / "scene.toml"
+    scene.write_text(CHECKPOINT_SCENE)
+    cli = os.path.join(os.path.dirname(aggkit.__file__), os.pardir, os.pardir, "aggkit")
+    out = tmp_path / "stopped"
+    process = subprocess.Popen([cli, "run", str(scene), "--out", str(out), "--quiet", "--no-plot", "--checkpoint-every", "0.001"],
+                               stderr=subprocess.DEVNULL)
+    while not (out / "checkpoint" / "dem.state").exists() and process.poll() is None:
+        time.sleep(0.002)
+    process.send_signal(signal.SIGTERM)
+    assert process.wait() == 4
+    scene.write_text(CHECKPOINT_SCENE.replace("seed = 3", "seed = 4"))
+    with pytest.raises(ValueError, match="resume"):
+        aggkit.run(scene, out, resume=True)
+    with pytest.raises(ValueError, match="output folder"):
+        aggkit.run(scene, None, resume=True)
+    with pytest.raises(ValueError, match="checkpoint_every"):
+        aggkit.run(scene, tmp_path / "x", checkpoint_every="10y")
+    # The particle engines take checkpoint_every as an option; without an output folder it cannot be used.
+    for engine in ("ed", "ts", "dem"):
+        assert [o["value"] for o in aggkit.engine_options(engine) if o["key"] == "checkpoint_every"] == [0.0]
+    with pytest.raises(ValueError, match="output folder"):
+        aggkit.dem([1.0], dict(dimension=3, count=20, radius=1.0, mass=1.0, boundary="open",
+                               initial={"cloud": "cube", "volume_fraction": 0.05, "speed": 0.3}),
+                   restitution=0.5, contact_time=0.05, checkpoint_every=5)

@@ -42,6 +42,29 @@ struct FinalStatistic {
   double standard_error = 0;  // of the mean; 0 for a single realization
 };
 
+// Checkpoints (`aggkit run --checkpoint-every`, `--resume`): what the harness offers an engine that can hand
+// it its complete state at an output time. An engine that does not use it runs from its start on a resume.
+class EngineCheckpoint {
+ public:
+  virtual ~EngineCheckpoint() = default;
+  // Seconds of wall time between checkpoints; 0: checkpoints are off (save() is then never due).
+  virtual double interval() const = 0;
+  // The state this engine saved last in the run being resumed; empty when it starts from its beginning.
+  virtual const std::string& resumed() const = 0;
+  // Whether the engine should hand its state now: the interval has passed since the last checkpoint, or a
+  // stop signal (SIGTERM, SIGINT) arrived.
+  virtual bool due() const = 0;
+  // Writes the run's checkpoint with `state` as this engine's (with what the harness has recorded so far);
+  // then, if a stop signal arrived, throws RunInterrupted. Safe to call from several threads.
+  virtual void save(std::string state) = 0;
+};
+
+// Thrown once the last checkpoint is written after SIGTERM or SIGINT; not a std::exception, so that it passes
+// the handlers that record an engine's failure.
+struct RunInterrupted {
+  int signal = 0;
+};
+
 // What an engine reports while it runs.
 struct EngineObserver {
   // Evaluates the scene's observables on `state` at output time t; safe to call from several threads.
@@ -59,6 +82,7 @@ struct EngineObserver {
   // printed as a warning and kept in summary.json; may be unset.
   std::function<void(const std::string& what)> warning;
   std::filesystem::path folder;  // the engine's output folder (exists), for the files it declares
+  EngineCheckpoint* checkpoint = nullptr;  // may be unset: no checkpoints
 
   void output(double t, const ObservedState& state) const { record(t, {measure(t, state)}); }
 };

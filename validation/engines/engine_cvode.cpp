@@ -1,5 +1,8 @@
 // Engine "cvode": the truncated rate equations integrated by SUNDIALS CVODE (solvers/cvode_integrator.hpp).
 // Its options are the table below (`aggkit run --help` prints it).
+#include <optional>
+
+#include "particle/common/checkpoint.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "validation/engines/engine.hpp"
 #include "analysis/input_error.hpp"
@@ -27,7 +30,11 @@ class CvodeEngine final : public Engine {
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
-    return under_key(keys_, [&] { return run_solver(scene, observer); });
+    try {
+      return under_key(keys_, [&] { return run_solver(scene, observer); });
+    } catch (const CheckpointError& e) {
+      throw InputError("--resume", label(), std::string("a checkpoint this engine can continue from; ") + e.what());
+    }
   }
 
  private:
@@ -35,10 +42,38 @@ class CvodeEngine final : public Engine {
     IntegratorOptions options = options_;
     options.progress = observer.progress;
     const std::vector<double> sizes = scene.model.grid.uniform() ? std::vector<double>{} : scene.model.pivots();
-    const IntegratorStatistics s =
-        integrate(scene.model, scene.time.outputs, options, [&](double t, std::span<const double> n, double leaked) {
+    // Checkpoints: after output k, the number of outputs done, the time, the densities and the leaked mass.
+    // A resume continues from them with the scene's settings (restart in cvode_integrator.hpp: within the
+    // integration tolerance of the uninterrupted run).
+    std::optional<IntegratorRestart> restart;
+    std::uint64_t done = 0;
+    if (observer.checkpoint && !observer.checkpoint->resumed().empty()) {
+      StateReader in(observer.checkpoint->resumed());
+      restart.emplace();
+      in.get(done);
+      in.get(restart->time);
+      in.get(restart->densities);
+      in.get(restart->leaked_mass);
+      in.expect_end();
+      if (done > scene.time.outputs.size() || restart->densities.size() != scene.model.unknowns() ||
+          (done > 0 && restart->time != scene.time.outputs[done - 1]))
+        throw CheckpointError("the checkpoint's state does not fit this scene's outputs and sizes");
+    }
+    const IntegratorStatistics s = integrate(
+        scene.model, scene.time.outputs, options,
+        [&](double t, std::span<const double> n, double leaked) {
           observer.output(t, DensityState(n, leaked, sizes));
-        });
+          ++done;
+          if (observer.checkpoint && observer.checkpoint->due()) {
+            StateWriter out;
+            out.put(done);
+            out.put(t);
+            out.put(std::vector<double>(n.begin(), n.end()));
+            out.put(leaked);
+            observer.checkpoint->save(out.take());
+          }
+        },
+        restart ? &*restart : nullptr);
     // Tolerance-level negative values (|n_k| < atol_k, e.g. the far tail at early times) are expected and
     // not reported; beyond the tolerance they mean an error larger than requested.
     if (s.negative_beyond_tolerance > 0 && observer.warning)
@@ -46,7 +81,7 @@ class CvodeEngine final : public Engine {
                        " densities below -atol_k at one output; the most negative n_k = " +
                        shortest_text(s.most_negative_beyond_tolerance) + " at k = " + std::to_string(s.most_negative_size) +
                        ", t = " + shortest_text(s.most_negative_time) + " (tighten rtol or atol)");
-    return {
+    EngineStatistics statistics{
         {"method", to_string(options_.method)},
         {"rhs", to_string(options_.rates)},
         {"preconditioner", to_string(options_.preconditioner)},
@@ -75,6 +110,9 @@ class CvodeEngine final : public Engine {
         {"negative_beyond_tolerance", std::int64_t(s.negative_beyond_tolerance)},
         {"most_negative_beyond_tolerance", s.most_negative_beyond_tolerance},
     };
+    // A resume: the output time it continued from (the statistics above count the steps since then).
+    if (restart) statistics.push_back({"resumed_at", restart->time});
+    return statistics;
   }
 
   IntegratorOptions options_;

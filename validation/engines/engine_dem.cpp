@@ -166,6 +166,25 @@ class DemSimulation final : public ParticleSimulation {
       values.emplace_back("energy_drift", energy_scale_ > 0 ? std::abs(dem_.total_energy() - energy0_) / energy_scale_ : nan);
     return values;
   }
+  bool saves_state() const override { return true; }
+  void save(StateWriter& out) const override {
+    dem_.save(out);
+    out.put(aggregation_time_);
+    out.put(std::uint64_t(at_aggregation_.size()));
+    for (const auto& [key, value] : at_aggregation_) {
+      out.put(key);
+      out.put(value);
+    }
+  }
+  void restore(StateReader& in) override {
+    dem_.restore(in);
+    in.get(aggregation_time_);
+    at_aggregation_.resize(in.read<std::uint64_t>());
+    for (auto& [key, value] : at_aggregation_) {
+      in.get(key);
+      in.get(value);
+    }
+  }
   std::vector<std::pair<std::string, std::int64_t>> counters() const override {
     const DemCounters& c = dem_.counters();
     return {{"steps", std::int64_t(c.steps)}, {"collisions", std::int64_t(c.collisions)}, {"clamped_contacts", std::int64_t(c.clamped_contacts)}};

@@ -7,6 +7,8 @@
 #include <thread>
 #include <cmath>
 
+#include "analysis/input_error.hpp"
+#include "particle/common/checkpoint.hpp"
 #include "particle/dsmc/ensemble.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/io/machine.hpp"
@@ -50,7 +52,11 @@ class DsmcEngine final : public Engine {
   }
 
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
-    return under_key(keys_, [&] { return run_solver(scene, observer); });
+    try {
+      return under_key(keys_, [&] { return run_solver(scene, observer); });
+    } catch (const CheckpointError& e) {
+      throw InputError("--resume", label(), std::string("a checkpoint this engine can continue from; ") + e.what());
+    }
   }
 
  private:
@@ -69,12 +75,29 @@ class DsmcEngine final : public Engine {
         observer.status("t = " + shortest_text(time) + " of " + shortest_text(scene.time.end));
       }
     };
-    for (double t : scene.time.outputs) {
+    // Checkpoints: after output k, the number of outputs done and every realisation's state.
+    const std::vector<double>& outputs = scene.time.outputs;
+    std::uint64_t first = 0;
+    if (observer.checkpoint && !observer.checkpoint->resumed().empty()) {
+      StateReader in(observer.checkpoint->resumed());
+      in.get(first);
+      ensemble.restore(in);
+      in.expect_end();
+      if (first > outputs.size()) throw CheckpointError("the checkpoint has more outputs than this scene");
+    }
+    for (std::uint64_t k = first; k < outputs.size(); ++k) {
+      const double t = outputs[k];
       std::vector<Measurement> runs;
       for (auto& snapshot : ensemble.advance_to(t, every))
         runs.push_back(observer.measure(t, SnapshotState(std::move(snapshot), scene.model.size)));
       observer.record(t, std::move(runs));
       if (observer.progress) observer.progress(t);
+      if (observer.checkpoint && observer.checkpoint->due()) {
+        StateWriter out;
+        out.put(k + 1);
+        ensemble.save(out);
+        observer.checkpoint->save(out.take());
+      }
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     dsmc::RunStatistics total;
@@ -93,7 +116,7 @@ class DsmcEngine final : public Engine {
       frozen += s.frozen;
       if (s.frozen && !(first_frozen <= s.frozen_time)) first_frozen = s.frozen_time;
     }
-    return {
+    EngineStatistics statistics{
         {"method", dsmc::to_string(options_.method)},
         {"particles", std::int64_t(options_.particles)},
         {"runs", std::int64_t(options_.runs)},
@@ -115,6 +138,8 @@ class DsmcEngine final : public Engine {
         {"frozen_runs", frozen},
         {"first_frozen_time", first_frozen},
     };
+    if (first > 0) statistics.push_back({"resumed_at", outputs[first - 1]});  // a resume: the output it continued from
+    return statistics;
   }
 
   dsmc::Options options_;

@@ -101,6 +101,15 @@ class EdSimulation final : public ParticleSimulation {
     if (settings_.thermalize > 0) values.emplace_back("thermalization_collisions", thermal_collisions_);
     return values;
   }
+  bool saves_state() const override { return true; }
+  void save(StateWriter& out) const override {
+    ed_.save(out);
+    out.put(thermal_collisions_);
+  }
+  void restore(StateReader& in) override {
+    ed_.restore(in);
+    in.get(thermal_collisions_);
+  }
   std::vector<std::pair<std::string, std::int64_t>> counters() const override {
     const EdCounters& c = ed_.counters();
     return {{"events", std::int64_t(c.events())},

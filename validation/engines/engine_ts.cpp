@@ -83,6 +83,9 @@ class TsSimulation final : public ParticleSimulation {
             {"max_overlap", ts_.largest_overlap()},
             {"mean_overlap", c.minimisations ? c.overlap_sum / double(c.minimisations) : 0.0}};
   }
+  bool saves_state() const override { return true; }
+  void save(StateWriter& out) const override { ts_.save(out); }
+  void restore(StateReader& in) override { ts_.restore(in); }
   std::vector<std::pair<std::string, std::int64_t>> counters() const override {
     const TsCounters& c = ts_.counters();
     return {{"steps", std::int64_t(c.steps)},

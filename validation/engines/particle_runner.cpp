@@ -14,6 +14,7 @@
 #include "validation/engines/particle_outputs.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/particle_snapshot.hpp"
+#include "validation/io/trajectory.hpp"
 #include "validation/io/text.hpp"
 
 namespace aggkit {
@@ -50,6 +51,127 @@ struct RealizationResult {
   NamedProfiles profiles;
   std::vector<std::pair<std::string, std::int64_t>> counters;
   std::string picture = "not requested";
+  bool resumed = false;  // continued from a checkpoint (its state, or its result), not from its start
+};
+
+void put_measurement(StateWriter& out, const Measurement& m) {
+  out.put(m.values);
+  out.put(m.leaked_mass);
+  out.put(m.distribution);
+  out.put(m.sizes);
+}
+
+Measurement get_measurement(StateReader& in) {
+  Measurement m;
+  in.get(m.values);
+  in.get(m.leaked_mass);
+  in.get(m.distribution);
+  in.get(m.sizes);
+  return m;
+}
+
+template <class T>
+void put_pairs(StateWriter& out, const std::vector<std::pair<std::string, T>>& pairs) {
+  out.put(std::uint64_t(pairs.size()));
+  for (const auto& [key, value] : pairs) {
+    out.put(key);
+    out.put(value);
+  }
+}
+
+template <class T>
+void get_pairs(StateReader& in, std::vector<std::pair<std::string, T>>& pairs) {
+  pairs.resize(in.read<std::uint64_t>());
+  for (auto& [key, value] : pairs) {
+    in.get(key);
+    in.get(value);
+  }
+}
+
+// The part of a realization's result every state holds: its series and values so far.
+void put_partial(StateWriter& out, const RealizationResult& result) {
+  out.put(std::uint64_t(result.series.size()));
+  for (const auto& m : result.series) put_measurement(out, m);
+  put_pairs(out, result.finals);
+}
+
+void get_partial(StateReader& in, RealizationResult& result) {
+  result.series.resize(in.read<std::uint64_t>());
+  for (auto& m : result.series) m = get_measurement(in);
+  get_pairs(in, result.finals);
+}
+
+void put_result(StateWriter& out, const RealizationResult& result) {
+  put_partial(out, result);
+  out.put(std::uint64_t(result.profiles.size()));
+  for (const auto& [name, profile] : result.profiles) {
+    out.put(name);
+    out.put(profile.x_name);
+    out.put(profile.y_name);
+    out.put(profile.x);
+    out.put(profile.y);
+  }
+  put_pairs(out, result.counters);
+  out.put(result.picture);
+}
+
+RealizationResult get_result(StateReader& in) {
+  RealizationResult result;
+  get_partial(in, result);
+  result.profiles.resize(in.read<std::uint64_t>());
+  for (auto& [name, profile] : result.profiles) {
+    in.get(name);
+    in.get(profile.x_name);
+    in.get(profile.y_name);
+    in.get(profile.x);
+    in.get(profile.y);
+  }
+  get_pairs(in, result.counters);
+  in.get(result.picture);
+  return result;
+}
+
+// A snapshot of the simulation's state: the final one, or a frame of the trajectory.
+void write_snapshot(const std::filesystem::path& path, const ParticleSimulation& simulation) {
+  const ParticleView state(simulation);
+  write_vtu_snapshot(path, state.configuration(), state.cluster_labels(), state.velocities(), simulation.radii(),
+                     simulation.angular_velocities());
+}
+
+// What a checkpoint holds of each realization: nothing yet (it starts from its start), its state at an
+// output time, or its result.
+enum class RealizationStage : std::uint8_t { start = 0, running = 1, finished = 2 };
+
+class RealizationStates {
+ public:
+  explicit RealizationStates(std::size_t realizations) : states_(realizations) {}
+  void set(std::size_t r, std::string state) {
+    std::lock_guard lock(lock_);
+    states_[r] = std::move(state);
+  }
+  std::string payload() const {
+    std::lock_guard lock(lock_);
+    StateWriter out;
+    out.put(std::uint64_t(states_.size()));
+    for (const auto& state : states_) {
+      if (state.empty()) out.put(std::string(1, char(RealizationStage::start)));
+      else out.put(state);
+    }
+    return out.take();
+  }
+  // The states of a checkpoint's payload, one per realization (CheckpointError unless `realizations` of them).
+  static std::vector<std::string> read(const std::string& payload, std::size_t realizations) {
+    StateReader in(payload);
+    in.expect(std::uint64_t(realizations), "number of realizations");
+    std::vector<std::string> states(realizations);
+    for (auto& state : states) in.get(state);
+    in.expect_end();
+    return states;
+  }
+
+ private:
+  mutable std::mutex lock_;
+  std::vector<std::string> states_;
 };
 
 class ParticleEngine final : public Engine {
@@ -71,23 +193,51 @@ class ParticleEngine final : public Engine {
     std::vector<RealizationResult> results(realizations);
     std::mutex report;  // progress and status lines come from every thread
 
+    // Checkpoints: the states of a resumed run; finished realizations are taken as they are.
+    EngineCheckpoint* checkpoint = observer.checkpoint && observer.checkpoint->interval() > 0 ? observer.checkpoint : nullptr;
+    RealizationStates states(realizations);
+    std::vector<std::string> resumed(realizations);
+    std::vector<bool> finished(realizations, false);
+    if (observer.checkpoint && !observer.checkpoint->resumed().empty()) {
+      try {
+        resumed = RealizationStates::read(observer.checkpoint->resumed(), realizations);
+        for (std::size_t r = 0; r < realizations; ++r) {
+          StateReader in(resumed[r]);
+          if (in.read<RealizationStage>() != RealizationStage::finished) continue;
+          results[r] = get_result(in);
+          in.expect_end();
+          results[r].resumed = true;
+          finished[r] = true;
+          states.set(r, std::move(resumed[r]));
+        }
+      } catch (const CheckpointError& e) {
+        throw InputError("--resume", label(), std::string("a checkpoint this engine can continue from; ") + e.what());
+      }
+    }
+    std::vector<std::size_t> pending;
+    for (std::size_t r = 0; r < realizations; ++r)
+      if (!finished[r]) pending.push_back(r);
+    const auto run_realization = [&](std::size_t r) {
+      results[r] = run_one(scene, observer, r, report, resumed[r], checkpoint ? &states : nullptr, checkpoint);
+    };
+
     std::size_t workers = threads_ == 0 ? std::max(1u, std::thread::hardware_concurrency()) : threads_;
     workers = std::min(workers, realizations);
     if (workers <= 1) {
-      for (std::size_t r = 0; r < realizations; ++r) results[r] = run_one(scene, observer, r, report);
+      for (std::size_t r : pending) run_realization(r);
     } else {
       std::atomic<std::size_t> next{0};
       std::exception_ptr failure;
       std::vector<std::thread> pool;
       for (std::size_t w = 0; w < workers; ++w)
         pool.emplace_back([&] {
-          for (std::size_t r; (r = next++) < realizations;) {
+          for (std::size_t k; (k = next++) < pending.size();) {
             try {
-              results[r] = run_one(scene, observer, r, report);
+              run_realization(pending[k]);
             } catch (...) {
               std::lock_guard lock(report);
               if (!failure) failure = std::current_exception();
-              next = realizations;
+              next = pending.size();
             }
           }
         });
@@ -120,11 +270,20 @@ class ParticleEngine final : public Engine {
       statistics.push_back({results.front().counters[c].first, total});
     }
     statistics.push_back({"picture", results.front().picture});
+    // A resume: how many realizations continued from the checkpoint (the others started again).
+    if (observer.checkpoint && !observer.checkpoint->resumed().empty()) {
+      std::int64_t resumed = 0;
+      for (const auto& result : results) resumed += result.resumed;
+      statistics.push_back({"resumed_realizations", resumed});
+    }
     return statistics;
   }
 
  private:
-  RealizationResult run_one(const Scene& scene, const EngineObserver& observer, std::size_t r, std::mutex& report) const {
+  // Realization r from its start, or from `resumed` (its state in a checkpoint: a stage, then what it holds).
+  // With `states`, its state is kept at every output time and the checkpoint written when due.
+  RealizationResult run_one(const Scene& scene, const EngineObserver& observer, std::size_t r, std::mutex& report,
+                            const std::string& resumed, RealizationStates* states, EngineCheckpoint* checkpoint) const {
     const std::size_t realizations = scene.particles->realizations;
     const std::string prefix =
         realizations > 1 ? "realization " + std::to_string(r + 1) + "/" + std::to_string(realizations) + ", " : "";
@@ -141,23 +300,68 @@ class ParticleEngine final : public Engine {
     };
     RealizationResult result;
     const std::unique_ptr<ParticleSimulation> simulation = setup_.start(r);
-    simulation->prepare(status);
-    const Vector3 p0 = simulation->momentum() + simulation->wall_impulse();
+    Vector3 p0{0, 0, 0};
     double momentum_scale = 0;
-    {
+    const std::vector<double>& outputs = scene.time.outputs;
+    bool stopped = false;
+    std::uint64_t next_output = 0, next_ff = 0;
+    double earlier_wall = 0;  // of the runs before a resume
+    StateReader saved(resumed);
+    if (!resumed.empty() && saved.read<RealizationStage>() == RealizationStage::running) {
+      try {
+        get_partial(saved, result);
+        saved.get(next_output);
+        saved.get(next_ff);
+        stopped = saved.read<std::uint8_t>() != 0;
+        saved.get(p0);
+        saved.get(momentum_scale);
+        saved.get(earlier_wall);
+        simulation->restore(saved);
+        saved.expect_end();
+        if (next_output > outputs.size() || result.series.size() != next_output)
+          throw CheckpointError("the checkpoint's output count does not fit this scene's output times");
+        result.resumed = true;
+      } catch (const CheckpointError& e) {
+        throw InputError("--resume", label(), "a checkpoint this engine can continue from; realization " + std::to_string(r + 1) +
+                                                  ": " + e.what());
+      }
+    } else {
+      simulation->prepare(status);
+      if (r == 0 && scene.observe.frame_every > 0) {  // a fresh trajectory, from t = 0
+        std::filesystem::remove_all(observer.folder / "trajectory");
+        std::filesystem::create_directories(observer.folder / "trajectory");
+        write_snapshot(trajectory_frame(observer.folder, 0), *simulation);
+      }
+      p0 = simulation->momentum() + simulation->wall_impulse();
       const std::vector<Vector3> v = simulation->velocities();
       const std::vector<double> m = simulation->masses();
       for (std::size_t i = 0; i < v.size(); ++i) momentum_scale += m[i] * norm(v[i]);
     }
-    const std::vector<double>& outputs = scene.time.outputs;
-    bool stopped = false;
+    // Keeps this realization's state after output k (when the engine can save it) and writes the checkpoint
+    // when it is due.
+    const auto keep_state = [&](std::uint64_t k) {
+      if (!states) return;
+      if (simulation->saves_state()) {
+        StateWriter out;
+        out.put(RealizationStage::running);
+        put_partial(out, result);
+        out.put(k);
+        out.put(next_ff);
+        out.put(std::uint8_t(stopped));
+        out.put(p0);
+        out.put(momentum_scale);
+        out.put(earlier_wall + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+        simulation->save(out);
+        states->set(r, out.take());
+      }
+      if (checkpoint->due()) checkpoint->save(states->payload());
+    };
     // observe.times_ff: the state at t = k t_ff, between the output times.
     const std::vector<double>& times_ff = scene.observe.times_ff;
     const double free_fall = times_ff.empty() ? 0.0 : simulation->free_fall_time();
     if (!times_ff.empty() && !(free_fall > 0 && std::isfinite(free_fall)))
       throw InputError("observe.times_ff", "[" + shortest_text(times_ff.front()) + ", ...]",
                        "free-fall times only with an engine that has one (dem with gravity)");
-    std::size_t next_ff = 0;
     const auto record_ff = [&](double until) {
       for (; next_ff < times_ff.size() && (times_ff[next_ff] * free_fall <= until || until < 0); ++next_ff) {
         const double k = times_ff[next_ff];
@@ -170,18 +374,25 @@ class ParticleEngine final : public Engine {
         for (auto& [key, value] : values) result.finals.emplace_back(key, reached ? value : std::numeric_limits<double>::quiet_NaN());
       }
     };
-    for (double t : outputs) {
+    for (std::uint64_t k = next_output; k < outputs.size(); ++k) {
+      const double t = outputs[k];
       record_ff(t);
       if (!stopped) stopped = simulation->advance(t, status);
       result.series.push_back(observer.measure(t, ParticleView(*simulation)));
+      if (r == 0) {  // the trajectory's frame of this output, if it has one
+        const auto& frames = scene.observe.frame_outputs;
+        if (const auto at = std::find(frames.begin(), frames.end(), k); at != frames.end())
+          write_snapshot(trajectory_frame(observer.folder, std::size_t(at - frames.begin()) + 1), *simulation);
+      }
       if (r == 0 && observer.progress) {
         std::lock_guard lock(report);
         observer.progress(t);
       }
+      keep_state(k + 1);
     }
     record_ff(-1);  // beyond time.end: not reached
     if (!stopped) simulation->finish(scene.time.end, status);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const double wall = earlier_wall + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
     const ParticleView final(*simulation);
     std::vector<std::pair<std::string, double>> at_end = configuration_values(scene.observe.final_state, final, "");
@@ -197,13 +408,24 @@ class ParticleEngine final : public Engine {
     result.finals.emplace_back("stop_time", simulation->time());
     result.counters = simulation->counters();
     if (r == 0 && observer.final_configuration) observer.final_configuration(final);
+    if (r == 0 && scene.observe.frame_every > 0) {
+      std::vector<double> times{0.0};
+      for (std::size_t k : scene.observe.frame_outputs) times.push_back(outputs[k]);
+      write_trajectory_collection(observer.folder, times);
+    }
     if (r == 0 && scene.observe.snapshots) {
-      write_vtu_snapshot(observer.folder / "final.vtu", final.configuration(), final.cluster_labels(), final.velocities(),
-                         simulation->radii(), simulation->angular_velocities());
+      write_snapshot(observer.folder / "final.vtu", *simulation);
       std::string error;
       result.picture = write_cluster_picture(observer.folder / "final.png", final.configuration(), final.cluster_labels(), &error)
                            ? "final.png"
                            : "failed: " + error;
+    }
+    if (states) {
+      StateWriter out;
+      out.put(RealizationStage::finished);
+      put_result(out, result);
+      states->set(r, out.take());
+      if (checkpoint->due()) checkpoint->save(states->payload());
     }
     return result;
   }
@@ -230,6 +452,7 @@ namespace {
 struct RunnerSettings {
   std::size_t threads = 1;
   double max_wall_seconds = 0;  // 0: none
+  double checkpoint_every = 0;  // 0: none
 };
 
 const OptionRows<RunnerSettings>& runner_rows() {
@@ -239,6 +462,9 @@ const OptionRows<RunnerSettings>& runner_rows() {
                  "realizations run at once (0: one per core); results do not depend on it"),
       B::number("max_wall_seconds", &RunnerSettings::max_wall_seconds, closed(0.0, 1e9),
                 "wall-time budget of each realization; the run fails when it is spent (0: none)"),
+      B::number("checkpoint_every", &RunnerSettings::checkpoint_every, closed(0.0, 1e9),
+                "wall seconds between checkpoints, taken at output times (0: none; aggkit run --checkpoint-every "
+                "overrides it)"),
   }};
   return rows;
 }
@@ -249,7 +475,7 @@ EngineType particle_engine_type(ParticleEngineKind kind) {
   OptionTable options = kind.options;
   const OptionTable runner = runner_rows().table();
   options.insert(options.end(), runner.begin(), runner.end());
-  std::vector<std::string> files{"final.json", "final.vtu", "final.png"};
+  std::vector<std::string> files{"final.json", "final.vtu", "final.png", "trajectory.pvd"};
   for (auto& f : profile_files()) files.push_back(f);
   auto setup = kind.setup;
   const std::string name = kind.name;

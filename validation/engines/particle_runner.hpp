@@ -18,7 +18,12 @@
 //     t = k t_ff of each realization (t_ff from the engine: dem with gravity) as <name>_at_<k>tff, with
 //     time_ff_at_<k>tff the time reached over t_ff (within half a step of k); NaN for a time the run does not
 //     reach (beyond time.end, or after the engine's stop rule ended it);
-//   * progress in words, summary statistics (the engine's counters summed over realizations).
+//   * progress in words, summary statistics (the engine's counters summed over realizations);
+//   * checkpoints (EngineCheckpoint, option checkpoint_every): at every output time each realization keeps
+//     its state — its series so far and, for an engine that saves its state, the simulation's — and a
+//     finished one its result; a checkpoint writes them all. On a resume finished realizations are not run
+//     again, the others continue from their state (or, for an engine that cannot save one, from their start),
+//     so the outputs are those of an uninterrupted run, bit for bit (wall_seconds aside).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -27,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "particle/common/checkpoint.hpp"
 #include "particle/common/vector3.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/observables/particle_view.hpp"
@@ -59,6 +65,12 @@ class ParticleSimulation : public ParticleSource {
   // Values of the current state the engine computes itself (DEM: K/|P|), recorded with observe.final at
   // observe.times_ff; by default none.
   virtual std::vector<std::pair<std::string, double>> state_values() const { return {}; }
+  // Checkpoints: the complete state after advance() returned, such that restore() into a simulation just
+  // started for the same realization (without prepare()) continues to the same bits. An engine that does not
+  // save its state restarts the realization from its start on a resume.
+  virtual bool saves_state() const { return false; }
+  virtual void save(StateWriter& out) const { (void)out; }
+  virtual void restore(StateReader& in) { (void)in; }
 };
 
 // The values of the final-configuration observables among `names` (observe.final less the series measures

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 
 #include "analysis/input_error.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/harness/output_folder.hpp"
+#include "validation/harness/run_checkpoint.hpp"
+#include "validation/io/stop_signal.hpp"
 #include "validation/harness/plot.hpp"
 #include "validation/io/progress.hpp"
 #include "validation/harness/report.hpp"
@@ -19,16 +22,25 @@ namespace aggkit {
 namespace {
 
 // Runs one engine into a record; InputError propagates (bad input), any other failure is recorded.
-EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& progress, const OutputFolder& folder) {
+EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& progress, const OutputFolder& folder,
+                        RunCheckpoints* checkpoints) {
   EngineRecord record;
   record.label = engine.label();
   record.name = engine.name();
   record.description = engine.describe();
+  std::mutex record_lock;  // a checkpoint copies the record from the thread that saves
+  std::unique_ptr<EngineCheckpoint> checkpoint;
+  if (checkpoints) checkpoint = checkpoints->start(engine, record, record_lock);
+  const double earlier_wall = record.wall_seconds;  // of the runs before a resume
   const auto started = std::chrono::steady_clock::now();
   EngineObserver observer;
+  observer.checkpoint = checkpoint.get();
   observer.measure = [&scene](double t, const ObservedState& state) { return measure_state(scene, t, state); };
   observer.record = [&](double t, std::vector<Measurement> realizations) {
-    record_measurements(record, scene, t, realizations);
+    {
+      std::lock_guard lock(record_lock);
+      record_measurements(record, scene, t, realizations);
+    }
     progress.reached(t);
   };
   observer.final_state = [&](std::vector<FinalStatistic> values) { record.finals = std::move(values); };
@@ -47,7 +59,7 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
   } catch (const std::exception& e) {
     record.failure = e.what();
   }
-  record.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  record.wall_seconds = earlier_wall + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return record;
 }
 
@@ -69,7 +81,23 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
     const EngineType* type = find_engine_type(engine->name());
     files.emplace_back(engine->label(), type ? type->files : std::vector<std::string>{});
   }
-  folder.prepare(files, options.force);
+  // Checkpoints when the run or an engine asks for them; a resume keeps the outputs of the engines that
+  // completed (and the trajectory files written so far).
+  const bool engine_checkpoints = std::any_of(engines.begin(), engines.end(), [](const auto& engine) {
+    const auto it = engine->settings().find("checkpoint_every");
+    return it != engine->settings().end() && it->is_number() && it->template get<double>() > 0;
+  });
+  std::optional<RunCheckpoints> checkpoints;
+  if (options.resume) {
+    checkpoints.emplace(options.out, CheckpointedRun{options.scene_file, options.scene_fingerprint, options.checkpoint_every, options.plot},
+                        true);
+  } else {
+    folder.prepare(files, options.force);
+    if (options.checkpoint_every > 0 || engine_checkpoints)
+      checkpoints.emplace(options.out, CheckpointedRun{options.scene_file, options.scene_fingerprint, options.checkpoint_every, options.plot},
+                          false);
+  }
+  if (checkpoints && options.catch_signals) catch_stop_signals();
 
   // The plotter's interpreter starts now: its matplotlib import overlaps the engines.
   std::optional<SeriesPlotter> plotter;
@@ -78,14 +106,30 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
   Progress progress(options.progress, options.progress_interval);
   for (std::size_t i = 0; i < engines.size(); ++i) {
     const Engine& engine = *engines[i];
+    if (checkpoints)
+      if (std::optional<EngineRecord> done = checkpoints->completed(engine)) {  // resumed: its outputs are written
+        result.records.push_back(std::move(*done));
+        continue;
+      }
     progress.start(engine.label(), i + 1, engines.size(), scene.time.end);
-    result.records.push_back(run_engine(scene, engine, progress, folder));
+    try {
+      result.records.push_back(run_engine(scene, engine, progress, folder, checkpoints ? &*checkpoints : nullptr));
+    } catch (const RunInterrupted&) {
+      progress.finish();
+      throw;
+    }
     progress.finish();
     if (options.warnings)
       for (const std::string& warning : result.records.back().warnings)
         *options.warnings << "aggkit: warning: engine " << engine.label() << ": " << warning << "\n";
-    if (result.records.back().completed()) write_engine_outputs(scene, result.records.back(), folder);
-    else if (options.warnings)
+    if (result.records.back().completed()) {
+      write_engine_outputs(scene, result.records.back(), folder);
+      if (checkpoints) {
+        checkpoints->complete(engine, result.records.back());
+        // A signal during an engine that saves no state of its own (snes, exact): its record is the checkpoint.
+        if (options.catch_signals && stop_signal() != 0) throw RunInterrupted{stop_signal()};
+      }
+    } else if (options.warnings)
       *options.warnings << "aggkit: warning: engine " << engine.label() << " failed: " << *result.records.back().failure
                         << "\n";
   }
@@ -107,6 +151,8 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
   std::vector<std::string> labels;
   for (const auto& engine : engines) labels.push_back(engine->label());
   folder.mark(labels);
+  if (checkpoints) checkpoints->finish();
+  if (checkpoints && options.catch_signals) release_stop_signals();
   if (options.report) print_report(*options.report, scene, result, folder);
   return result;
 }

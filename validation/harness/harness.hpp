@@ -7,6 +7,7 @@
 //      and prints a short summary.
 // Every file is written under a temporary name and renamed when complete.
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 
@@ -24,9 +25,19 @@ struct RunOptions {
   std::ostream* progress = &std::cerr;  // progress of long runs; nullptr: quiet
   std::chrono::duration<double> progress_interval = std::chrono::seconds(1);  // at most one line per interval
   std::ostream* warnings = &std::cerr;  // e.g. a failed plot; nullptr: none
+  // Checkpoints (run_checkpoint.hpp): wall seconds between them (--checkpoint-every; 0: each engine's own
+  // option checkpoint_every, if it has one), whether to continue from DIR/checkpoint/, and the scene file and
+  // its fingerprint that run.json records and a resume checks.
+  double checkpoint_every = 0;
+  bool resume = false;
+  std::filesystem::path scene_file;
+  std::uint64_t scene_fingerprint = 0;
+  // SIGTERM and SIGINT write a last checkpoint and end the run (RunInterrupted) while checkpoints are on.
+  bool catch_signals = false;
 };
 
-// Throws InputError for an unusable output folder or input an engine finds bad only when it runs; the
+// Throws InputError for an unusable output folder or checkpoint, RunInterrupted after the last checkpoint of a
+// run stopped by a signal, InputError or input an engine finds bad only when it runs; the
 // exit code of the run (0 pass, 1 a comparison or an engine failed) is in the result.
 RunResult run_scene(const Scene& scene, const RunOptions& options);
 // The same with engines built already (build_engines(scene), or engines of a research code's own).

@@ -40,6 +40,12 @@
 //                                                  of the run, [end/2, end])
 //   snapshots = true                               particle engines: the final configuration as
 //                                                  <engine>/final.vtu and <engine>/final.png (default false)
+//   snapshots = { every = 0.5 }                    the same, and a trajectory of the first realization:
+//                                                  <engine>/trajectory/frame_NNNNN.vtu at t = 0 and at the
+//                                                  output times at least `every` after the previous frame,
+//                                                  and <engine>/trajectory.pvd (ParaView's time series);
+//                                                  at most max_frames (default 1000) files and an estimated
+//                                                  max_megabytes (default 2048) of disk, checked before the run
 //   times_ff = [1.0, 1.5, 2.0, 3.0]                particle engines with a free-fall time t_ff (dem with
 //                                                  gravity [Trivino2025, eq. 9]): the observe.final values
 //                                                  and the engine's own state values (K/|P|) also at
@@ -111,6 +117,8 @@ struct Observation {
   std::vector<std::string> final_state;    // names of final-configuration observables (particle engines)
                                            // and series measures (any engine, e.g. oscillation_period:M0)
   bool snapshots = false;                  // final configuration as .vtu and .png (particle engines)
+  double frame_every = 0;                  // snapshots = { every }: the trajectory's spacing (0: no trajectory)
+  std::vector<std::size_t> frame_outputs;  // the indices of the output times with a trajectory frame (besides t = 0)
   double window_start = 0, window_end = 0;  // observe.window: where the series measures are taken
   std::vector<double> times_ff;            // observe.times_ff: multiples of the free-fall time (particle engines)
   bool has_series_measures() const;

@@ -117,6 +117,50 @@ std::vector<Tolerance> read_tolerances(const SceneTable& table, const std::vecto
   return tolerances;
 }
 
+// Bytes of a trajectory frame per particle (validation/io/particle_snapshot.hpp): position, velocity and
+// angular velocity (3 Float64 each), radius (Float64), the vertex cell's connectivity and offset (Int64 each),
+// cluster (Int32) and cell type (UInt8), in base64 (4/3); the frame's XML (under 2 kB) aside. 60 particles
+// measured 156 B a particle with the XML (tests/apps/check_trajectory.py checks the files against this).
+constexpr double frame_bytes_per_particle = (12 * 8 + 4 + 1) * 4.0 / 3.0;
+
+// observe.snapshots: true, false, or { every = Δt, max_frames = n, max_megabytes = m } (a trajectory).
+void read_snapshots(const SceneTable& observe, const Scene& scene, Observation& observation) {
+  const toml::node* value = observe.find("snapshots");
+  if (!value) return;
+  if (value->is_boolean()) {
+    observation.snapshots = value->as_boolean()->get();
+  } else if (!value->is_table()) {
+    observe.fail("snapshots", "true, false or { every = Δt } (a trajectory)");
+  } else {
+    const SceneTable form = observe.table("snapshots");
+    form.allow_only({"every", "max_frames", "max_megabytes"});
+    observation.snapshots = true;
+    observation.frame_every = form.number("every", Bound::positive);
+    const std::size_t max_frames = form.optional_count("max_frames", 1).value_or(1000);
+    const double max_megabytes = form.optional_number("max_megabytes", Bound::positive).value_or(2048);
+    // Frames at the output times, each at least `every` after the one before (within round-off).
+    double last = 0;
+    const std::vector<double>& outputs = scene.time.outputs;
+    for (std::size_t k = 0; k < outputs.size(); ++k)
+      if (outputs[k] - last >= observation.frame_every * (1 - 1e-9)) {
+        observation.frame_outputs.push_back(k);
+        last = outputs[k];
+      }
+    const std::size_t frames = observation.frame_outputs.size() + 1;  // and t = 0
+    if (frames > max_frames)
+      form.fail("every", "a spacing giving at most max_frames = " + std::to_string(max_frames) + " frames (this one gives " +
+                             std::to_string(frames) + " at the output times); raise every or max_frames");
+    if (scene.particles) {
+      const double megabytes = double(frames) * double(scene.particles->count) * frame_bytes_per_particle / 1e6;
+      if (megabytes > max_megabytes)
+        form.fail("every", "a trajectory within max_megabytes = " + shortest_text(max_megabytes) + " (this one: " +
+                               std::to_string(frames) + " frames of " + std::to_string(scene.particles->count) +
+                               " particles, about " + shortest_text(std::round(megabytes)) + " MB); raise every or max_megabytes");
+    }
+  }
+  if (observation.snapshots && !scene.particles) observe.fail("snapshots", "false: snapshots need a [particles] section");
+}
+
 }  // namespace
 
 Observation read_observation(const SceneTable& observe, const Scene& scene) {
@@ -154,8 +198,7 @@ Observation read_observation(const SceneTable& observe, const Scene& scene) {
   }
   if (observe.contains("final")) observation.final_state = read_final_state(observe, scene, observation);
   read_window(observe, scene, observation);
-  observation.snapshots = observe.optional_boolean("snapshots").value_or(false);
-  if (observation.snapshots && !scene.particles) observe.fail("snapshots", "false: snapshots need a [particles] section");
+  read_snapshots(observe, scene, observation);
   if (observe.contains("times_ff")) {
     // Multiples k of the free-fall time, increasing, each > 0 and at most 10^6.
     const std::vector<double> k = observe.numbers("times_ff", Bound::finite);
