@@ -202,6 +202,12 @@ def shrink(doc, is_scan):
         # The converged λ_crit curve on a fine graded grid takes a minute per a: a coarse one keeps the
         # same code paths (N doubling, 2K and (r-1)/2 refinements) at a fraction of a second.
         scan["hopf_grid"] = {"resolved": 8, "ratio": 1.3}
+        # Small a and λ put λ_crit near 1e-7 and below, where the curve doubles N towards 2^60 (seconds per
+        # a even on the coarse grid): keep the lower ends of a shipped scan's ranges where λ_crit is ≥ 1e-3.
+        for axis, lowest in (("a", 0.8), ("lambda", 1e-3)):
+            grid = scan.get(axis)
+            if isinstance(grid, dict) and isinstance(grid.get("from"), (int, float)) and not isinstance(grid.get("from"), bool):
+                grid["from"] = max(grid["from"], lowest)
     if isinstance(scan, dict):
         for axis in ("a", "lambda"):
             grid = scan.get(axis)
