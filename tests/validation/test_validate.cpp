@@ -4,6 +4,10 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/validation/scene_fixture.hpp"
+#include <filesystem>
+#include <fstream>
+
+#include "validation/validate/finished_record.hpp"
 #include "validation/validate/report_html.hpp"
 #include "validation/validate/validation_plan.hpp"
 
@@ -81,4 +85,32 @@ TEST_CASE("validate: the plan reads every scene first, tiers, names and bad inpu
                     Catch::Contains("name = fast one") && Catch::Contains("b.toml"));
   write("c.toml", "logs", "");  // the validation's own folder
   CHECK_THROWS_AS(plan_validation({scenes}, SceneTier::fast, true), InputError);
+}
+
+TEST_CASE("validate: a finished record is read back, and a damaged one is no record") {
+  const auto out = std::filesystem::temp_directory_path() / "aggkit-test-finished-record";
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(finished_folder(out));
+  PlannedScene scene;
+  scene.name = scene.folder = "scene";
+  scene.fingerprint = "0123456789abcdef";
+  write_finished_record(out, scene, FinishedRecord{1, 2.5});
+  const auto record = read_finished_record(out, scene);
+  REQUIRE(record);
+  CHECK(record->exit_code == 1);
+  CHECK(record->wall_seconds == 2.5);
+  const auto with = [&](const std::string& text) {
+    std::ofstream(finished_folder(out) / "scene.json") << text;
+    return read_finished_record(out, scene);
+  };
+  // A fingerprint of the wrong type (found by fuzz_run_records: it threw nlohmann's type_error), other
+  // fields of the wrong type, another scene's fingerprint, an exit code a run cannot have, and not JSON.
+  CHECK_FALSE(with(R"({"fingerprint": [1], "exit_code": 0, "wall_seconds": 1.0})"));
+  CHECK_FALSE(with(R"({"fingerprint": "0123456789abcdef", "exit_code": "0", "wall_seconds": 1.0})"));
+  CHECK_FALSE(with(R"({"fingerprint": "0123456789abcdef", "exit_code": 0, "wall_seconds": [1.0]})"));
+  CHECK_FALSE(with(R"({"fingerprint": "fedcba9876543210", "exit_code": 0, "wall_seconds": 1.0})"));
+  CHECK_FALSE(with(R"({"fingerprint": "0123456789abcdef", "exit_code": 7, "wall_seconds": 1.0})"));
+  CHECK_FALSE(with("{\"fingerprint\": "));
+  CHECK(with(R"({"fingerprint": "0123456789abcdef", "exit_code": 0, "wall_seconds": 1.0})"));
+  std::filesystem::remove_all(out);
 }

@@ -33,7 +33,10 @@ std::optional<FinishedRecord> read_finished_record(const std::filesystem::path& 
   std::ifstream in(record_file(out, scene));
   if (!in) return std::nullopt;
   const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (!json.is_object() || json.value("fingerprint", "") != scene.fingerprint || !json.contains("exit_code") ||
+  // Every field is type-checked before it is read: a damaged record is no record (the scene runs again),
+  // never a type error.
+  if (!json.is_object() || !json.contains("fingerprint") || !json["fingerprint"].is_string() ||
+      json["fingerprint"].get<std::string>() != scene.fingerprint || !json.contains("exit_code") ||
       !json["exit_code"].is_number_integer() || !json.contains("wall_seconds") || !json["wall_seconds"].is_number())
     return std::nullopt;
   FinishedRecord record{json["exit_code"].get<int>(), json["wall_seconds"].get<double>()};
