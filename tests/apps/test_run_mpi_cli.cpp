@@ -2,7 +2,7 @@
 // the ranks give the files of a one-process run with the same seeds, byte for byte (final.json but for its
 // wall-clock entries): rank 0 gathers every realization's results and reduces them in realization order as one
 // process does. More ranks than realizations leave ranks idle. A bad scene ends every rank with exit status 2
-// (no rank left waiting), and checkpoints, which one process writes, are refused under several ranks.
+// (no rank left waiting), deterministic engines run on rank 0 alone, and checkpoints, which one process writes, are refused under several ranks.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -149,6 +149,19 @@ TEST_CASE("run cli: mpirun spreads the DSMC runs, with idle ranks when there are
     check_same_outputs(folder / "single", out);
     CHECK_THAT(read_text(out / "summary.json"), Contains("\"ranks\": " + std::to_string(ranks)));
   }
+}
+
+TEST_CASE("run cli: under mpirun the deterministic engines (snes, cvode) run on rank 0 alone", "[mpi]") {
+  // PETSc on rank 0 alone: its initialisation must not wait for the other ranks, which wait for rank 0.
+  const auto folder = aggkit::testing::scratch_folder("run-mpi-snes");
+  const fs::path scene = fs::path(AGGKIT_SOURCE_DIR) / "validation" / "scenes" / "brownian-steady.toml";
+  const Outcome single = run_scene("", scene, folder / "single");
+  INFO(single.err);
+  REQUIRE(single.exit_code == 0);
+  const Outcome two = run_scene(aggkit::testing::mpirun(2), scene, folder / "two");
+  INFO(two.err);
+  REQUIRE(two.exit_code == 0);
+  check_same_outputs(folder / "single", folder / "two");
 }
 
 TEST_CASE("run cli: under mpirun a bad scene ends every rank with exit 2, and checkpoints are refused", "[mpi]") {

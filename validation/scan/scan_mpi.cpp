@@ -30,7 +30,7 @@ MpiSession::MpiSession(int* argc, char*** argv) {
 }
 
 MpiSession::~MpiSession() {
-  finalize_petsc();  // PETSc runs on MPI_COMM_WORLD: it must end before MPI does
+  finalize_petsc();  // PETSc runs on MPI: it must end before MPI does
   if (initialised_here_ && mpi_active()) MPI_Finalize();
 }
 

@@ -12,7 +12,7 @@ namespace aggkit {
 
 // RAII for the `aggkit scan`, `sweep` and (under mpirun) `run` commands: initialises MPI unless already
 // initialised (threads funneled: only the thread that initialised it calls MPI), and finalises what it
-// initialised (after PETSc, which runs on MPI_COMM_WORLD, is finalised).
+// initialised (after PETSc is finalised).
 class MpiSession {
  public:
   MpiSession(int* argc, char*** argv);
