@@ -96,17 +96,34 @@ bool HierarchicalGrid::share_cell(int level, const Range& a, const Range& b) con
 }
 
 void HierarchicalGrid::place(std::uint32_t cluster, int level, const Range& r, bool owner) {
-  remove(cluster, level, owner);
+  // Slot by slot: an entry whose cell does not change stays where it is (a crossing moves half the slots
+  // of one axis), the others leave their old cell and join the new one.
   const std::size_t base = cluster * std::size_t(top_) + level;
-  range_[base] = r;
   for (int s = 0; s < slots_; ++s) {
     bool valid;
     const std::uint32_t c = cell_at(level, r, s, valid);
+    std::uint32_t& w = where_[base * slots_ + s];
+    if (w != none) {
+      bool was_valid;
+      const std::uint32_t old = cell_at(level, range_[base], s, was_valid);
+      if (valid && old == c) continue;
+      erase(level, old, owner, w);
+      w = none;
+    }
     if (!valid) continue;
     auto& list = owner ? cells_[level][c].owners : cells_[level][c].passengers;
-    where_[base * slots_ + s] = std::uint32_t(list.size());
+    w = std::uint32_t(list.size());
     list.push_back({cluster, std::uint32_t(s)});
   }
+  range_[base] = r;
+}
+
+void HierarchicalGrid::erase(int level, std::uint32_t cell, bool owner, std::uint32_t at) {
+  auto& list = owner ? cells_[level][cell].owners : cells_[level][cell].passengers;
+  const Entry moved = list.back();
+  list[at] = moved;
+  where_[(moved.cluster * std::size_t(top_) + level) * slots_ + moved.slot] = at;
+  list.pop_back();
 }
 
 void HierarchicalGrid::remove(std::uint32_t cluster, int level, bool owner) {
@@ -115,12 +132,7 @@ void HierarchicalGrid::remove(std::uint32_t cluster, int level, bool owner) {
     std::uint32_t& w = where_[base * slots_ + s];
     if (w == none) continue;
     bool valid;
-    Cell& cell = cells_[level][cell_at(level, range_[base], s, valid)];
-    auto& list = owner ? cell.owners : cell.passengers;
-    const Entry moved = list.back();
-    list[w] = moved;
-    where_[(moved.cluster * std::size_t(top_) + level) * slots_ + moved.slot] = w;
-    list.pop_back();
+    erase(level, cell_at(level, range_[base], s, valid), owner, w);
     w = none;
   }
 }

@@ -40,7 +40,8 @@ class HierarchicalGrid {
   Range range_of(int level, const Vector3& low, const Vector3& high) const;
   const Range& range(std::uint32_t cluster, int level) const { return range_[cluster * std::size_t(top_) + level]; }
 
-  // (Re)registers at `level`, as an owner (the cluster's own level) or a passenger (a coarser level).
+  // (Re)registers at `level`, as an owner (the cluster's own level) or a passenger (a coarser level); a
+  // re-registration keeps the role it had there.
   void place(std::uint32_t cluster, int level, const Range& r, bool owner);
   void remove(std::uint32_t cluster, int level, bool owner);  // no-op if not registered there
 
@@ -59,6 +60,8 @@ class HierarchicalGrid {
  private:
   int wrap(int level, int axis, std::int64_t i) const;
   std::uint32_t cell_at(int level, const Range& r, int slot, bool& valid) const;
+  // Takes the entry at position `at` out of a cell's list (the last entry fills the hole).
+  void erase(int level, std::uint32_t cell, bool owner, std::uint32_t at);
 
   Box box_;
   int slots_;  // 2^d

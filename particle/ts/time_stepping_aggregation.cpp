@@ -126,13 +126,6 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
   }
 }
 
-template <class F>
-void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
-  const std::size_t workers = n >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
-  if (workers <= 1) return f(std::size_t(0), n, std::size_t(0));
-  pool_->run(workers, [&](std::size_t w) { f(n * w / workers, n * (w + 1) / workers, w); });
-}
-
 bool TimeSteppingAggregation::flight(double dt) {
   for (const std::uint32_t c : reflected_list_) reflected_[c] = 0;
   reflected_list_.clear();
@@ -175,17 +168,34 @@ bool TimeSteppingAggregation::flight(double dt) {
 
 void TimeSteppingAggregation::locate() {
   // New cells found in parallel, moved in the (order-dependent) cell list serially.
-  std::vector<double> longest(std::max<std::size_t>(settings_.threads, 1), 0.0);
-  new_cell_.resize(x_.size());
+  // The spheres that changed cell are found in parallel (in increasing order within each worker's range,
+  // the ranges in order) and moved serially in that order: the same cell list as a serial walk.
+  const std::size_t workers = std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1);
+  std::vector<double> longest(workers, 0.0);
+  movers_.resize(workers);
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+    movers_[w].clear();
     for (std::size_t p = from; p < to; ++p) {
       longest[w] = std::max(longest[w], norm(flown_[p]));
-      new_cell_[p] = std::uint32_t(grid_.index(grid_.coords_of(x_[p])));
+      const auto cell = std::uint32_t(grid_.index(grid_.coords_of(x_[p])));
+      if (cell != cells_.cell_of(std::uint32_t(p))) movers_[w].push_back({std::uint32_t(p), cell});
     }
   });
   longest_flight_ = *std::max_element(longest.begin(), longest.end());
-  for (std::uint32_t p = 0; p < x_.size(); ++p)
-    if (new_cell_[p] != cells_.cell_of(p)) cells_.move(p, new_cell_[p]);
+  for (std::size_t w = 0; w < workers; ++w)
+    for (const auto& [p, cell] : movers_[w]) cells_.move(p, cell);
+}
+
+double TimeSteppingAggregation::update_speeds() {
+  speed_.resize(x_.size());
+  std::vector<double> fastest(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1), 0.0);
+  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+    for (std::size_t c = from; c < to; ++c) {
+      speed_[c] = members_.size(std::uint32_t(c)) > 0 ? norm(velocity_[c]) : 0.0;
+      fastest[w] = std::max(fastest[w], speed_[c]);
+    }
+  });
+  return *std::max_element(fastest.begin(), fastest.end());
 }
 
 void TimeSteppingAggregation::step(double dt) {
@@ -194,10 +204,7 @@ void TimeSteppingAggregation::step(double dt) {
   last_mean_ = 0;
   // Substeps: no cluster flies farther than substep_displacement · 2R in one flight, so that a contact is
   // found by the swept test below, and resolved from a shallow overlap, however long the step.
-  double speed = 0;
-  speed_.assign(x_.size(), 0.0);
-  for (std::uint32_t c = 0; c < x_.size(); ++c)
-    if (members_.size(c) > 0) speed = std::max(speed, speed_[c] = norm(velocity_[c]));
+  const double speed = update_speeds();
   const double cap = settings_.substep_displacement * 2.0 * radius_;
   const double pieces = std::max(1.0, std::ceil(speed * dt / cap));
   const std::size_t substeps = std::size_t(std::min(pieces, 1e9));
@@ -217,7 +224,7 @@ void TimeSteppingAggregation::step(double dt) {
     }
     if (settings_.contact_time) found = merge_binary_contacts(std::move(found), dt / double(substeps));
     resolve(std::move(found));
-    for (std::uint32_t c = 0; c < x_.size(); ++c) speed_[c] = members_.size(c) > 0 ? norm(velocity_[c]) : 0.0;
+    update_speeds();
   }
   time_ += dt;
 }

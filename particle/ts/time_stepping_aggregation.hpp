@@ -177,6 +177,7 @@ class TimeSteppingAggregation {
   bool flight(double dt);
   void reflect(std::uint32_t cluster);
   void locate();  // cell list and longest_flight_ from x_ and flown_
+  double update_speeds();  // speed_ from velocity_ (on the workers); returns the largest
   // Pairs to link: of different clusters overlapping now, or (`swept`, after a flight) whose relative
   // path over the flight came within 2R; with `among`, those of the given spheres, same-cluster pairs
   // overlapping by more than same_cluster_tolerance included.
@@ -209,7 +210,7 @@ class TimeSteppingAggregation {
   static constexpr std::uint32_t no_cell = 0xffffffffu;
   static constexpr std::size_t parallel_cells = 16384;  // fewer cells or spheres: one worker (thread start-up dominates)
   std::vector<std::uint32_t> half_neighbours_;
-  std::vector<std::uint32_t> new_cell_;  // scratch of locate
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> movers_;  // scratch of locate: (sphere, new cell) per worker
   // f(from, to, worker) over ranges of [0, n) on `threads` workers (one below parallel_cells items).
   template <class F>
   void for_ranges(std::size_t n, F&& f) const;  // per cell, its half-stencil neighbours (no_cell past a wall)

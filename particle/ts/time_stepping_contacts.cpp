@@ -61,8 +61,13 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     // the others at least the narrowest cell side apart. A minimum: independent of the split.
     const bool bound = safe != nullptr && !speed_.empty();
     double fastest = 0;
-    if (bound)
-      for (std::uint32_t c = 0; c < x_.size(); ++c) fastest = std::max(fastest, speed_[c]);
+    if (bound) {
+      std::vector<double> top(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1), 0.0);
+      for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+        for (std::size_t c = from; c < to; ++c) top[w] = std::max(top[w], speed_[c]);
+      });
+      fastest = *std::max_element(top.begin(), top.end());
+    }
     // Gaps less a margin far above the round-off the positions gather over the quiet flights.
     const double contact_margin = 2.0 * radius_ * (1.0 + 1e-6);
     const double far_gap = narrowest - contact_margin;

@@ -1,6 +1,7 @@
 #pragma once
-// The neighbour walk shared by contact detection and the minimisation of the time-stepping engine (a member
-// template of TimeSteppingAggregation, defined here for the source files that use it).
+// The neighbour walk shared by contact detection and the minimisation of the time-stepping engine, and the
+// split of a loop over the workers (member templates of TimeSteppingAggregation, defined here for the
+// source files that use them).
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -26,6 +27,13 @@ void TimeSteppingAggregation::for_near(std::uint32_t i, double reach, F&& f) con
   for (const std::size_t cell : visit)
     for (std::uint32_t j = cells_.first(cell); j != CellList::none; j = cells_.next(j))
       if (j != i) f(j);
+}
+
+template <class F>
+void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
+  const std::size_t workers = n >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
+  if (workers <= 1) return f(std::size_t(0), n, std::size_t(0));
+  pool_->run(workers, [&](std::size_t w) { f(n * w / workers, n * (w + 1) / workers, w); });
 }
 
 }  // namespace aggkit

@@ -128,7 +128,9 @@ TEST_CASE("checkpoint: damaged, truncated, grown, foreign and mismatched files a
     std::string bad = good;
     bad[8] = char(checkpoint_format_version + 1);  // the uint32 after the 8-byte magic (little-endian)
     write_bytes(file, bad);
-    CHECK_THAT(refusal(file, header), Catch::Contains("checkpoint format 2"));
+    CHECK_THAT(refusal(file, header), Catch::Contains("checkpoint format " + std::to_string(checkpoint_format_version + 1) +
+                                                      ", this aggkit reads format " +
+                                                      std::to_string(checkpoint_format_version)));
   }
   SECTION("no file") {
     std::filesystem::remove(file);
