@@ -9,7 +9,7 @@
 #SBATCH --job-name=aggkit-run        # the name squeue shows
 #SBATCH --nodes=2                    # machines
 #SBATCH --ntasks-per-node=4          # MPI ranks per machine: 8 ranks in all
-#SBATCH --cpus-per-task=2            # cores per rank, for the engine's `threads = 2`
+#SBATCH --cpus-per-task=2            # cores per rank, for the engine's `threads = 2` (not 0: every core of the node)
 #SBATCH --time=02:00:00              # wall-time limit; the job is killed after it
 #SBATCH --output=aggkit-%j.log       # stdout and stderr (progress lines come from rank 0 only)
 set -euo pipefail                    # stop at the first failing command
