@@ -98,8 +98,7 @@ double parse_duration(const std::string& text, const std::string& key) {
 // Under mpirun (or srun) the particle and DSMC engines spread their realizations over the ranks: every rank
 // reads the scene (a bad one ends every rank with exit status 2), rank 0 runs the scene and writes every
 // output, the other ranks run their share of the realizations and end with rank 0's exit status.
-int run(RunArguments arguments, int* argc, char*** argv) {
-  std::optional<aggkit::MpiSession> mpi;
+int run(RunArguments arguments, std::optional<aggkit::MpiSession>& mpi, int* argc, char*** argv) {
   if (!aggkit::mpirun_variable().empty()) mpi.emplace(argc, argv);
   const aggkit::MpiRanks world;
   const aggkit::RankGroup* ranks = aggkit::shared_ranks(&world);
@@ -348,6 +347,10 @@ int main(int argc, char** argv) {
     return aggkit::exit_bad_input;
   }
 
+  // aggkit run under mpirun: MPI lives until every rank has met at the end, so that rank 0 has printed its
+  // error before a rank ends with a non-zero status (mpirun then ends the whole job).
+  std::optional<aggkit::MpiSession> run_mpi;
+  int code = aggkit::exit_internal_error;
   try {
     if (*kernels_command) {
       aggkit::print_kernel_catalogue(std::cout);
@@ -356,17 +359,19 @@ int main(int argc, char** argv) {
     if (*scan_command) return scan(scan_arguments, &argc, &argv);
     if (*validate_command) return validate(validate_arguments);
     if (*sweep_command) return sweep(sweep_arguments, &argc, &argv);
-    return run(arguments, &argc, &argv);
+    code = run(arguments, run_mpi, &argc, &argv);
   } catch (const aggkit::ShareAbandoned& abandoned) {  // another rank failed; rank 0 has said why
-    return abandoned.input ? aggkit::exit_bad_input : aggkit::exit_internal_error;
+    code = abandoned.input ? aggkit::exit_bad_input : aggkit::exit_internal_error;
   } catch (const aggkit::InputError& e) {
     std::cerr << "aggkit: error: " << e.what() << "\n";
-    return aggkit::exit_bad_input;
+    code = aggkit::exit_bad_input;
   } catch (const std::exception& e) {
     std::cerr << "aggkit: internal error: " << e.what() << "\n";
-    return aggkit::exit_internal_error;
+    code = aggkit::exit_internal_error;
   } catch (...) {
     std::cerr << "aggkit: internal error: unknown exception\n";
-    return aggkit::exit_internal_error;
+    code = aggkit::exit_internal_error;
   }
+  if (run_mpi) aggkit::mpi_barrier();
+  return code;
 }
