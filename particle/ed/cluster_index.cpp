@@ -22,6 +22,9 @@ ClusterIndex::ClusterIndex(const Box& box, double contact, std::size_t particles
   std::size_t capacity = 16;
   while (capacity < 2 * particles) capacity *= 2;
   slots_.resize(capacity);
+  std::size_t buckets = 64;
+  while (buckets < 4 * particles) buckets *= 2;
+  filter_.assign(buckets, 0);
 }
 
 CellCoords ClusterIndex::cell_of(const Vector3& offset) const {
@@ -43,6 +46,26 @@ void ClusterIndex::key(std::uint32_t cluster, CellCoords c, std::uint64_t& k1, s
 
 std::size_t ClusterIndex::home(std::uint64_t k1, std::uint64_t k2) const {
   return std::size_t(mix(k1 ^ mix(k2))) & (slots_.size() - 1);
+}
+
+std::size_t ClusterIndex::bucket(std::uint64_t k1, std::uint64_t k2) const {
+  // Neighbouring cells of one cluster in neighbouring counters (a cast walks neighbouring cells, so its
+  // questions mostly fall on a cache line already loaded); the cluster picks where its run starts.
+  const std::uint64_t cluster = k1 >> 32;
+  const std::uint64_t x = std::uint32_t(k1), y = std::uint32_t(k2 >> 32), z = std::uint32_t(k2);
+  return std::size_t(mix(cluster) + x + 1021 * y + 1048573 * z) & (filter_.size() - 1);
+}
+
+void ClusterIndex::count(std::size_t b, int change) {
+  std::uint8_t& n = filter_[b];
+  if (n == 0xff) return;
+  n = std::uint8_t(int(n) + change);
+}
+
+void ClusterIndex::refilter() {
+  std::fill(filter_.begin(), filter_.end(), std::uint8_t(0));
+  for (const Slot& s : slots_)
+    if (s.head != none) count(bucket(s.k1, s.k2), +1);
 }
 
 std::size_t ClusterIndex::find(std::uint64_t k1, std::uint64_t k2) const {
@@ -70,6 +93,7 @@ void ClusterIndex::insert(std::uint32_t cluster, std::uint32_t particle, const V
     }
     slots_[i] = {k1, k2, none};
     ++used_;
+    count(bucket(k1, k2), +1);
   }
   next_[particle] = slots_[i].head;
   slots_[i].head = particle;
@@ -89,6 +113,7 @@ void ClusterIndex::erase(std::uint32_t cluster, std::uint32_t particle, const Ve
   }
   next_[particle] = none;
   if (slots_[i].head != none) return;
+  count(bucket(k1, k2), -1);
   // Backward-shift deletion keeps every probe run unbroken.
   const std::size_t mask = slots_.size() - 1;
   std::size_t j = i;
@@ -108,6 +133,7 @@ void ClusterIndex::erase(std::uint32_t cluster, std::uint32_t particle, const Ve
 std::uint32_t ClusterIndex::first(std::uint32_t cluster, const CellCoords& cell) const {
   std::uint64_t k1, k2;
   key(cluster, cell, k1, k2);
+  if (filter_[bucket(k1, k2)] == 0) return none;
   return slots_[find(k1, k2)].head;
 }
 

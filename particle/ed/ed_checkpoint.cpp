@@ -45,6 +45,7 @@ void ClusterIndex::restore(StateReader& in) {
   in.get(next_);
   if (next_.size() != particles || slots_.empty() || used_ > slots_.size())
     throw CheckpointError("the checkpoint's cluster index does not fit this run");
+  refilter();
 }
 
 void EventDrivenAggregation::save(StateWriter& out) const {
