@@ -1,6 +1,7 @@
 // The `aggkit` command line: parses arguments and calls the libraries.
-//   aggkit run SCENE --out DIR [--checkpoint-every 10m] [--quiet] [--no-plot] [-- PETSC_OPTIONS]
+//   [mpirun -np K] aggkit run SCENE --out DIR [--checkpoint-every 10m] [--quiet] [--no-plot] [-- PETSC_OPTIONS]
 //   aggkit run --resume DIR [--quiet]
+// (under mpirun the realizations of particle and DSMC engines are spread over the ranks, without checkpoints)
 //   [mpirun -np K] aggkit scan SCENE --out DIR [--quiet] [--no-plot]
 //   aggkit validate [--tier fast|full] [--out DIR] [--jobs K] [--quiet] [--no-plot] [--rerun] [SCENE ...]
 //   [mpirun -np K] aggkit sweep SCENE --out DIR [--quiet] [--no-plot]
@@ -14,6 +15,7 @@
 #include <exception>
 #include <iostream>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,7 @@
 #include "analysis/input_error.hpp"
 #include "solvers/petsc_options.hpp"
 #include "validation/engines/engine.hpp"
+#include "validation/engines/rank_share.hpp"
 #include "validation/io/exit_code.hpp"
 #include "validation/harness/harness.hpp"
 #include "validation/harness/output_folder.hpp"
@@ -92,52 +95,77 @@ double parse_duration(const std::string& text, const std::string& key) {
   return value * scale;
 }
 
-int run(RunArguments arguments) {
+// Under mpirun (or srun) the particle and DSMC engines spread their realizations over the ranks: every rank
+// reads the scene (a bad one ends every rank with exit status 2), rank 0 runs the scene and writes every
+// output, the other ranks run their share of the realizations and end with rank 0's exit status.
+int run(RunArguments arguments, std::optional<aggkit::MpiSession>& mpi, int* argc, char*** argv) {
+  if (!aggkit::mpirun_variable().empty()) mpi.emplace(argc, argv);
+  const aggkit::MpiRanks world;
+  const aggkit::RankGroup* ranks = aggkit::shared_ranks(&world);
+  const bool rank_zero = world.rank() == 0;
   aggkit::RunOptions options;
-  if (!arguments.resume.empty()) {
-    if (!arguments.scene.empty() || !arguments.out.empty() || !arguments.checkpoint_every.empty())
-      throw aggkit::InputError("--resume", arguments.resume,
-                               "the folder of the run to continue, alone: its scene, --out and --checkpoint-every are "
-                               "those of the run (DIR/checkpoint/run.json)");
-    const aggkit::CheckpointedRun run = aggkit::read_checkpointed_run(arguments.resume);
-    const std::uint64_t now = aggkit::scene_fingerprint(run.scene, "--resume");
-    if (now != run.fingerprint)
-      throw aggkit::InputError("--resume", arguments.resume,
-                               "a run whose scene is unchanged: " + run.scene.string() +
-                                   " changed since the checkpoint (its text's fingerprint differs); restore it, or start "
-                                   "a new run");
-    arguments.scene = run.scene.string();
-    arguments.out = arguments.resume;
-    arguments.no_plot = !run.plot;
-    options.checkpoint_every = run.interval;
-    options.resume = true;
-  } else {
-    if (arguments.scene.empty()) throw aggkit::InputError("scene", "(none)", "a scene file (or --resume DIR)");
-    if (arguments.out.empty()) throw aggkit::InputError("--out", "(none)", "an output folder (or --resume DIR)");
-    if (!arguments.checkpoint_every.empty())
-      options.checkpoint_every = parse_duration(arguments.checkpoint_every, "--checkpoint-every");
-    // Before the scene is read: a run refused for bad input must not leave an earlier run's summary behind.
-    aggkit::OutputFolder(arguments.out).forget_summary();
-  }
-  const aggkit::Scene scene = aggkit::load_scene(arguments.scene);
-  use_petsc_options(scene, arguments.petsc_options);
-  options.out = arguments.out;
-  options.plot = !arguments.no_plot;
-  options.force = arguments.force;
-  options.scene_file = std::filesystem::absolute(arguments.scene);
-  options.scene_fingerprint = aggkit::scene_fingerprint(arguments.scene, "scene");
-  options.catch_signals = true;
-  if (arguments.quiet) options.progress = nullptr;
+  std::optional<aggkit::Scene> scene;
+  aggkit::gather_shares(ranks, [&] {  // every rank reads the run and its scene; one that cannot fails every rank
+    if (!arguments.resume.empty()) {
+      if (!arguments.scene.empty() || !arguments.out.empty() || !arguments.checkpoint_every.empty())
+        throw aggkit::InputError("--resume", arguments.resume,
+                                 "the folder of the run to continue, alone: its scene, --out and --checkpoint-every are "
+                                 "those of the run (DIR/checkpoint/run.json)");
+      const aggkit::CheckpointedRun run = aggkit::read_checkpointed_run(arguments.resume);
+      const std::uint64_t now = aggkit::scene_fingerprint(run.scene, "--resume");
+      if (now != run.fingerprint)
+        throw aggkit::InputError("--resume", arguments.resume,
+                                 "a run whose scene is unchanged: " + run.scene.string() +
+                                     " changed since the checkpoint (its text's fingerprint differs); restore it, or "
+                                     "start a new run");
+      arguments.scene = run.scene.string();
+      arguments.out = arguments.resume;
+      arguments.no_plot = !run.plot;
+      options.checkpoint_every = run.interval;
+      options.resume = true;
+    } else {
+      if (arguments.scene.empty()) throw aggkit::InputError("scene", "(none)", "a scene file (or --resume DIR)");
+      if (arguments.out.empty()) throw aggkit::InputError("--out", "(none)", "an output folder (or --resume DIR)");
+      if (!arguments.checkpoint_every.empty())
+        options.checkpoint_every = parse_duration(arguments.checkpoint_every, "--checkpoint-every");
+      // Before the scene is read: a run refused for bad input must not leave an earlier run's summary behind.
+      if (rank_zero) aggkit::OutputFolder(arguments.out).forget_summary();
+    }
+    scene.emplace(aggkit::load_scene(arguments.scene));
+    options.scene_fingerprint = aggkit::scene_fingerprint(arguments.scene, "scene");
+    return std::string();
+  });
+  if (!rank_zero) return aggkit::serve_realizations(*scene, *ranks);
+  // Rank 0 ends the other ranks' service with its exit status, however the run ends.
+  struct ServiceEnd {
+    const aggkit::RankGroup* ranks;
+    int code = aggkit::exit_internal_error;
+    ~ServiceEnd() {
+      if (ranks) aggkit::end_realization_service(*ranks, code);
+    }
+  } service{ranks};
   try {
-    return aggkit::run_scene(scene, options).exit_code;
+    use_petsc_options(*scene, arguments.petsc_options);
+    options.out = arguments.out;
+    options.plot = !arguments.no_plot;
+    options.force = arguments.force;
+    options.scene_file = std::filesystem::absolute(arguments.scene);
+    options.catch_signals = true;
+    options.ranks = ranks;
+    if (arguments.quiet) options.progress = nullptr;
+    service.code = aggkit::run_scene(*scene, options).exit_code;
+    return service.code;
   } catch (const aggkit::RunInterrupted& stop) {
     std::cerr << "aggkit: stopped by signal " << stop.signal << " after the last checkpoint; continue with: aggkit run --resume "
               << arguments.out << "\n";
-    return aggkit::exit_interrupted;
+    return service.code = aggkit::exit_interrupted;
+  } catch (const aggkit::InputError&) {
+    service.code = aggkit::exit_bad_input;
+    throw;
   }
 }
 
-// MPI is initialised for the scan only (a singleton job without mpirun); the other commands never touch it.
+// MPI is initialised for the scan and the sweep (a singleton job without mpirun), and for a run under mpirun.
 int scan(const RunArguments& arguments, int* argc, char*** argv) {
   aggkit::MpiSession mpi(argc, argv);
   const aggkit::ScanPlan plan = aggkit::load_scan_plan(arguments.scene);
@@ -188,7 +216,8 @@ int sweep(const RunArguments& arguments, int* argc, char*** argv) {
 
 // The subcommands: each declares its arguments and help on `app` and returns its parser.
 CLI::App* add_run_command(CLI::App& app, RunArguments& arguments) {
-  CLI::App* run_command = app.add_subcommand("run", "run a scene and write its outputs, comparisons and report");
+  CLI::App* run_command = app.add_subcommand(
+      "run", "run a scene and write its outputs, comparisons and report; MPI: mpirun -np K spreads the realizations");
   run_command->add_option("scene", arguments.scene, "scene file (TOML; see validation/scenes/)");
   run_command->add_option("--out,-o", arguments.out, "output folder (created if needed)");
   run_command->add_option("--checkpoint-every", arguments.checkpoint_every,
@@ -199,7 +228,10 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& arguments) {
   run_command->add_flag("--no-plot", arguments.no_plot, "do not draw report.png");
   run_command->add_flag("--force", arguments.force,
                         "write into a non-empty folder that no aggkit run wrote (files of other names are left alone)");
-  run_command->footer("PETSc options (-snes_monitor, -snes_rtol 1e-12, -ksp_type bcgs, ...) for the snes engines go "
+  run_command->footer("Under mpirun -np K the realizations of the particle engines and the runs of DSMC are spread over\n"
+                      "the ranks (threads within each rank); rank 0 writes the outputs of a one-process run with the\n"
+                      "same seeds. Checkpoints (--checkpoint-every, --resume) need one process.\n\n"
+                      "PETSc options (-snes_monitor, -snes_rtol 1e-12, -ksp_type bcgs, ...) for the snes engines go "
                       "after --:\n  aggkit run SCENE --out DIR -- -snes_monitor\n\n" + engine_help());
   return run_command;
 }
@@ -241,7 +273,9 @@ CLI::App* add_validate_command(CLI::App& app, ValidateArguments& validate_argume
       "are recorded in DIR/finished/: an interrupted validation rerun into the same DIR runs only the rest\n"
       "(a changed scene file is rerun). Prints a pass/fail table (scene, engines, worst comparison, its error,\n"
       "tolerance and share of the tolerance used, wall time); writes DIR/validation.json and DIR/report.html.\n"
-      "Not under mpirun: --jobs K runs K scenes at once.\n"
+      "Not under mpirun: --jobs K runs K scenes at once on this machine. On a cluster, spread one scene's\n"
+      "realizations over MPI ranks by running it alone: mpirun -np K aggkit run SCENE --out DIR/<scene>\n"
+      "(examples/slurm-run.sh).\n"
       "Exit status 0: every scene passes; 1: a scene failed; 2: bad input (option, scene, output folder).");
   return validate_command;
 }
@@ -313,6 +347,10 @@ int main(int argc, char** argv) {
     return aggkit::exit_bad_input;
   }
 
+  // aggkit run under mpirun: MPI lives until every rank has met at the end, so that rank 0 has printed its
+  // error before a rank ends with a non-zero status (mpirun then ends the whole job).
+  std::optional<aggkit::MpiSession> run_mpi;
+  int code = aggkit::exit_internal_error;
   try {
     if (*kernels_command) {
       aggkit::print_kernel_catalogue(std::cout);
@@ -321,15 +359,19 @@ int main(int argc, char** argv) {
     if (*scan_command) return scan(scan_arguments, &argc, &argv);
     if (*validate_command) return validate(validate_arguments);
     if (*sweep_command) return sweep(sweep_arguments, &argc, &argv);
-    return run(arguments);
+    code = run(arguments, run_mpi, &argc, &argv);
+  } catch (const aggkit::ShareAbandoned& abandoned) {  // another rank failed; rank 0 has said why
+    code = abandoned.input ? aggkit::exit_bad_input : aggkit::exit_internal_error;
   } catch (const aggkit::InputError& e) {
     std::cerr << "aggkit: error: " << e.what() << "\n";
-    return aggkit::exit_bad_input;
+    code = aggkit::exit_bad_input;
   } catch (const std::exception& e) {
     std::cerr << "aggkit: internal error: " << e.what() << "\n";
-    return aggkit::exit_internal_error;
+    code = aggkit::exit_internal_error;
   } catch (...) {
     std::cerr << "aggkit: internal error: unknown exception\n";
-    return aggkit::exit_internal_error;
+    code = aggkit::exit_internal_error;
   }
+  if (run_mpi) aggkit::mpi_barrier();
+  return code;
 }

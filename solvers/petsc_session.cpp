@@ -25,6 +25,12 @@ void ensure_petsc_initialized() {
   PetscBool finalized = PETSC_FALSE;
   PetscFinalized(&finalized);
   if (finalized) throw std::runtime_error("PETSc was already finalised in this process; it cannot restart");
+  // Every PETSc object of aggkit lives on PETSC_COMM_SELF. Under MPI (scan, sweep, `mpirun aggkit run`) each
+  // rank keeps a PETSc of its own, so a rank that solves never waits in PETSc's collectives
+  // (PetscInitialize, PetscFinalize) for ranks that do not (under `aggkit run` only rank 0 runs snes).
+  int mpi_initialised = 0;
+  MPI_Initialized(&mpi_initialised);
+  if (mpi_initialised) PETSC_COMM_WORLD = MPI_COMM_SELF;
   // PETSc must not install its signal handler (it would turn a library user's crash into PETSc noise).
   PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr);
   const PetscErrorCode code = PetscInitializeNoArguments();

@@ -1,6 +1,7 @@
 #pragma once
 // PETSc lifetime for the steady-state and stability solvers. MPI may already be initialised by the
-// caller (the MPI scan calls MPI_Init itself); PETSc then uses MPI_COMM_WORLD and does not finalise MPI.
+// caller (the MPI scan calls MPI_Init itself); PETSc then runs on MPI_COMM_SELF of each rank (every solve
+// is serial) and does not finalise MPI.
 namespace aggkit {
 
 void ensure_petsc_initialized();  // PetscInitializeNoArguments once, if not yet initialised

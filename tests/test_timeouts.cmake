@@ -255,6 +255,10 @@ aggkit_test_timeout([==[product kernel matches M2 = 1/(1-t) before gelation]==] 
 aggkit_test_timeout([==[progress callbacks of a long advance see the clock run and the clusters fall]==] 30)  # measured 1.2 s
 aggkit_test_timeout([==[receding, missing and grazing pairs]==] 30)  # measured 0.7 s
 aggkit_test_timeout([==[reflecting wall reverses a particle and the wall takes 2 m v]==] 30)  # measured 0.4 s
+aggkit_test_timeout([==[run cli: mpirun -np 2 spreads the ED realizations and writes the files of one process]==] 50)  # measured 8.9 s
+aggkit_test_timeout([==[run cli: mpirun spreads the DSMC runs, with idle ranks when there are more ranks than runs]==] 40)  # measured 6.1 s
+aggkit_test_timeout([==[run cli: under mpirun the deterministic engines (snes, cvode) run on rank 0 alone]==] 30)  # measured 5.0 s
+aggkit_test_timeout([==[run cli: under mpirun a bad scene ends every rank with exit 2, and checkpoints are refused]==] 50)  # measured 8.1 s
 aggkit_test_timeout([==[scan cli: a scan killed while running continues from its finished points]==] 150)  # measured 28.3 s
 aggkit_test_timeout([==[scan cli: an interrupted scan resumes without recomputing its finished points]==] 100)  # measured 18.7 s
 aggkit_test_timeout([==[scan cli: bad input exits 2 naming the key and the value]==] 80)  # measured 15.6 s

@@ -107,7 +107,8 @@ struct CheckpointHeader {
   std::uint64_t scene_fingerprint = 0;  // fnv1a64 of the scene's text
 };
 
-// 2: the ED event queue became a 4-ary heap (a checkpoint keeps the heap as it is).
+// 2: the ED event queue became a 4-ary heap (a checkpoint keeps the heap as it is), and the ED broad phase
+//    registers passengers only up to the coarsest populated level.
 constexpr std::uint32_t checkpoint_format_version = 2;
 
 // Writes header + payload to `path` atomically (see above); throws CheckpointError if the file system fails.

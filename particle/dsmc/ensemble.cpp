@@ -7,12 +7,22 @@
 
 namespace aggkit::dsmc {
 
-Ensemble::Ensemble(const AggregationModel& model, const Options& options, double t_end) {
+namespace {
+std::vector<std::size_t> every_run(std::size_t runs) {
+  std::vector<std::size_t> all(runs);
+  for (std::size_t r = 0; r < runs; ++r) all[r] = r;
+  return all;
+}
+}  // namespace
+
+Ensemble::Ensemble(const AggregationModel& model, const Options& options, double t_end)
+    : Ensemble(model, options, t_end, every_run(options.runs)) {}
+
+Ensemble::Ensemble(const AggregationModel& model, const Options& options, double t_end, const std::vector<std::size_t>& runs) {
   options.validate();
-  for (std::size_t r = 0; r < options.runs; ++r)
-    runs_.push_back(std::make_unique<Simulation>(model, options, run_seed(options.seed, r), t_end));
+  for (std::size_t r : runs) runs_.push_back(std::make_unique<Simulation>(model, options, run_seed(options.seed, r), t_end));
   const std::size_t hardware = std::max(1u, std::thread::hardware_concurrency());
-  threads_ = std::min(options.runs, options.threads == 0 ? hardware : options.threads);
+  threads_ = std::max<std::size_t>(1, std::min(runs_.size(), options.threads == 0 ? hardware : options.threads));
 }
 
 std::vector<Snapshot> Ensemble::advance_to(double t, const std::function<void(std::size_t run, double time)>& every) {

@@ -15,6 +15,10 @@ namespace aggkit::dsmc {
 class Ensemble {
  public:
   Ensemble(const AggregationModel& model, const Options& options, double t_end);
+  // Only the runs numbered `runs` of the options' ensemble (each with its seed run_seed(seed, r)), in that
+  // order: a share of the ensemble (the runs of one MPI rank); run(i) and advance_to's run index count
+  // within the share.
+  Ensemble(const AggregationModel& model, const Options& options, double t_end, const std::vector<std::size_t>& runs);
 
   // Advances every realisation to t (in parallel) and returns their states, in run order. `every`, if given,
   // is called as every(run, time) from the thread running that run every 2^20 trials (Simulation::advance_to);

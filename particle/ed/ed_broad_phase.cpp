@@ -9,6 +9,10 @@ Vector3 EventDrivenAggregation::extent(std::uint32_t c) const {
   return {high_[c][0] - low_[c][0] + pad, high_[c][1] - low_[c][1] + pad, high_[c][2] - low_[c][2] + pad};
 }
 
+int EventDrivenAggregation::passenger_top(std::uint32_t c) const {
+  return std::min(grid_.top() - 1, std::max(level_[c], populated_));
+}
+
 void EventDrivenAggregation::register_cluster(std::uint32_t c) {
   level_[c] = grid_.level_for(extent(c));
   if (level_[c] == grid_.top()) {
@@ -16,6 +20,7 @@ void EventDrivenAggregation::register_cluster(std::uint32_t c) {
     top_.push_back(c);
     return;
   }
+  if (level_[c] > populated_) raise_populated(level_[c], c);
   const Vector3 origin = cluster_origin(c);
   const double pad = radius_ + margin_;
   Vector3 lo{0, 0, 0}, hi{0, 0, 0};
@@ -23,7 +28,25 @@ void EventDrivenAggregation::register_cluster(std::uint32_t c) {
     lo[a] = origin[a] + low_[c][a] - pad;
     hi[a] = origin[a] + high_[c][a] + pad;
   }
-  for (int l = level_[c]; l < grid_.top(); ++l) grid_.place(c, l, grid_.range_of(l, lo, hi), l == level_[c]);
+  for (int l = level_[c]; l <= passenger_top(c); ++l) grid_.place(c, l, grid_.range_of(l, lo, hi), l == level_[c]);
+}
+
+void EventDrivenAggregation::raise_populated(int level, std::uint32_t except) {
+  const int from = populated_ + 1;
+  populated_ = level;
+  ++raises_;
+  const double pad = radius_ + margin_;
+  for (const std::uint32_t c : alive_) {
+    if (c == except || level_[c] >= level) continue;  // the top's clusters included
+    const Vector3 origin = cluster_origin(c);
+    Vector3 lo{0, 0, 0}, hi{0, 0, 0};
+    for (int a = 0; a < box_.dimension; ++a) {
+      lo[a] = origin[a] + low_[c][a] - pad;
+      hi[a] = origin[a] + high_[c][a] + pad;
+    }
+    for (int l = std::max(from, level_[c] + 1); l <= level; ++l) grid_.place(c, l, grid_.range_of(l, lo, hi), false);
+    predict_crossing(c);
+  }
 }
 
 void EventDrivenAggregation::unregister_cluster(std::uint32_t c) {
@@ -34,7 +57,7 @@ void EventDrivenAggregation::unregister_cluster(std::uint32_t c) {
     top_.pop_back();
     return;
   }
-  for (int l = level_[c]; l < grid_.top(); ++l) grid_.remove(c, l, l == level_[c]);
+  for (int l = level_[c]; l <= passenger_top(c); ++l) grid_.remove(c, l, l == level_[c]);
 }
 
 bool EventDrivenAggregation::candidates(std::uint32_t x, std::uint32_t y) const {
@@ -61,7 +84,7 @@ void EventDrivenAggregation::predict_cluster(std::uint32_t c, bool higher_only) 
     return;
   }
   std::array<std::uint32_t, 8> cells;
-  for (int l = level_[c]; l < grid_.top(); ++l) {
+  for (int l = level_[c]; l <= passenger_top(c); ++l) {
     const int n = grid_.cells(l, grid_.range(c, l), cells);
     for (int k = 0; k < n; ++k) {
       for (const auto& e : grid_.owners(l, cells[k])) visit(e.cluster);

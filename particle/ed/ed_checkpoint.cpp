@@ -70,6 +70,8 @@ void EventDrivenAggregation::save(StateWriter& out) const {
   out.put(next_stamp_);
   queue_.save(out);
   out.put(std::uint64_t(compact_at_));
+  out.put(populated_);
+  out.put(raises_);
   out.put(now_);
   out.put(clock_origin_);
   out.put(wall_impulse_);
@@ -99,6 +101,8 @@ void EventDrivenAggregation::restore(StateReader& in) {
   in.get(next_stamp_);
   queue_.restore(in);
   compact_at_ = std::size_t(in.read<std::uint64_t>());
+  in.get(populated_);
+  in.get(raises_);
   in.get(now_);
   in.get(clock_origin_);
   in.get(wall_impulse_);

@@ -29,7 +29,7 @@ void EventDrivenAggregation::predict_crossing(std::uint32_t c) {
   const double pad = radius_ + margin_;
   double best = never;
   int best_level = 0, best_axis = 0, best_face = 0;
-  for (int l = level_[c]; l < grid_.top(); ++l) {
+  for (int l = level_[c]; l <= passenger_top(c); ++l) {
     const auto& r = grid_.range(c, l);
     for (int a = 0; a < box_.dimension; ++a) {
       if (v[a] == 0 || grid_.count(l, a) == 1) continue;
@@ -55,7 +55,7 @@ void EventDrivenAggregation::predict_crossing(std::uint32_t c) {
     }
   }
   if (best == never) return;
-  queue_.push({now_ + (long double)best, stamp_[c], 0, c, std::uint32_t(best_face), EventKind::cell_crossing,
+  queue_.push({now_ + (long double)best, stamp_[c], raises_, c, std::uint32_t(best_face), EventKind::cell_crossing,
                std::uint8_t(best_axis), std::int8_t(velocity_[c][best_axis] > 0 ? 1 : -1), std::uint8_t(best_level)});
 }
 

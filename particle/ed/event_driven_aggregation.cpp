@@ -74,6 +74,9 @@ EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, st
   }
   if (largest_overlap() > overlap_tolerance)
     throw InputError("positions", "overlapping", "initial positions with no two particles closer than 2R");
+  // The coarsest populated level first, so that registering the clusters one by one raises nothing.
+  for (std::uint32_t p = 0; p < positions.size(); ++p)
+    if (const int l = grid_.level_for(extent(p)); l < grid_.top()) populated_ = std::max(populated_, l);
   for (std::uint32_t p = 0; p < positions.size(); ++p) register_cluster(p);
   for (std::uint32_t p = 0; p < positions.size(); ++p) predict_cluster(p, /*higher_only=*/true);
   compact_at_ = std::max<std::size_t>(1u << 16, 8 * positions.size());
@@ -143,7 +146,7 @@ bool EventDrivenAggregation::valid(const Event& e) const {
   switch (e.kind) {
     case EventKind::collision:
       return stamp_[members_.cluster_of(e.a)] == e.stamp_a && stamp_[members_.cluster_of(e.b)] == e.stamp_b;
-    case EventKind::cell_crossing:
+    case EventKind::cell_crossing: return stamp_[e.a] == e.stamp_a && e.stamp_b == raises_;
     case EventKind::wall: return stamp_[e.a] == e.stamp_a;
     case EventKind::pair_check: return stamp_[e.a] == e.stamp_a && stamp_[e.b] == e.stamp_b;
   }

@@ -125,6 +125,12 @@ class EventDrivenAggregation {
   Vector3 extent(std::uint32_t cluster) const;  // inflated bounding-box extent
   void register_cluster(std::uint32_t cluster);
   void unregister_cluster(std::uint32_t cluster);
+  // The coarsest level a cluster below the top is registered at: its own, or up to the coarsest level where
+  // an owner lives (a passenger at a coarser level meets nobody there, and its crossings would be events).
+  int passenger_top(std::uint32_t cluster) const;
+  // An owner appeared at `level`, coarser than any before: every other cluster below it becomes a passenger
+  // up to there, and its crossings are predicted again (the old ones go stale: raises_ changes).
+  void raise_populated(int level, std::uint32_t except);
   bool candidates(std::uint32_t x, std::uint32_t y) const;
   // Predictions (ed_prediction.cpp).
   void predict_cluster(std::uint32_t cluster, bool higher_only = false);
@@ -163,6 +169,8 @@ class EventDrivenAggregation {
   std::uint64_t next_stamp_ = 1;
   EventQueue queue_;
   std::size_t compact_at_ = 0;
+  int populated_ = 0;          // the coarsest stored level with an owner (clusters below the top)
+  std::uint64_t raises_ = 0;   // times populated_ rose; a crossing event carries the count at its prediction
   long double now_ = 0, clock_origin_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
   EdCounters counters_;

@@ -2,7 +2,8 @@
 // Broad phase of the cluster-level ED engine: a hierarchy of grids over the box [Ogarko2012] with nested
 // cells, 2^level times the finest side along each axis. A cluster lives at the finest level whose cells are
 // at least as wide as its (inflated) bounding box, so it covers at most 2 cells per axis there, and it is
-// registered at its own level and every coarser one below the top.
+// registered at its own level (an owner) and at coarser ones below the top (a passenger: the engine registers
+// passengers up to the coarsest level where an owner lives, since only owners are met there).
 // The top level (one cell: clusters wider than half the box) is not stored: its clusters are candidates of
 // everyone. Two clusters are candidates when they share a cell at the coarser of their two levels.
 // Registration: each (cluster, level) keeps its cell-index range per axis (unwrapped integers) and, per

@@ -20,6 +20,8 @@
 
 namespace aggkit {
 
+class RankGroup;  // rank_share.hpp
+
 // One number or word an engine reports about its run (step counts, kernel rank, ...), for summary.json.
 struct EngineStatistic {
   std::string name;
@@ -83,6 +85,10 @@ struct EngineObserver {
   std::function<void(const std::string& what)> warning;
   std::filesystem::path folder;  // the engine's output folder (exists), for the files it declares
   EngineCheckpoint* checkpoint = nullptr;  // may be unset: no checkpoints
+  // The ranks of the job that share the engine's realizations (`mpirun -np K aggkit run`, rank_share.hpp),
+  // for an engine that spreads_over_ranks(); unset: this process runs them all. On the ranks other than 0
+  // the observer has only `measure` and `ranks`: those ranks record, print and write nothing.
+  const RankGroup* ranks = nullptr;
 
   void output(double t, const ObservedState& state) const { record(t, {measure(t, state)}); }
 };
@@ -106,6 +112,9 @@ class Engine {
   // Runs `scene`, reporting the state at every time of scene.time.outputs in order. Throws InputError
   // for input found bad only now, any other exception if the run fails.
   virtual EngineStatistics run(const Scene& scene, const EngineObserver& observer) const = 0;
+  // Whether run() spreads its realizations over observer.ranks (rank_share.hpp); the harness then runs it on
+  // every rank (on the ranks other than 0 its statistics are ignored).
+  virtual bool spreads_over_ranks() const { return false; }
 
  private:
   std::string name_;

@@ -6,11 +6,13 @@
 #include <chrono>
 #include <thread>
 #include <cmath>
+#include <optional>
 
 #include "analysis/input_error.hpp"
 #include "particle/common/checkpoint.hpp"
 #include "particle/dsmc/ensemble.hpp"
 #include "validation/engines/engine.hpp"
+#include "validation/engines/rank_share.hpp"
 #include "validation/io/machine.hpp"
 #include "validation/io/text.hpp"
 #include "validation/scene/scene_table.hpp"
@@ -51,6 +53,8 @@ class DsmcEngine final : public Engine {
            (options_.truncate ? ", truncated" : ", untruncated");
   }
 
+  bool spreads_over_ranks() const override { return true; }
+
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
     try {
       return under_key(keys_, [&] { return run_solver(scene, observer); });
@@ -62,15 +66,25 @@ class DsmcEngine final : public Engine {
  private:
   EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     const auto started = std::chrono::steady_clock::now();
-    dsmc::Ensemble ensemble(scene.model, options_, scene.time.end);
-    // Progress between output times (run 0, on this thread) and the wall-time budget (every run).
+    // With several ranks (rank_share.hpp) each advances its share of the runs, and rank 0 records the
+    // measurements of every run in run order at each output time; checkpoints are then off (the harness
+    // refuses them). The other ranks return with nothing.
+    const RankGroup* ranks = shared_ranks(observer.ranks);
+    const bool records = !ranks || ranks->rank() == 0;
+    const std::vector<std::size_t> mine = realizations_of_rank(options_.runs, ranks);
+    std::optional<dsmc::Ensemble> ensemble;
+    gather_shares(ranks, [&] {
+      ensemble.emplace(scene.model, options_, scene.time.end, mine);
+      return std::string();
+    });
+    // Progress between output times (run 0, on this thread of rank 0) and the wall-time budget (every run).
     double last_note = -1;
     const auto every = [&](std::size_t run, double time) {
       const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       if (max_wall_seconds_ > 0 && spent > max_wall_seconds_)
         throw std::runtime_error("stopped: the wall-time budget of " + shortest_text(max_wall_seconds_) +
                                  " s (engine option max_wall_seconds) ran out at t = " + shortest_text(time));
-      if (run == 0 && observer.status && spent - last_note >= 1.0) {
+      if (mine[run] == 0 && observer.status && spent - last_note >= 1.0) {
         last_note = spent;
         observer.status("t = " + shortest_text(time) + " of " + shortest_text(scene.time.end));
       }
@@ -81,30 +95,73 @@ class DsmcEngine final : public Engine {
     if (observer.checkpoint && !observer.checkpoint->resumed().empty()) {
       StateReader in(observer.checkpoint->resumed());
       in.get(first);
-      ensemble.restore(in);
+      ensemble->restore(in);
       in.expect_end();
       if (first > outputs.size()) throw CheckpointError("the checkpoint has more outputs than this scene");
     }
     for (std::uint64_t k = first; k < outputs.size(); ++k) {
       const double t = outputs[k];
+      const auto measured = [&] {  // this rank's runs at t
+        std::vector<Measurement> runs;
+        for (auto& snapshot : ensemble->advance_to(t, every))
+          runs.push_back(observer.measure(t, SnapshotState(std::move(snapshot), scene.model.size)));
+        return runs;
+      };
       std::vector<Measurement> runs;
-      for (auto& snapshot : ensemble.advance_to(t, every))
-        runs.push_back(observer.measure(t, SnapshotState(std::move(snapshot), scene.model.size)));
+      if (!ranks) {
+        runs = measured();
+      } else {
+        const std::vector<std::string> gathered = gather_realizations(ranks, options_.runs, [&](const std::vector<std::size_t>&) {
+          std::vector<std::string> payloads;
+          for (const Measurement& m : measured()) {
+            StateWriter out;
+            put_measurement(out, m);
+            payloads.push_back(out.take());
+          }
+          return payloads;
+        });
+        for (const std::string& payload : gathered) {
+          StateReader in(payload);
+          runs.push_back(get_measurement(in));
+          in.expect_end();
+        }
+      }
+      if (!records) continue;
       observer.record(t, std::move(runs));
       if (observer.progress) observer.progress(t);
       if (observer.checkpoint && observer.checkpoint->due()) {
         StateWriter out;
         out.put(k + 1);
-        ensemble.save(out);
+        ensemble->save(out);
         observer.checkpoint->save(out.take());
+      }
+    }
+    // The statistics of every run, in run order, on rank 0.
+    std::vector<dsmc::RunStatistics> run_statistics;
+    if (!ranks) {
+      for (std::size_t r = 0; r < ensemble->runs(); ++r) run_statistics.push_back(ensemble->run(r).statistics());
+    } else {
+      const std::vector<std::string> gathered = gather_realizations(ranks, options_.runs, [&](const std::vector<std::size_t>&) {
+        std::vector<std::string> payloads;
+        for (std::size_t i = 0; i < ensemble->runs(); ++i) {
+          StateWriter out;
+          out.put(ensemble->run(i).statistics());
+          payloads.push_back(out.take());
+        }
+        return payloads;
+      });
+      if (!records) return {};
+      for (const std::string& payload : gathered) {
+        StateReader in(payload);
+        run_statistics.push_back(in.read<dsmc::RunStatistics>());
+        in.expect_end();
       }
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     dsmc::RunStatistics total;
     std::int64_t extinct = 0, frozen = 0, max_doublings = 0;
     double first_frozen = std::numeric_limits<double>::quiet_NaN();
-    for (std::size_t r = 0; r < ensemble.runs(); ++r) {
-      const auto& s = ensemble.run(r).statistics();
+    for (const dsmc::RunStatistics& s : run_statistics) {
       total.trials += s.trials;
       total.aggregations += s.aggregations;
       total.shatterings += s.shatterings;
@@ -120,7 +177,7 @@ class DsmcEngine final : public Engine {
         {"method", dsmc::to_string(options_.method)},
         {"particles", std::int64_t(options_.particles)},
         {"runs", std::int64_t(options_.runs)},
-        {"threads", std::int64_t(ensemble.threads())},
+        {"threads", std::int64_t(ensemble->threads())},
         {"seed", std::to_string(options_.seed)},
         {"bucket", std::int64_t(options_.bucket)},
         {"truncated", std::string(options_.truncate ? "yes" : "no")},
@@ -138,6 +195,7 @@ class DsmcEngine final : public Engine {
         {"frozen_runs", frozen},
         {"first_frozen_time", first_frozen},
     };
+    if (ranks) statistics.push_back({"ranks", std::int64_t(ranks->size())});  // threads: those of rank 0
     if (first > 0) statistics.push_back({"resumed_at", outputs[first - 1]});  // a resume: the output it continued from
     return statistics;
   }

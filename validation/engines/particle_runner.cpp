@@ -12,6 +12,7 @@
 
 #include "analysis/input_error.hpp"
 #include "validation/engines/particle_outputs.hpp"
+#include "validation/engines/rank_share.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/particle_snapshot.hpp"
 #include "validation/io/trajectory.hpp"
@@ -53,22 +54,6 @@ struct RealizationResult {
   std::string picture = "not requested";
   bool resumed = false;  // continued from a checkpoint (its state, or its result), not from its start
 };
-
-void put_measurement(StateWriter& out, const Measurement& m) {
-  out.put(m.values);
-  out.put(m.leaked_mass);
-  out.put(m.distribution);
-  out.put(m.sizes);
-}
-
-Measurement get_measurement(StateReader& in) {
-  Measurement m;
-  in.get(m.values);
-  in.get(m.leaked_mass);
-  in.get(m.distribution);
-  in.get(m.sizes);
-  return m;
-}
 
 template <class T>
 void put_pairs(StateWriter& out, const std::vector<std::pair<std::string, T>>& pairs) {
@@ -185,6 +170,8 @@ class ParticleEngine final : public Engine {
     return setup_.description + (threads_ != 1 ? ", " + (threads_ == 0 ? std::string("all cores") : std::to_string(threads_) + " threads") : "");
   }
 
+  bool spreads_over_ranks() const override { return true; }
+
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
     if (observer.warning)
       for (const std::string& warning : setup_.warnings) observer.warning(warning);
@@ -214,18 +201,24 @@ class ParticleEngine final : public Engine {
         throw InputError("--resume", label(), std::string("a checkpoint this engine can continue from; ") + e.what());
       }
     }
+    // With several ranks (rank_share.hpp) each runs its share of the realizations, and rank 0 takes every
+    // result in realization order; checkpoints are then off (the harness refuses them).
+    const RankGroup* ranks = shared_ranks(observer.ranks);
+    const std::vector<std::size_t> mine = realizations_of_rank(realizations, ranks);
     std::vector<std::size_t> pending;
-    for (std::size_t r = 0; r < realizations; ++r)
+    for (std::size_t r : mine)
       if (!finished[r]) pending.push_back(r);
     const auto run_realization = [&](std::size_t r) {
       results[r] = run_one(scene, observer, r, report, resumed[r], checkpoint ? &states : nullptr, checkpoint);
     };
 
     std::size_t workers = threads_ == 0 ? std::max(1u, std::thread::hardware_concurrency()) : threads_;
-    workers = std::min(workers, realizations);
-    if (workers <= 1) {
-      for (std::size_t r : pending) run_realization(r);
-    } else {
+    workers = std::min(workers, mine.size());
+    const auto run_pending = [&] {
+      if (workers <= 1) {
+        for (std::size_t r : pending) run_realization(r);
+        return;
+      }
       std::atomic<std::size_t> next{0};
       std::exception_ptr failure;
       std::vector<std::thread> pool;
@@ -243,6 +236,26 @@ class ParticleEngine final : public Engine {
         });
       for (auto& thread : pool) thread.join();
       if (failure) std::rethrow_exception(failure);
+    };
+    if (!ranks) {
+      run_pending();
+    } else {
+      const std::vector<std::string> gathered = gather_realizations(ranks, realizations, [&](const std::vector<std::size_t>& own) {
+        run_pending();
+        std::vector<std::string> payloads;
+        for (std::size_t r : own) {
+          StateWriter out;
+          put_result(out, results[r]);
+          payloads.push_back(out.take());
+        }
+        return payloads;
+      });
+      if (ranks->rank() != 0) return {};  // rank 0 records and writes
+      for (std::size_t r = 0; r < realizations; ++r) {
+        StateReader in(gathered[r]);
+        results[r] = get_result(in);
+        in.expect_end();
+      }
     }
 
     const std::vector<double>& outputs = scene.time.outputs;
@@ -264,6 +277,7 @@ class ParticleEngine final : public Engine {
     EngineStatistics statistics{{"particles", system.describe()},
                                 {"realizations", std::int64_t(realizations)},
                                 {"threads", std::int64_t(workers)}};
+    if (ranks) statistics.push_back({"ranks", std::int64_t(ranks->size())});  // threads: those of rank 0
     for (std::size_t c = 0; c < results.front().counters.size(); ++c) {
       std::int64_t total = 0;
       for (const auto& result : results) total += result.counters[c].second;

@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "analysis/input_error.hpp"
+#include "analysis/text.hpp"
+#include "validation/harness/engine_record.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/harness/output_folder.hpp"
 #include "validation/harness/run_checkpoint.hpp"
@@ -21,9 +23,13 @@ namespace aggkit {
 
 namespace {
 
+// What rank 0 tells the other ranks (serve_realizations): run the share of an engine, or end.
+const std::string engine_command = "engine ";
+const std::string end_command = "end ";
+
 // Runs one engine into a record; InputError propagates (bad input), any other failure is recorded.
 EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& progress, const OutputFolder& folder,
-                        RunCheckpoints* checkpoints) {
+                        RunCheckpoints* checkpoints, const RankGroup* ranks) {
   EngineRecord record;
   record.label = engine.label();
   record.name = engine.name();
@@ -48,6 +54,10 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
   observer.status = [&](const std::string& what) { progress.note(what); };
   observer.warning = [&](const std::string& what) { record.warnings.push_back(what); };
   observer.folder = folder.engine_folder(engine.label());
+  if (ranks && engine.spreads_over_ranks()) {  // the other ranks start their share (serve_realizations)
+    ranks->broadcast(engine_command + engine.label());
+    observer.ranks = ranks;
+  }
   try {
     record.statistics = engine.run(scene, observer);
     if (record.times.size() != scene.time.outputs.size())
@@ -68,7 +78,56 @@ void write_engine_outputs(const Scene& scene, const EngineRecord& record, const 
   if (!scene.observe.distribution_times.empty()) write_distribution_csv(folder.distribution_file(record.label), record);
 }
 
+// Checkpoints hold every realization's state in one file written by one process: with the realizations on
+// several ranks there is none, so a run that asks for them is refused before anything runs.
+void refuse_checkpoints(const Scene& scene, const std::vector<std::unique_ptr<Engine>>& engines, const RunOptions& options) {
+  const std::string allowed = "checkpoints with one process only: under mpirun with more than one rank the "
+                              "realizations are spread over the ranks and no checkpoint is written (run with one "
+                              "process to checkpoint or resume, or leave checkpoints out)";
+  if (options.resume) throw InputError("--resume", options.out.string(), allowed);
+  if (options.checkpoint_every > 0) throw InputError("--checkpoint-every", shortest_text(options.checkpoint_every), allowed);
+  for (std::size_t i = 0; i < engines.size(); ++i) {
+    const auto it = engines[i]->settings().find("checkpoint_every");
+    if (it != engines[i]->settings().end() && it->is_number() && it->get<double>() > 0) {
+      const EngineSpec* spec = nullptr;
+      for (const EngineSpec& s : scene.engines)
+        if (s.label == engines[i]->label()) spec = &s;
+      throw InputError((spec ? spec->key : "engine[" + std::to_string(i) + "]") + ".checkpoint_every",
+                       shortest_text(it->get<double>()), allowed);
+    }
+  }
+}
+
 }  // namespace
+
+int serve_realizations(const Scene& scene, const RankGroup& ranks) {
+  for (;;) {
+    const std::string command = ranks.broadcast("");
+    if (command.rfind(end_command, 0) == 0) return std::stoi(command.substr(end_command.size()));
+    const std::string label = command.substr(engine_command.size());
+    try {
+      std::size_t index = 0;
+      while (index < scene.engines.size() && scene.engines[index].label != label) ++index;
+      if (index == scene.engines.size()) throw std::runtime_error("rank 0 runs engine " + label + ", which this rank's scene lacks");
+      const std::unique_ptr<Engine> engine = build_engine(scene, index);
+      EngineObserver observer;
+      observer.measure = [&scene](double t, const ObservedState& state) { return measure_state(scene, t, state); };
+      observer.ranks = &ranks;
+      engine->run(scene, observer);
+    } catch (const ShareAbandoned&) {
+      // rank 0 reports the failure
+    } catch (...) {
+      // Failed before its first share (the engine could not be built here): it fails on every rank.
+      const std::exception_ptr failure = std::current_exception();
+      try {
+        gather_shares(&ranks, [&]() -> std::string { std::rethrow_exception(failure); });
+      } catch (const ShareAbandoned&) {
+      }
+    }
+  }
+}
+
+void end_realization_service(const RankGroup& ranks, int exit_code) { ranks.broadcast(end_command + std::to_string(exit_code)); }
 
 RunResult run_scene(const Scene& scene, const RunOptions& options) {
   return run_engines(scene, build_engines(scene), options);  // bad input fails before any output
@@ -76,6 +135,7 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
 
 RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engine>>& engines, const RunOptions& options) {
   const OutputFolder folder(options.out);
+  const RankGroup* ranks = shared_ranks(options.ranks);
   std::vector<std::pair<std::string, std::vector<std::string>>> files;
   for (const auto& engine : engines) {
     const EngineType* type = find_engine_type(engine->name());
@@ -87,6 +147,7 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
     const auto it = engine->settings().find("checkpoint_every");
     return it != engine->settings().end() && it->is_number() && it->template get<double>() > 0;
   });
+  if (ranks) refuse_checkpoints(scene, engines, options);
   std::optional<RunCheckpoints> checkpoints;
   if (options.resume) {
     checkpoints.emplace(options.out, CheckpointedRun{options.scene_file, options.scene_fingerprint, options.checkpoint_every, options.plot},
@@ -113,7 +174,7 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
       }
     progress.start(engine.label(), i + 1, engines.size(), scene.time.end);
     try {
-      result.records.push_back(run_engine(scene, engine, progress, folder, checkpoints ? &*checkpoints : nullptr));
+      result.records.push_back(run_engine(scene, engine, progress, folder, checkpoints ? &*checkpoints : nullptr, ranks));
     } catch (const RunInterrupted&) {
       progress.finish();
       throw;

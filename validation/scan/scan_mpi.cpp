@@ -1,5 +1,7 @@
 #include "validation/scan/scan_mpi.hpp"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 
 #include <mpi.h>
@@ -21,13 +23,14 @@ MpiSession::MpiSession(int* argc, char*** argv) {
   int initialised = 0;
   MPI_Initialized(&initialised);
   if (!initialised) {
-    MPI_Init(argc, argv);
+    int provided = 0;
+    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
     initialised_here_ = true;
   }
 }
 
 MpiSession::~MpiSession() {
-  finalize_petsc();  // PETSc runs on MPI_COMM_WORLD: it must end before MPI does
+  finalize_petsc();  // PETSc runs on MPI: it must end before MPI does
   if (initialised_here_ && mpi_active()) MPI_Finalize();
 }
 
@@ -64,4 +67,59 @@ long mpi_sum(long value) {
   MPI_Allreduce(&value, &global, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
   return global;
 }
+}  // namespace aggkit
+
+namespace aggkit {
+
+std::string mpirun_variable() {
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
+    if (const char* value = std::getenv(variable); value && *value) return std::string(variable) + "=" + value;
+  return "";
+}
+
+namespace {
+constexpr int realization_tag = 2707;               // the messages of MpiRanks::gather
+constexpr std::size_t piece = std::size_t(1) << 30;  // bytes per message (MPI counts are int)
+
+void send_bytes(const std::string& bytes, int to) {
+  std::uint64_t n = bytes.size();
+  MPI_Send(&n, 1, MPI_UINT64_T, to, realization_tag, MPI_COMM_WORLD);
+  for (std::size_t at = 0; at < bytes.size(); at += piece)
+    MPI_Send(bytes.data() + at, int(std::min(piece, bytes.size() - at)), MPI_CHAR, to, realization_tag, MPI_COMM_WORLD);
+}
+
+std::string receive_bytes(int from) {
+  std::uint64_t n = 0;
+  MPI_Recv(&n, 1, MPI_UINT64_T, from, realization_tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::string bytes(n, '\0');
+  for (std::size_t at = 0; at < bytes.size(); at += piece)
+    MPI_Recv(bytes.data() + at, int(std::min(piece, bytes.size() - at)), MPI_CHAR, from, realization_tag, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+  return bytes;
+}
+}  // namespace
+
+MpiRanks::MpiRanks() : world_(mpi_world()) {}
+
+std::vector<std::string> MpiRanks::gather(const std::string& mine) const {
+  if (world_.size == 1) return {mine};
+  if (world_.rank != 0) {
+    send_bytes(mine, 0);
+    return {};
+  }
+  std::vector<std::string> all{mine};
+  for (int k = 1; k < world_.size; ++k) all.push_back(receive_bytes(k));
+  return all;
+}
+
+std::string MpiRanks::broadcast(const std::string& message) const {
+  if (world_.size == 1) return message;
+  std::uint64_t n = message.size();
+  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  std::string bytes = world_.rank == 0 ? message : std::string(n, '\0');
+  for (std::size_t at = 0; at < bytes.size(); at += piece)
+    MPI_Bcast(bytes.data() + at, int(std::min(piece, bytes.size() - at)), MPI_CHAR, 0, MPI_COMM_WORLD);
+  return bytes;
+}
+
 }  // namespace aggkit

@@ -2,10 +2,17 @@
 // The MPI side of a scan: points are independent and distributed over the ranks of MPI_COMM_WORLD
 // (`mpirun -np K aggkit scan ...`). Without mpirun the process is a singleton MPI job of one rank; a
 // library user who never initialises MPI gets a serial scan (rank 0 of 1). mpi.h stays out of headers.
+// The sweep uses the same, and `aggkit run` under mpirun its ranks (MpiRanks) for the realizations.
+#include <string>
+#include <vector>
+
+#include "validation/engines/rank_share.hpp"
+
 namespace aggkit {
 
-// RAII for the `aggkit scan` command: initialises MPI unless already initialised, and finalises what it
-// initialised (after PETSc, which runs on MPI_COMM_WORLD, is finalised).
+// RAII for the `aggkit scan`, `sweep` and (under mpirun) `run` commands: initialises MPI unless already
+// initialised (threads funneled: only the thread that initialised it calls MPI), and finalises what it
+// initialised (after PETSc is finalised).
 class MpiSession {
  public:
   MpiSession(int* argc, char*** argv);
@@ -34,4 +41,22 @@ bool mpi_all(bool value);
 namespace aggkit {
 // Sum of `value` over all ranks.
 long mpi_sum(long value);
+
+// "NAME=value" of the environment variable that shows this process was started by mpirun or srun (Open MPI,
+// MPICH/PMI, PMIx), or "" when none is set.
+std::string mpirun_variable();
+
+// The ranks of MPI_COMM_WORLD as rank_share.hpp sees them (rank 0 of 1 when MPI is not initialised); bytes go
+// point to point between rank 0 and each rank, in pieces of at most 1 GiB.
+class MpiRanks final : public RankGroup {
+ public:
+  MpiRanks();
+  int rank() const override { return world_.rank; }
+  int size() const override { return world_.size; }
+  std::vector<std::string> gather(const std::string& mine) const override;
+  std::string broadcast(const std::string& message) const override;
+
+ private:
+  MpiWorld world_;
+};
 }  // namespace aggkit

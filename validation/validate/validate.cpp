@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
+#include "validation/scan/scan_mpi.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/validate/finished_record.hpp"
 #include "validation/validate/report_html.hpp"
@@ -57,10 +58,10 @@ bool outputs_present(const std::filesystem::path& out, const PlannedScene& scene
 
 // Refused under mpirun: every rank would run every scene into the same folder.
 void refuse_mpirun() {
-  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK"})
-    if (const char* value = std::getenv(variable); value && *value)
-      throw InputError("mpirun", std::string(variable) + "=" + value,
-                       "no mpirun: aggkit validate runs its scenes as child processes, --jobs K at a time");
+  if (const std::string variable = mpirun_variable(); !variable.empty())
+    throw InputError("mpirun", variable,
+                     "no mpirun: aggkit validate runs its scenes as child processes, --jobs K at a time (to spread "
+                     "one scene's realizations over ranks, run it alone: mpirun -np K aggkit run SCENE --out DIR)");
 }
 
 std::string line_for(const SceneOutcome& s) {

@@ -8,7 +8,9 @@
 // and DIR/report.html (atomically).
 // Exit status: 0 every scene passes; 1 a scene failed (a comparison, an engine, a crash); 2 bad input
 // (found before anything runs — option, scene file, output folder — or by a scene's own run).
-// MPI: `aggkit validate` runs its scenes as child processes and refuses to run under mpirun.
+// MPI: `aggkit validate` runs its scenes as child processes and refuses to run under mpirun. On a cluster a
+// scene's realizations are spread over ranks by running it alone: `mpirun -np K aggkit run SCENE --out DIR`
+// (README, examples/slurm-run.sh).
 #include <cstddef>
 #include <filesystem>
 #include <ostream>
