@@ -190,10 +190,13 @@ double TimeSteppingAggregation::update_speeds() {
   speed_.resize(x_.size());
   std::vector<double> fastest(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1), 0.0);
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+    double top = 0;  // a local maximum: a store to fastest[w] per sphere would alias speed_ for the compiler
     for (std::size_t c = from; c < to; ++c) {
-      speed_[c] = members_.size(std::uint32_t(c)) > 0 ? norm(velocity_[c]) : 0.0;
-      fastest[w] = std::max(fastest[w], speed_[c]);
+      const double s = members_.size(std::uint32_t(c)) > 0 ? norm(velocity_[c]) : 0.0;
+      speed_[c] = s;
+      top = std::max(top, s);
     }
+    fastest[w] = top;
   });
   return *std::max_element(fastest.begin(), fastest.end());
 }

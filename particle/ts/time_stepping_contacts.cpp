@@ -64,7 +64,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     if (bound) {
       std::vector<double> top(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1), 0.0);
       for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
-        for (std::size_t c = from; c < to; ++c) top[w] = std::max(top[w], speed_[c]);
+        double most = 0;
+        for (std::size_t c = from; c < to; ++c) most = std::max(most, speed_[c]);
+        top[w] = most;
       });
       fastest = *std::max_element(top.begin(), top.end());
     }
