@@ -129,8 +129,10 @@ TEST_CASE("run cli: mpirun -np 2 spreads the ED realizations and writes the file
   REQUIRE(fs::exists(folder / "two" / "ed" / "final.vtu"));
   check_same_outputs(folder / "single", folder / "two");
   CHECK_THAT(read_text(folder / "two" / "summary.json"), Contains("\"ranks\": 2"));
-  // Progress from rank 0 only: the engine's start line once.
-  CHECK(occurrences(two.err, "engine 1/1 ed") == occurrences(single.err, "engine 1/1 ed"));
+  // Progress from rank 0 only. Progress lines appear only once a run has taken longer than a second (and
+  // "done" only after one of them), so how many there are depends on the machine's load; what does not is
+  // that no second rank repeats rank 0's "done" line.
+  CHECK(occurrences(two.err, "engine 1/1 ed: done in") <= 1);
 }
 
 TEST_CASE("run cli: mpirun spreads the DSMC runs, with idle ranks when there are more ranks than runs", "[mpi]") {
