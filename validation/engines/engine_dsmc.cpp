@@ -107,25 +107,9 @@ class DsmcEngine final : public Engine {
           runs.push_back(observer.measure(t, SnapshotState(std::move(snapshot), scene.model.size)));
         return runs;
       };
-      std::vector<Measurement> runs;
-      if (!ranks) {
-        runs = measured();
-      } else {
-        const std::vector<std::string> gathered = gather_realizations(ranks, options_.runs, [&](const std::vector<std::size_t>&) {
-          std::vector<std::string> payloads;
-          for (const Measurement& m : measured()) {
-            StateWriter out;
-            put_measurement(out, m);
-            payloads.push_back(out.take());
-          }
-          return payloads;
-        });
-        for (const std::string& payload : gathered) {
-          StateReader in(payload);
-          runs.push_back(get_measurement(in));
-          in.expect_end();
-        }
-      }
+      std::vector<Measurement> runs = gather_realization_values<Measurement>(
+          ranks, options_.runs, [&](const std::vector<std::size_t>&) { return measured(); }, put_measurement,
+          get_measurement);
       if (!records) continue;
       observer.record(t, std::move(runs));
       if (observer.progress) observer.progress(t);
@@ -137,26 +121,16 @@ class DsmcEngine final : public Engine {
       }
     }
     // The statistics of every run, in run order, on rank 0.
-    std::vector<dsmc::RunStatistics> run_statistics;
-    if (!ranks) {
-      for (std::size_t r = 0; r < ensemble->runs(); ++r) run_statistics.push_back(ensemble->run(r).statistics());
-    } else {
-      const std::vector<std::string> gathered = gather_realizations(ranks, options_.runs, [&](const std::vector<std::size_t>&) {
-        std::vector<std::string> payloads;
-        for (std::size_t i = 0; i < ensemble->runs(); ++i) {
-          StateWriter out;
-          out.put(ensemble->run(i).statistics());
-          payloads.push_back(out.take());
-        }
-        return payloads;
-      });
-      if (!records) return {};
-      for (const std::string& payload : gathered) {
-        StateReader in(payload);
-        run_statistics.push_back(in.read<dsmc::RunStatistics>());
-        in.expect_end();
-      }
-    }
+    const std::vector<dsmc::RunStatistics> run_statistics = gather_realization_values<dsmc::RunStatistics>(
+        ranks, options_.runs,
+        [&](const std::vector<std::size_t>&) {
+          std::vector<dsmc::RunStatistics> own;
+          for (std::size_t i = 0; i < ensemble->runs(); ++i) own.push_back(ensemble->run(i).statistics());
+          return own;
+        },
+        [](StateWriter& out, const dsmc::RunStatistics& s) { out.put(s); },
+        [](StateReader& in) { return in.read<dsmc::RunStatistics>(); });
+    if (!records) return {};
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     dsmc::RunStatistics total;
     std::int64_t extinct = 0, frozen = 0, max_doublings = 0;

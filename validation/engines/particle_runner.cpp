@@ -237,26 +237,16 @@ class ParticleEngine final : public Engine {
       for (auto& thread : pool) thread.join();
       if (failure) std::rethrow_exception(failure);
     };
-    if (!ranks) {
-      run_pending();
-    } else {
-      const std::vector<std::string> gathered = gather_realizations(ranks, realizations, [&](const std::vector<std::size_t>& own) {
-        run_pending();
-        std::vector<std::string> payloads;
-        for (std::size_t r : own) {
-          StateWriter out;
-          put_result(out, results[r]);
-          payloads.push_back(out.take());
-        }
-        return payloads;
-      });
-      if (ranks->rank() != 0) return {};  // rank 0 records and writes
-      for (std::size_t r = 0; r < realizations; ++r) {
-        StateReader in(gathered[r]);
-        results[r] = get_result(in);
-        in.expect_end();
-      }
-    }
+    results = gather_realization_values<RealizationResult>(
+        ranks, realizations,
+        [&](const std::vector<std::size_t>& own) {
+          run_pending();
+          std::vector<RealizationResult> mine;
+          for (std::size_t r : own) mine.push_back(std::move(results[r]));
+          return mine;
+        },
+        put_result, get_result);
+    if (ranks && ranks->rank() != 0) return {};  // rank 0 records and writes
 
     const std::vector<double>& outputs = scene.time.outputs;
     for (std::size_t k = 0; k < outputs.size(); ++k) {

@@ -58,6 +58,32 @@ std::vector<std::string> gather_shares(const RankGroup* ranks, const std::functi
 std::vector<std::string> gather_realizations(const RankGroup* ranks, std::size_t count,
                                              const std::function<std::vector<std::string>(const std::vector<std::size_t>& mine)>& work);
 
+// gather_realizations for values of type T: `work` gets this rank's realizations and returns one value for
+// each, in that order; `put(StateWriter&, const T&)` writes a value as bytes and `get(StateReader&)` reads it
+// back. Rank 0 gets the values of all `count` realizations in realization order, the other ranks an empty
+// list. Without ranks (null) it returns work(all realizations) as it is: no bytes are made.
+template <class T, class Work, class Put, class Get>
+std::vector<T> gather_realization_values(const RankGroup* ranks, std::size_t count, Work&& work, Put&& put, Get&& get) {
+  if (!ranks) return work(realizations_of_rank(count, nullptr));
+  const std::vector<std::string> gathered = gather_realizations(ranks, count, [&](const std::vector<std::size_t>& mine) {
+    std::vector<std::string> payloads;
+    for (const T& value : work(mine)) {
+      StateWriter out;
+      put(out, value);
+      payloads.push_back(out.take());
+    }
+    return payloads;
+  });
+  std::vector<T> values;
+  values.reserve(gathered.size());
+  for (const std::string& payload : gathered) {
+    StateReader in(payload);
+    values.push_back(get(in));
+    in.expect_end();
+  }
+  return values;
+}
+
 // A measurement as bytes (for the results a rank sends, and for checkpoints), and back.
 void put_measurement(StateWriter& out, const Measurement& m);
 Measurement get_measurement(StateReader& in);
