@@ -4,7 +4,7 @@
 // λ_crit at the largest N, that N, λ_crit at N/2 and the relative change (the truncation error bar), Brent's
 // bracket, ω, evaluations, wall and CPU seconds; then the totals and the load average.
 //   bench_lambda_crit_curve [--a A ...] [--guess L] [--size N] [--max-size N] [--convergence C] [--tol T] [--slope S]
-//                           [--resolved K --ratio R]
+//                           [--resolved K --ratio R [--scheme three-moment|fixed-pivot]]
 // (--resolved/--ratio: the graded grid of solvers/size_grid.hpp; each λ_crit is then also repeated with K doubled
 // and with r - 1 halved, and the changes are printed beside the N/2 -> N one)
 // (--slope: d ln λ_crit/da for the second point's guess, e.g. 16.7 from the N = 8192 values at a = 0.75, 0.8)
@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
     else if (arg == "--bracket") options.bracket = std::atof(next());
     else if (arg == "--resolved") grid.resolved = std::strtoul(next(), nullptr, 10);
     else if (arg == "--ratio") grid.ratio = std::atof(next());
+    else if (arg == "--scheme") grid.scheme = scheme_from_name(next());
     else {
       std::fprintf(stderr, "unknown argument %s\n", arg.c_str());
       return 2;

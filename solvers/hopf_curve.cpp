@@ -176,7 +176,7 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
   }
   if (!result.converged) {
     if (result.size == 0)
-      result.note += "no lambda_crit found up to N = " + std::to_string(options.max_size) + "; ";
+      result.note += "no lambda_crit found up to N = " + std::to_string(max_size) + "; ";
     else
       result.note += "not converged in N up to " + std::to_string(std::min(N, max_size)) + "; ";
   }

@@ -24,6 +24,9 @@
 // under `cutoff` pairs with v > N do not collide (w = 0). Σ_i x_i V_ij = 0 for every pair that stays on
 // the grid, so mass is conserved exactly (to round-off) under cutoff, and under drop up to the leak.
 //
+// The loss is evaluated as r + λ r, never as (1 + λ) r: at the λ ≲ 1e-12 of the oscillation boundary near
+// a = 1/2, 1 + λ rounds λ by up to 1 % (λ is a few ulp of 1), the same bias in every term.
+//
 // The form is bilinear in N, so J v = Σ_{i≤j} w_ij (N_i v_j + N_j v_i) V_ij exactly. Cost O(M²) per
 // evaluation with the pair table (stencil, shares, weight) stored: M is a few hundred to a few thousand
 // on a graded grid, where M² pair sums beat the FFT path's O(N log N) over all N sizes by orders of
@@ -147,7 +150,7 @@ class SectionalRates final : public Rates {
   void accumulate(double t, std::span<const double> u, std::span<const double> v, std::span<double> out,
                   double scale) const {
     const std::size_t M = x_.size();
-    const double lambda = lambda_(t), loss = 1.0 + lambda;
+    const double lambda = lambda_(t);
     const Pair* pair = pairs_.data();
     double monomers = 0.0;
     for (std::size_t i = 0; i < M; ++i) {
@@ -157,13 +160,13 @@ class SectionalRates final : public Rates {
         const double r = scale * pair->weight * (ui * v[j] + u[j] * vi);
         if (r == 0.0) continue;
         lost_i += r;
-        out[j] -= loss * r;
+        out[j] -= r + lambda * r;
         monomers += (xi + x_[j]) * r;
         const std::size_t p = pair->target;
         if (p < M)
           for (std::uint32_t m = 0; m < pair->count; ++m) out[p + m] += pair->share[m] * r;
       }
-      out[i] -= loss * lost_i;
+      out[i] -= lost_i + lambda * lost_i;
     }
     out[0] += lambda * monomers;
   }
@@ -172,7 +175,7 @@ class SectionalRates final : public Rates {
   template <class Add>
   void for_each_entry(double t, std::span<const double> n, Add&& add) const {
     const std::size_t M = x_.size();
-    const double lambda = lambda_(t), loss = 1.0 + lambda;
+    const double lambda = lambda_(t);
     const Pair* pair = pairs_.data();
     for (std::size_t i = 0; i < M; ++i)
       for (std::size_t j = i; j < M; ++j, ++pair) {
@@ -182,8 +185,8 @@ class SectionalRates final : public Rates {
           const std::size_t column = side == 0 ? i : j;
           const double d = pair->weight * (side == 0 ? n[j] : n[i]);
           if (d == 0.0) continue;
-          add(i, column, -loss * d);
-          add(j, column, -loss * d);
+          add(i, column, -(d + lambda * d));
+          add(j, column, -(d + lambda * d));
           add(0, column, lambda * (x_[i] + x_[j]) * d);
           const std::size_t p = pair->target;
           if (p < M)

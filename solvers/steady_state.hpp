@@ -67,6 +67,7 @@ struct SteadyStateResult {
   // Added beyond the shared interface:
   double leak_rate = 0;                  // mass per unit time leaving through N, relative to M (drop)
   double most_negative_density = 0;      // min(0, min_k n_k) relative to max_k n_k
+  double negative_mass_fraction = 0;     // Σ x_k max(0, -n_k) / Σ x_k |n_k| (x_k: the sizes of the entries)
   double start_time = 0;                 // CVODE time of the start (0: the caller's guess or a coarse start)
   std::size_t coarse_size = 0;           // size of the coarse steady state the start came from (0: none)
   double start_seconds = 0;              // wall time spent finding the start (CVODE or the coarse solve)

@@ -63,6 +63,8 @@ class SnesEngine final : public Engine {
         {"krylov_iterations", std::int64_t(r.krylov_iterations)},
         {"relative_residual", r.relative_residual},
         {"leak_rate", r.leak_rate},
+        {"most_negative_density", r.most_negative_density},
+        {"negative_mass_fraction", r.negative_mass_fraction},
         {"start_time", r.start_time},
         {"solver_seconds", r.seconds},
     };
