@@ -252,17 +252,6 @@ double most_negative(std::span<const double> n) {
 }
 constexpr double negative_density_limit = -1e-8;
 
-// ... and neither is a negative part that holds a noticeable share of the mass: on a graded grid a tail of
-// giant clusters at 1e-15 of the largest density can hold most of the mass, so a tail that went negative
-// passes the density test above yet changes the dynamics.
-double negative_mass_fraction(std::span<const double> n, std::span<const double> sizes) {
-  double total = 0.0, negative = 0.0;
-  for (std::size_t k = 0; k < n.size(); ++k) {
-    total += sizes[k] * std::abs(n[k]);
-    if (n[k] < 0.0) negative -= sizes[k] * n[k];
-  }
-  return total > 0.0 ? negative / total : 0.0;
-}
 constexpr double negative_mass_limit = 1e-6;
 
 std::vector<double> cvode_start(const AggregationModel& model, double time, double rtol) {
@@ -294,6 +283,15 @@ std::optional<std::vector<double>> coarse_start(const AggregationModel& model, c
 }
 
 }  // namespace
+
+double negative_mass_fraction(std::span<const double> n, std::span<const double> sizes) {
+  double total = 0.0, negative = 0.0;
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    total += sizes[k] * std::abs(n[k]);
+    if (n[k] < 0.0) negative -= sizes[k] * n[k];
+  }
+  return total > 0.0 ? negative / total : 0.0;
+}
 
 SteadyStateResult solve_steady_state(const AggregationModel& model, const SteadyStateOptions& options,
                                      std::span<const double> initial_guess) {

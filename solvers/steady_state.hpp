@@ -81,6 +81,13 @@ struct SteadyStateResult {
 SteadyStateResult solve_steady_state(const AggregationModel& model, const SteadyStateOptions& options = {},
                                      std::span<const double> initial_guess = {});
 
+// Σ x_k max(0, -n_k) / Σ x_k |n_k|: the share of the mass in negative entries (x_k: the sizes of the
+// entries, the pivots on a graded grid). solve_steady_state refuses a root where it exceeds 1e-6, as well
+// as one with min n / max n < -1e-8: on a graded grid a tail of giant clusters at 1e-15 of the largest
+// density can hold most of the mass, so a tail gone negative passes the density test yet changes the
+// dynamics.
+double negative_mass_fraction(std::span<const double> n, std::span<const double> sizes);
+
 // The coarse-to-fine start's extension of a steady state `coarse` (sizes 1..Nc) to sizes 1..N: n_k for
 // k ≤ Nc / 2, beyond that exp(a + b ln k + c k) with a, b, c the least-squares fit of ln n_k over
 // Nc / 8 < k ≤ Nc / 2 (the form of a power law with an exponential cut-off; c clamped to ≤ 0; the edge

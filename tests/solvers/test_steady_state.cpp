@@ -209,3 +209,17 @@ TEST_CASE("the coarse-to-fine start finds the steady state of the direct solve",
   for (std::size_t k = 0; k < 1024; ++k) CHECK(extended[k] == coarse.n[k]);
   CHECK(extended[1024] == Approx(coarse.n[1024]).epsilon(0.05));
 }
+
+TEST_CASE("negative_mass_fraction weighs each entry by its size", "[snes][steady]") {
+  // A graded-grid state: a core of O(1) densities at sizes 1..3 and a tail at 1e-15 of the largest density
+  // at sizes 1e12..3e12. The tail holds 1e-15·6e12 = 6e-3 of the mass against the core's 1 + 2·0.5 + 3·0.25
+  // = 2.75, so negative tails pass the density guard (min n / max n = -1e-15 > -1e-8) yet hold 6e-3/2.756.
+  const std::vector<double> sizes{1.0, 2.0, 3.0, 1e12, 2e12, 3e12};
+  std::vector<double> n{1.0, 0.5, 0.25, 1e-15, 1e-15, 1e-15};
+  CHECK(negative_mass_fraction(n, sizes) == 0.0);
+  for (std::size_t k = 3; k < 6; ++k) n[k] = -1e-15;
+  CHECK(negative_mass_fraction(n, sizes) == Approx(6e-3 / (2.75 + 6e-3)).epsilon(1e-12));
+  n[1] = -0.5;  // a negative core entry counts with its size too
+  CHECK(negative_mass_fraction(n, sizes) == Approx((1.0 + 6e-3) / (2.75 + 6e-3)).epsilon(1e-12));
+  CHECK(negative_mass_fraction(std::vector<double>(3, 0.0), sizes) == 0.0);
+}
