@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
                 p.converged ? "" : "NOT CONVERGED: ", p.note.c_str());
     for (std::size_t i = 0; i < p.by_size.size(); ++i)
       std::printf("|   | N = %zu: %s | %d evaluations, %.1f s CPU | %s |\n", p.sizes[i],
-                  p.by_size[i].found ? std::to_string(p.by_size[i].lambda_crit).c_str() : "not found",
+                  p.by_size[i].found ? aggkit::bench::Figures::text(p.by_size[i].lambda_crit).c_str() : "not found",
                   p.by_size[i].evaluations, p.by_size[i].cpu_seconds, p.by_size[i].note.c_str());
     std::fflush(stdout);
     const std::string case_name = "a=" + aggkit::bench::Figures::text(p.a);

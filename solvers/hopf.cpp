@@ -29,7 +29,7 @@ struct Sample {
 
 class GrowthRate {
  public:
-  GrowthRate(const AggregationModel& base, double a, const HopfOptions& options) : base_(base), options_(options) {
+  GrowthRate(const AggregationModel& base, double a, const HopfOptions& options) : base_(base), a_(a), options_(options) {
     base_.kernel = Kernel::brownian(a);  // throws InputError for a outside [0, 1]
   }
 
@@ -55,7 +55,8 @@ class GrowthRate {
                                            : extend_steady_state(options_.start, N);
       else
         guess = regrid(start_sizes(), options_.start, model.pivots());
-      steady = solve_steady_state(model, options_.steady, guess);
+      steady = options_.start_lambda > 0.0 ? follow_branch(model, std::move(guess), x)
+                                           : solve_steady_state(model, options_.steady, guess);
     }
     if (!steady.converged) steady = solve_steady_state(model, options_.steady);
     ++point.evaluations;
@@ -80,7 +81,29 @@ class GrowthRate {
   }
 
  private:
+  // The steady state at (a_, e^x) on model's grid by natural-parameter continuation from `guess`, the start
+  // state carried onto this grid, at (start_a, start_lambda) (HopfOptions). Each step starts Newton from the
+  // last step's root and nowhere else (no CVODE restarts), so a failed step means the branch was lost:
+  // the result is then not converged, and the caller falls back to the solver's own start.
+  SteadyStateResult follow_branch(AggregationModel model, std::vector<double> guess, double x) const {
+    const double a0 = options_.start_a, x0 = std::log(options_.start_lambda);
+    const int steps = std::max({1, int(std::ceil(std::abs(a_ - a0) / 0.002)), int(std::ceil(std::abs(x - x0) / 0.5))});
+    SteadyStateOptions steady = options_.steady;
+    steady.start_retries = 0;
+    SteadyStateResult result;
+    for (int step = 1; step <= steps; ++step) {
+      const double f = double(step) / steps;
+      model.kernel = Kernel::brownian(a0 + f * (a_ - a0));
+      model.lambda = ShatteringRate::constant(std::exp(x0 + f * (x - x0)));
+      result = solve_steady_state(model, steady, guess);
+      if (!result.converged) return result;
+      guess = result.n;
+    }
+    return result;
+  }
+
   AggregationModel base_;
+  double a_;
   std::vector<double> start_sizes() const {
     if (!options_.start_sizes.empty()) return options_.start_sizes;
     std::vector<double> x(options_.start.size());
@@ -233,6 +256,7 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
   point.lambda_tolerance = std::exp(upper.x) - std::exp(lower.x);
   point.omega = lower.omega + t * (upper.omega - lower.omega);
   point.steady_state = upper.n;
+  point.steady_lambda = std::exp(upper.x);
   if (!base.grid.uniform()) point.steady_sizes = base.pivots();
   if (upper.x - lower.x > width) point.note += "bracket not narrowed to the tolerance in 60 steps; ";
   return finish();

@@ -47,6 +47,8 @@ void refine_grid(const AggregationModel& base, double a, const HopfCurveOptions&
   const HopfPoint& final = result.by_size.back();
   hopf.start = final.steady_state;
   hopf.start_sizes = final.steady_sizes;
+  hopf.start_a = a;
+  hopf.start_lambda = final.steady_lambda;
   result.resolved = base.grid.resolved;
   result.ratio = base.grid.ratio;
   result.unknowns = final.steady_state.size();
@@ -92,7 +94,7 @@ void refine_grid(const AggregationModel& base, double a, const HopfCurveOptions&
 
 ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a, double lambda_guess, std::size_t size,
                                          const HopfCurveOptions& options, std::span<const double> start,
-                                         std::span<const double> start_sizes) {
+                                         std::span<const double> start_sizes, double start_a, double start_lambda) {
   options.validate();
   if (!(lambda_guess > 0.0) || !std::isfinite(lambda_guess))
     throw InputError("lambda_guess", format_value(lambda_guess), "a finite shattering rate > 0");
@@ -110,6 +112,8 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
   hopf.bracket_steps = options.bracket_steps;
   hopf.start.assign(start.begin(), start.end());
   hopf.start_sizes.assign(start_sizes.begin(), start_sizes.end());
+  hopf.start_a = start_a;
+  hopf.start_lambda = start.empty() ? 0.0 : start_lambda;
   double guess = lambda_guess, half_width = options.bracket;
   std::size_t previous = 0;  // 1 + index in by_size of the last λ_crit found at N / 2 (0: none)
   std::size_t retried_at = 0;  // the N last searched again with a ±50 % bracket
@@ -173,6 +177,8 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
     half_width = options.convergence;
     hopf.start = p.steady_state;
     hopf.start_sizes = p.steady_sizes;
+    hopf.start_a = a;
+    hopf.start_lambda = p.steady_lambda;
   }
   if (!result.converged) {
     if (result.size == 0)
@@ -197,6 +203,7 @@ std::vector<ConvergedHopfPoint> hopf_curve(const AggregationModel& base, std::sp
     double guess = lambda_guess;
     std::size_t N = size;
     std::vector<double> start, start_sizes;
+    double start_a = 0, start_lambda = 0;
     if (!converged.empty()) {
       const ConvergedHopfPoint& last = *converged.back();
       guess = last.lambda_crit * std::exp(options.log_slope * (a - last.a));
@@ -212,8 +219,10 @@ std::vector<ConvergedHopfPoint> hopf_curve(const AggregationModel& base, std::sp
       N = options.min_size;
       start = last.by_size.back().steady_state;
       start_sizes = last.by_size.back().steady_sizes;
+      start_a = last.a;
+      start_lambda = last.by_size.back().steady_lambda;
     }
-    curve.push_back(locate_hopf_converged(base, a, guess, N, options, start, start_sizes));
+    curve.push_back(locate_hopf_converged(base, a, guess, N, options, start, start_sizes, start_a, start_lambda));
     if (curve.back().converged) converged.push_back(&curve.back());
     if (on_point) on_point(curve.back());
   }

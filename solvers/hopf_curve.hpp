@@ -94,10 +94,13 @@ struct ConvergedHopfPoint {
 
 // λ_crit(a) of `base` (its kernel replaced by brownian(a)) converged in N, starting from λ ≈ lambda_guess
 // and N = size (or larger, from options.size_per_inverse_lambda). `start`: a steady state near (a, λ_guess)
-// of any size (may be empty). Throws InputError on bad options.
+// of any size (may be empty), solved at (start_a, start_lambda) if start_lambda > 0: the first steady state is
+// then reached by continuation from it (HopfOptions), and so is each later N's from the last N's. Throws
+// InputError on bad options.
 ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a, double lambda_guess, std::size_t size,
                                          const HopfCurveOptions& options = {}, std::span<const double> start = {},
-                                         std::span<const double> start_sizes = {});
+                                         std::span<const double> start_sizes = {}, double start_a = 0,
+                                         double start_lambda = 0);
 
 // The curve over a_values (in the given order; start at the largest a), the first point from
 // lambda_guess and size. A point that does not converge stops the continuation's extrapolation from it

@@ -69,6 +69,7 @@ struct HopfPoint {
   double cpu_seconds = 0;        // process CPU time (the machine may be shared)
   std::vector<double> steady_state;  // the steady state at the final bracket's stable end (found only)
   std::vector<double> steady_sizes;  // its classes' sizes on a graded grid (empty: 1..N)
+  double steady_lambda = 0;          // the λ of steady_state
 };
 
 struct HopfOptions {
@@ -78,6 +79,14 @@ struct HopfOptions {
   // by extend_steady_state). Empty: the steady-state solver's own start.
   std::vector<double> start;
   std::vector<double> start_sizes;  // the sizes of start's classes (empty: 1..start.size())
+  // Where `start` is a steady state: (start_a, start_lambda); start_lambda = 0: not known. When known, the
+  // first steady state is reached from `start` by continuation along the line from (start_a, ln start_lambda)
+  // to (a, ln λ) in steps of at most 0.002 in a and 0.5 in ln λ, each Newton solve starting from the last
+  // one, so that it stays on start's branch: a solve from a CVODE start, or a single jump, can land on
+  // another root of the truncated system (brownian a = 0.6, λ = 5.745e-8, K = 64, r = 1.04, N = 2^33: a
+  // saddle with a positive real eigenvalue and M0 20 % above the branch that carries the Hopf point).
+  double start_a = 0;
+  double start_lambda = 0;
   // When [lambda_lo, lambda_hi] does not hold the crossing, step the bracket towards it (each step
   // moves it by its own width in ln λ, the known end becoming the new inner end) up to this many times.
   int bracket_steps = 0;

@@ -350,3 +350,5 @@ aggkit_test_timeout([==[zero-momentum start keeps zero momentum]==] 30)  # measu
 aggkit_test_timeout([==[graded grid λ_crit against the converged uniform values]==] 300)  # ~3 s CPU on the three-moment grid K = 64, r = 1.04
 aggkit_test_timeout([==[graded grid against exact solutions: M0 exact, M2 exact (three-moment) or second order (fixed pivot)]==] 300)  # ~5 s CPU, up to ~40 s under load
 aggkit_test_timeout([==[graded grid keeps the a = 0.95, λ = 0.01 limit cycle of the uniform grid]==] 400)  # ~32 s CPU (the uniform N = 2048 run), 42 s wall under load 6
+aggkit_test_timeout([==[locate_hopf from a start at another (a, λ) follows its branch to the same lambda_crit]==] 30)  # measured 1.9 s
+aggkit_test_timeout([==[negative_mass_fraction weighs each entry by its size]==] 30)  # measured 0.0 s

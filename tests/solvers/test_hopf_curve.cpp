@@ -108,3 +108,33 @@ TEST_CASE("hopf_curve bad input", "[stability][hopf_curve][input]") {
   options.relative_tolerance = 0.5;
   CHECK_THROWS_AS(hopf_curve(model, std::vector<double>{0.9}, 0.01, 64, options), InputError);
 }
+
+TEST_CASE("locate_hopf from a start at another (a, λ) follows its branch to the same lambda_crit", "[stability][hopf]") {
+  // Graded grid K = 64, r = 1.04, N = 2^33, cutoff, brownian a = 0.6: the branch's Hopf point is at
+  // λ = 5.7457e-8, ω = 1.2525e-6 (bench/log/graded-grid.md; locate_hopf_converged, change with 2N 8e-5).
+  // The start is the steady state at (a, λ) = (0.61, 3e-7), far from the bracket [5e-8, 7e-8]: the search
+  // must carry it along (a, ln λ) to a = 0.6 and find the same crossing (a start that stayed at a = 0.61
+  // would find λ_crit(0.61) ≈ 1.6e-7 or no crossing in the bracket).
+  AggregationModel model;
+  model.size = std::size_t(1) << 33;
+  model.truncation = Truncation::cutoff;
+  model.initial = monodisperse(1);
+  model.grid.resolved = 64;
+  model.grid.ratio = 1.04;
+  AggregationModel at_start = model;
+  at_start.kernel = Kernel::brownian(0.61);
+  at_start.lambda = ShatteringRate::constant(3e-7);
+  const SteadyStateResult start = solve_steady_state(at_start);
+  REQUIRE(start.converged);
+  HopfOptions options;
+  options.start = start.n;
+  options.start_sizes = model.pivots();
+  options.start_a = 0.61;
+  options.start_lambda = 3e-7;
+  const HopfPoint p = locate_hopf(model, 0.6, 5e-8, 7e-8, 1e-3, options);
+  INFO(p.note);
+  REQUIRE(p.found);
+  CHECK(p.lambda_crit == Approx(5.7457e-8).epsilon(2e-3));  // the Brent bracket 1e-3 plus the reference's
+  CHECK(p.omega == Approx(1.2525e-6).epsilon(2e-3));
+  CHECK(p.steady_lambda >= p.lambda_crit);  // the stable end's state
+}
