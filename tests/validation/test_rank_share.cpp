@@ -82,7 +82,8 @@ bool abandoned(const std::exception_ptr& e, bool input) {
 }  // namespace
 
 TEST_CASE("rank share: rank k runs k, k + K, ..., rank 0 gets every result in realization order, idle ranks") {
-  for (const auto& [ranks, count] : {std::pair{3, 7}, std::pair{4, 2}, std::pair{2, 1}}) {
+  for (const auto& [ranks_given, count_given] : {std::pair{3, 7}, std::pair{4, 2}, std::pair{2, 1}}) {
+    const int ranks = ranks_given, count = count_given;  // plain variables: clang 14 cannot capture bindings
     INFO(ranks << " ranks, " << count << " realizations");
     std::vector<std::vector<std::string>> received(static_cast<std::size_t>(ranks));
     std::vector<std::vector<std::size_t>> ran(static_cast<std::size_t>(ranks));
