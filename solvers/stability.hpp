@@ -82,9 +82,10 @@ struct HopfOptions {
   // Where `start` is a steady state: (start_a, start_lambda); start_lambda = 0: not known. When known, the
   // first steady state is reached from `start` by continuation along the line from (start_a, ln start_lambda)
   // to (a, ln λ) in steps of at most 0.002 in a and 0.5 in ln λ, each Newton solve starting from the last
-  // one, so that it stays on start's branch: a solve from a CVODE start, or a single jump, can land on
-  // another root of the truncated system (brownian a = 0.6, λ = 5.745e-8, K = 64, r = 1.04, N = 2^33: a
-  // saddle with a positive real eigenvalue and M0 20 % above the branch that carries the Hopf point).
+  // one, so that it stays on start's branch (the truncated system has other positive roots: from a CVODE
+  // start at brownian a = 0.6, λ = 5.745e-8, K = 64, r = 1.04, N = 2^33 Newton finds a saddle with a positive
+  // real eigenvalue and M0 20 % above the branch that carries the Hopf point). A failed step falls back to
+  // the solver's own start.
   double start_a = 0;
   double start_lambda = 0;
   // When [lambda_lo, lambda_hi] does not hold the crossing, step the bracket towards it (each step

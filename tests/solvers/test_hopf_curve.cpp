@@ -112,9 +112,10 @@ TEST_CASE("hopf_curve bad input", "[stability][hopf_curve][input]") {
 TEST_CASE("locate_hopf from a start at another (a, λ) follows its branch to the same lambda_crit", "[stability][hopf]") {
   // Graded grid K = 64, r = 1.04, N = 2^33, cutoff, brownian a = 0.6: the branch's Hopf point is at
   // λ = 5.7457e-8, ω = 1.2525e-6 (bench/log/graded-grid.md; locate_hopf_converged, change with 2N 8e-5).
-  // The start is the steady state at (a, λ) = (0.61, 3e-7), far from the bracket [5e-8, 7e-8]: the search
-  // must carry it along (a, ln λ) to a = 0.6 and find the same crossing (a start that stayed at a = 0.61
-  // would find λ_crit(0.61) ≈ 1.6e-7 or no crossing in the bracket).
+  // The start is the steady state at (a, λ) = (0.61, 3e-7), far from the bracket [5e-8, 7e-8]: the
+  // continuation must end at the requested (0.6, λ) and find the same crossing (a path that stayed at
+  // a = 0.61 finds no crossing in the bracket: checked by breaking it). This checks where the path ends, not
+  // that a single jump from this start would fail (from here it does not).
   AggregationModel model;
   model.size = std::size_t(1) << 33;
   model.truncation = Truncation::cutoff;
