@@ -51,6 +51,14 @@ void MassConstrainedSystem::residual(std::span<const double> n, std::span<double
   for (std::size_t k = mass_row_ + 1; k < N_; ++k) F[k] = n[k];
 }
 
+double MassConstrainedSystem::balance_scale(std::span<const double> n) {
+  Rates::MonomerCoupling coupling;
+  rates_->jacobian_monomer_coupling(0.0, n, coupling);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < mass_row_; ++k) sum += coupling.diagonal[k] * n[k] * coupling.diagonal[k] * n[k];
+  return std::sqrt(sum);
+}
+
 double MassConstrainedSystem::leak_rate(std::span<const double> n) {
   if (!cutoff_) return rates_->leak_rate(0.0, n);
   rates_->evaluate(0.0, n, dndt_);  // with n_N = 0, f_N is the gain of the absorbing class

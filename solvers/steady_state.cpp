@@ -24,6 +24,7 @@ void SteadyStateOptions::validate() const {
     if (!(v > 0.0) || !std::isfinite(v)) throw InputError(key, format_value(v), "a finite number > 0");
   };
   positive("tolerance", relative_tolerance);
+  positive("balance_tolerance", balance_tolerance);
   positive("start_time", start_time);
   positive("start_rtol", start_rtol);
   positive("linear_tolerance", linear_tolerance);
@@ -81,6 +82,7 @@ struct NewtonContext {
   ShellOperator op;
   std::vector<double> history;
   double target = 0.0;            // the relative residual asked for
+  double balance = 0.0;           // SteadyStateOptions::balance_tolerance
   bool first_forcing = false;     // set the first Eisenstat–Walker forcing term from the start's residual
 };
 
@@ -128,6 +130,41 @@ PetscErrorCode form_jacobian(SNES, Vec x, Mat J, Mat, void* data) {
   return code;
 }
 
+// PETSc's default test (the absolute one on the scaled norm set above, divergence, iteration limits), and a
+// root it accepts must also balance its own rates: the free rows' residual ≤ balance_tolerance ·
+// balance_scale(n), and the mass row ≤ balance_tolerance · M. Near n(0) the default test is the stricter one;
+// at small densities (small λ) the balance test is, and without it Newton stopped at its start whenever the
+// rates there were below the absolute level (brownian a = 0.59, λ = 7.4e-11: 0 iterations, the root of the
+// previous λ accepted).
+PetscErrorCode converged_balance(SNES snes, PetscInt iteration, PetscReal xnorm, PetscReal step, PetscReal fnorm,
+                                 SNESConvergedReason* reason, void* data) {
+  PetscErrorCode code = SNESConvergedDefault(snes, iteration, xnorm, step, fnorm, reason, nullptr);
+  if (code || *reason != SNES_CONVERGED_FNORM_ABS) return code;
+  auto* c = static_cast<NewtonContext*>(data);
+  Vec x = nullptr, f = nullptr;
+  SNESGetSolution(snes, &x);
+  SNESGetFunction(snes, &f, nullptr, nullptr);
+  const PetscScalar* xx = nullptr;
+  const PetscScalar* ff = nullptr;
+  VecGetArrayRead(x, &xx);
+  VecGetArrayRead(f, &ff);
+  try {
+    MassConstrainedSystem& system = *c->system;
+    const std::size_t row = system.mass_row();
+    double free = 0.0;
+    for (std::size_t k = 0; k < system.size(); ++k)
+      if (k != row) free += ff[k] * ff[k];
+    const bool balanced = std::sqrt(free) <= c->balance * system.balance_scale({xx, system.size()}) &&
+                          std::abs(ff[row]) <= c->balance * system.mass();
+    if (!balanced) *reason = SNES_CONVERGED_ITERATING;
+  } catch (...) {
+    code = PETSC_ERR_LIB;
+  }
+  VecRestoreArrayRead(f, &ff);
+  VecRestoreArrayRead(x, &xx);
+  return code;
+}
+
 PetscErrorCode record_residual(SNES snes, PetscInt iteration, PetscReal norm, void* data) {
   auto* c = static_cast<NewtonContext*>(data);
   const double relative = norm / c->system->residual_scale();
@@ -153,6 +190,7 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
   context.system = &system;
   context.op.system = &system;
   context.target = options.relative_tolerance;
+  context.balance = options.balance_tolerance;
   context.first_forcing = options.eisenstat_walker;
   SNES snes = nullptr;
   Vec x = nullptr, r = nullptr;
@@ -195,6 +233,7 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
     check_petsc(SNESSetTolerances(snes, options.relative_tolerance * system.residual_scale(), 0.0, 0.0,
                                   options.max_newton_iterations, 100 * options.max_newton_iterations),
                 "SNESSetTolerances");
+    check_petsc(SNESSetConvergenceTest(snes, converged_balance, &context, nullptr), "SNESSetConvergenceTest");
     check_petsc(SNESMonitorSet(snes, record_residual, &context, nullptr), "SNESMonitorSet");
     KSP ksp = nullptr;
     check_petsc(SNESGetKSP(snes, &ksp), "SNESGetKSP");

@@ -26,8 +26,13 @@ namespace aggkit {
 
 struct SteadyStateOptions {
   // Convergence: ||F(n)||_2 ≤ relative_tolerance · ||F(n(0))||_2 (n(0) the model's initial state, so the
-  // scale is the rate of the problem and does not depend on how good the start is).
+  // scale is the rate of the problem and does not depend on how good the start is), and the root balances
+  // its own rates: the free rows' residual ≤ balance_tolerance · ||(∂f_k/∂n_k n_k)||_2 and the mass row's
+  // ≤ balance_tolerance · M. The second test rules at small densities (small λ), where the first alone
+  // accepted roots with M0 5 % off. Where Newton stagnates (the round-off floor) the balance measured
+  // 1e-14 … 5e-8 (brownian a = 0.59, graded grid to sizes 1e12), hence 1e-6; λ_crit then moves by < 1e-5.
   double relative_tolerance = 1e-10;
+  double balance_tolerance = 1e-6;
   int max_newton_iterations = 50;
   RatesPath rates = RatesPath::fast;
   double lowrank_tolerance = 1e-12;  // kernels without an exact factorisation (ballistic)

@@ -10,6 +10,8 @@ const OptionRows<SteadyStateOptions>& steady_state_option_rows() {
   static const OptionRows<O> rows{{
       B::number("tolerance", &O::relative_tolerance, left_open(0.0, 1.0),
                 "relative residual ||F|| / ||F(n(0))|| at which Newton stops"),
+      B::number("balance_tolerance", &O::balance_tolerance, left_open(0.0, 1.0),
+                "and the root's own balance: ||F|| over the free rows / ||(df_k/dn_k) n_k|| at which Newton stops"),
       B::integer("max_newton_iterations", &O::max_newton_iterations, closed(1, 10000), "most Newton iterations"),
       B::named("rhs", &O::rates, std::vector{RatesPath::fast, RatesPath::direct},
                "right-hand side: FFT/low-rank, or the direct O(N^2) sums"),

@@ -223,3 +223,47 @@ TEST_CASE("negative_mass_fraction weighs each entry by its size", "[snes][steady
   CHECK(negative_mass_fraction(n, sizes) == Approx((1.0 + 6e-3) / (2.75 + 6e-3)).epsilon(1e-12));
   CHECK(negative_mass_fraction(std::vector<double>(3, 0.0), sizes) == 0.0);
 }
+
+TEST_CASE("a start that is another lambda's root is not accepted: Newton balances the root's own rates",
+          "[snes][steady][graded]") {
+  // Brownian a = 0.59 on the graded grid (K = 64, r = 1.04, N ≈ 1.1e12), followed from a = 0.6, λ = 1e-6 down to
+  // λ = 1e-10, where the steady densities are ~1e-5 of n(0)'s and its rates ~1e-10 of those at n(0). The root
+  // at λ = 1e-10 then meets the absolute test ||F|| ≤ 1e-10 ||F(n(0))|| at λ = 0.96e-10 as well: without the
+  // balance test Newton returned it after 0 iterations (M0 3 % off, and the rightmost pair's Re μ of the
+  // wrong state, which crossed zero at 8.9e-11 on such stale roots).
+  AggregationModel model;
+  model.size = std::size_t(1.1e12);
+  model.truncation = Truncation::cutoff;
+  model.initial = monodisperse(1);
+  model.grid.resolved = 64;
+  model.grid.ratio = 1.04;
+  std::vector<double> n;
+  const double path[][2] = {{0.6, 1e-6}, {0.6, 5.745e-8}, {0.59, 5.745e-8}, {0.59, 2.5e-9}, {0.59, 1e-10}};
+  for (std::size_t leg = 0; leg + 1 < std::size(path); ++leg)
+    for (int step = leg == 0 ? 0 : 1; step <= 4; ++step) {
+      const double f = step / 4.0;
+      model.kernel = Kernel::brownian(path[leg][0] + f * (path[leg + 1][0] - path[leg][0]));
+      model.lambda = ShatteringRate::constant(
+          std::exp(std::log(path[leg][1]) + f * (std::log(path[leg + 1][1]) - std::log(path[leg][1]))));
+      const SteadyStateResult s = solve_steady_state(model, {}, n);
+      INFO(model.kernel.describe() << ", lambda = " << model.lambda(0.0) << ": " << s.note);
+      REQUIRE(s.converged);
+      n = s.n;
+    }
+  const std::vector<double> x = model.pivots();
+  auto M0 = [](const std::vector<double>& v) { double m = 0; for (double e : v) m += e; return m; };
+  model.lambda = ShatteringRate::constant(0.98e-10);
+  const SteadyStateResult s = solve_steady_state(model, {}, n);
+  INFO(s.note);
+  REQUIRE(s.converged);
+  CHECK(s.newton_iterations >= 1);
+  CHECK(std::abs(M0(s.n) / M0(n) - 1) > 1e-3);  // the root moved
+  // The returned root balances its own rates to the tolerance, measured here from the residual itself.
+  MassConstrainedSystem system(model);
+  std::vector<double> F(s.n.size());
+  system.residual(s.n, F);
+  double free = 0;
+  for (std::size_t k = 0; k < F.size(); ++k)
+    if (k != system.mass_row()) free += F[k] * F[k];
+  CHECK(std::sqrt(free) <= 1e-6 * system.balance_scale(s.n));
+}
