@@ -3,7 +3,7 @@
 // λ_crit changes by ≤ 1 % (--convergence), cutoff truncation, monodisperse unit mass. Prints per a:
 // λ_crit at the largest N, that N, λ_crit at N/2 and the relative change (the truncation error bar), Brent's
 // bracket, ω, evaluations, wall and CPU seconds; then the totals and the load average.
-//   bench_lambda_crit_curve [--a A ...] [--guess L] [--size N] [--max-size N] [--convergence C] [--tol T] [--slope S]
+//   bench_lambda_crit_curve [--a A ...] [--guess L] [--size N] [--min-size N] [--max-size N] [--size-per-inverse-lambda S] [--convergence C] [--tol T] [--slope S]
 //                           [--resolved K --ratio R [--scheme three-moment|fixed-pivot]]
 // (--resolved/--ratio: the graded grid of solvers/size_grid.hpp; each λ_crit is then also repeated with K doubled
 // and with r - 1 halved, and the changes are printed beside the N/2 -> N one)
@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
     else if (arg == "--guess") guess = std::atof(next());
     else if (arg == "--size") size = std::strtoul(next(), nullptr, 10);
     else if (arg == "--max-size") options.max_size = std::strtoul(next(), nullptr, 10);
+    else if (arg == "--min-size") options.min_size = std::strtoul(next(), nullptr, 10);
+    else if (arg == "--size-per-inverse-lambda") options.size_per_inverse_lambda = std::atof(next());
     else if (arg == "--convergence") options.convergence = std::atof(next());
     else if (arg == "--slope") options.log_slope = std::atof(next());
     else if (arg == "--tol") options.relative_tolerance = std::atof(next());

@@ -44,7 +44,18 @@ class GrowthRate {
       if (!nearest || std::abs(s.x - x) < std::abs(nearest->x - x)) nearest = &s;
     SteadyStateResult steady;
     if (nearest) {
-      steady = solve_steady_state(model, options_.steady, nearest->n);
+      // Along λ in steps of at most 0.5 in ln λ, Newton only: one long jump (a bracket stepped by ln 3)
+      // can land on another root of the truncated system, whose complex pair may be stable although the
+      // branch's is not (a = 0.59: "stable" at 5.7e-11 on such a root, unstable on the branch below 7.07e-11).
+      // No CVODE restarts here either: from a root on the branch, a failed path means this λ has no positive
+      // root near the branch (too short a truncation, or below where the grid's roots stay positive), and a
+      // CVODE start would cost minutes at small λ only to land on another root.
+      steady = follow_branch(model, nearest->n, a_, nearest->x, x);
+      if (!steady.converged) {
+        SteadyStateOptions newton = options_.steady;
+        newton.start_retries = 0;
+        steady = solve_steady_state(model, newton, nearest->n);
+      }
     } else if (!options_.start.empty()) {
       // The caller's state at a nearby (a, λ), cut or extended to this N (carried onto this grid's classes
       // when either is graded).
@@ -55,15 +66,25 @@ class GrowthRate {
                                            : extend_steady_state(options_.start, N);
       else
         guess = regrid(start_sizes(), options_.start, model.pivots());
-      steady = options_.start_lambda > 0.0 ? follow_branch(model, std::move(guess), x)
-                                           : solve_steady_state(model, options_.steady, guess);
+      steady = options_.start_lambda > 0.0
+                   ? follow_branch(model, std::move(guess), options_.start_a, std::log(options_.start_lambda), x)
+                   : solve_steady_state(model, options_.steady, guess);
     }
-    if (!steady.converged) steady = solve_steady_state(model, options_.steady);
+    // The solver's own start (CVODE) only where nothing better is known; from a start on the branch a failed
+    // path means no positive root here (at a = 0.58, λ = 1e-14 the CVODE starts took minutes per λ).
+    if (!steady.converged && !nearest && !(options_.start_lambda > 0.0 && !options_.start.empty()))
+      steady = solve_steady_state(model, options_.steady);
     ++point.evaluations;
     if (!steady.converged)
       throw std::runtime_error("locate_hopf: no steady state at a = " + format_value(point.a) +
                                ", lambda = " + format_value(std::exp(x)) + ": " + steady.note);
-    const StabilityResult spectrum = analyse_stability(model, steady.n, 6, options_.stability);
+    // The eigenvalues nearest σ = 0 are asked for: at small λ the oscillating pair is slow (|μ| ≈ 3.8e-9 at
+    // a = 0.59, λ = 5.7e-11) and real modes nearer 0 crowd it out of a short list — with 6 the search saw
+    // only a stable pair there, on the branch whose pair has Re μ = +3.4e-11. On the graded grid the
+    // shift-invert solves are one dense LU, so 16 cost little more.
+    StabilityOptions stability = options_.stability;
+    if (!model.grid.uniform()) stability.krylov_eigenvalues = std::max(stability.krylov_eigenvalues, 16);
+    const StabilityResult spectrum = analyse_stability(model, steady.n, 6, stability);
     Sample s;
     s.x = x;
     s.n = std::move(steady.n);
@@ -81,12 +102,12 @@ class GrowthRate {
   }
 
  private:
-  // The steady state at (a_, e^x) on model's grid by natural-parameter continuation from `guess`, the start
-  // state carried onto this grid, at (start_a, start_lambda) (HopfOptions). Each step starts Newton from the
+  // The steady state at (a_, e^x) on model's grid by natural-parameter continuation from `guess`, a state on
+  // this grid at (a0, e^x0) (the start state of HopfOptions carried onto it, or a sample). Each step starts Newton from the
   // last step's root and nowhere else (no CVODE restarts), so a failed step means the branch was lost:
   // the result is then not converged, and the caller falls back to the solver's own start.
-  SteadyStateResult follow_branch(AggregationModel model, std::vector<double> guess, double x) const {
-    const double a0 = options_.start_a, x0 = std::log(options_.start_lambda);
+  SteadyStateResult follow_branch(AggregationModel model, std::vector<double> guess, double a0, double x0,
+                                  double x) const {
     const int steps = std::max({1, int(std::ceil(std::abs(a_ - a0) / 0.002)), int(std::ceil(std::abs(x - x0) / 0.5))});
     SteadyStateOptions steady = options_.steady;
     steady.start_retries = 0;
@@ -141,11 +162,29 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
     point.cpu_seconds = double(std::clock() - cpu_started) / CLOCKS_PER_SEC;
     return point;
   };
-  Sample upper = growth.at(std::log(lambda_hi), point);
-  // Crossing above the bracket: step it up (the old upper end becomes the lower one), keeping the stable
-  // end's steady state as the next start.
   const double span = std::log(lambda_hi / lambda_lo);
   int steps = 0;
+  // No positive steady state at lambda_hi (a guess far below λ_crit, where the truncated system's roots go
+  // negative): step the bracket up to where one exists.
+  // The steps double (span, 2 span, 4 span, ...): such a guess can be off by tens of e-folds, and a positive
+  // root above the crossing is as good a start as one just above it (the search then walks down).
+  Sample upper;
+  for (double x = std::log(lambda_hi), step = span;; x += step, step *= 2) {
+    try {
+      upper = growth.at(x, point);
+      break;
+    } catch (const std::runtime_error& e) {
+      if (steps >= options.bracket_steps) {
+        point.lambda_no_steady = std::exp(x);
+        point.note += std::string("no steady state at lambda_hi = ") + format_value(std::exp(x)) + ": " + e.what();
+        return finish();
+      }
+      ++steps;
+    }
+  }
+  if (steps > 0) point.note += "no steady state below lambda = " + format_value(std::exp(upper.x)) + "; ";
+  // Crossing above the bracket: step it up (the old upper end becomes the lower one), keeping the stable
+  // end's steady state as the next start.
   Sample lower;
   bool have_lower = false;
   while (upper.growth >= 0.0 && steps < options.bracket_steps) {
@@ -170,7 +209,10 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
     } catch (const std::runtime_error& e) {
       // Small λ with a short truncation: the quasi-steady state may have no positive root (a larger N is
       // needed); the bracket cannot be closed, which is a result, not a failure of the search.
-      point.note += std::string("no steady state at lambda_lo (raise lambda_lo or N): ") + e.what();
+      point.lambda_no_steady = std::exp(upper.x - span);
+      point.lambda_lowest_steady = std::exp(upper.x);
+      point.note += std::string("no steady state at lambda_lo (raise lambda_lo or N); stable down to lambda = ") +
+                    format_value(std::exp(upper.x)) + ": " + e.what();
       return finish();
     }
   }

@@ -138,7 +138,8 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
     // bracket of the next N): once per N, the same N again with a bracket of ±50 %, whose steps then span e^±12.
     if (!result.by_size.back().found && retried_at != N && half_width < 0.5 &&
         (result.by_size.back().note.find("stable at lambda_lo") != std::string::npos ||
-         result.by_size.back().note.find("unstable at lambda_hi") != std::string::npos)) {
+         result.by_size.back().note.find("unstable at lambda_hi") != std::string::npos ||
+         result.by_size.back().note.find("no steady state at lambda_hi") != std::string::npos)) {
       result.evaluations += result.by_size.back().evaluations;
       result.note += "N = " + std::to_string(N) + ": " + result.by_size.back().note + "; retried with a +-50 % bracket; ";
       half_width = 0.5;
@@ -152,6 +153,19 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
       // No positive quasi-steady state near λ at this N: the truncation is too short; double it.
       if (no_steady_state(p)) {
         previous = 0;
+        // The search ran below the guess to where this N has no positive root: the next N is long enough for
+        // that λ (4 size_per_inverse_lambda / λ: on the graded grid the roots go negative below λ ≈ 25 / N at
+        // a = 0.6, r = 1.02), and its bracket starts where this one was last stable.
+        if (p.lambda_no_steady > 0.0) {
+          const std::size_t needed = power_of_two_at_least(4 * options.size_per_inverse_lambda / p.lambda_no_steady);
+          // (at most max_size / 2, so that N / 2 -> N can still be compared)
+          if (needed > 2 * N && max_size >= 4 * N) N = std::min(needed, max_size / 2) / 2;  // the loop doubles it
+        }
+        if (p.lambda_lowest_steady > 0.0) {
+          guess = p.lambda_lowest_steady;
+          result.note += "N = " + std::to_string(N) + ": stable down to lambda = " + format_value(p.lambda_lowest_steady) +
+                         ", no positive steady state at " + format_value(p.lambda_no_steady) + "; ";
+        }
         continue;
       }
       result.note += "N = " + std::to_string(N) + ": " + p.note + "; ";
@@ -213,6 +227,25 @@ std::vector<ConvergedHopfPoint> hopf_curve(const AggregationModel& base, std::sp
         if (last.a != before.a)
           guess = std::exp(std::log(last.lambda_crit) +
                            (a - last.a) * (std::log(last.lambda_crit) - std::log(before.lambda_crit)) / (last.a - before.a));
+      }
+      if (converged.size() >= 3) {
+        // Where ln λ_crit steepens (brownian a → 0.6: slopes 45, 134, 670 per unit a) a line overshoots by
+        // orders of magnitude; ln λ = A − B/(a − u) through the last three points follows the steepening
+        // (at a = 0.59 from 0.7, 0.65, 0.6: 2e-9 against 7e-11, where the line gives 1.5e-8).
+        const double a1 = converged[converged.size() - 3]->a, a2 = converged[converged.size() - 2]->a, a3 = last.a;
+        const double L1 = std::log(converged[converged.size() - 3]->lambda_crit),
+                     L2 = std::log(converged[converged.size() - 2]->lambda_crit), L3 = std::log(last.lambda_crit);
+        const double R = (L2 - L3) / (L1 - L2);
+        const double u = ((a2 - a3) * a1 - R * (a1 - a2) * a3) / ((a2 - a3) - R * (a1 - a2));
+        const double B = (L1 - L2) * (a1 - u) * (a2 - u) / (a1 - a2);
+        const bool same_side = (a1 - u) * (a3 - u) > 0 && (a - u) * (a3 - u) > 0;
+        if (std::isfinite(u) && std::isfinite(B) && same_side && B * (a3 - u) > 0) {
+          const double hyperbolic = std::exp(L3 - B * (1.0 / (a - u) - 1.0 / (a3 - u)));
+          // No more than 1.5 times the line's drop from the last point: the fit's pole can sit just below a
+          // (from 0.65, 0.6, 0.59 it puts λ_crit(0.58) at 3e-25, beyond any λ with a positive root).
+          const double floor = last.lambda_crit * std::pow(guess / last.lambda_crit, 1.5);
+          if (std::isfinite(hyperbolic) && hyperbolic > 0) guess = std::max(std::min(guess, hyperbolic), floor);
+        }
       }
       // N from the guess alone (options.size_per_inverse_lambda / λ, the tail's decay length): scaling the
       // last pair's N instead would ratchet it up by the power-of-two rounding at every a.

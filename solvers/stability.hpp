@@ -70,6 +70,10 @@ struct HopfPoint {
   std::vector<double> steady_state;  // the steady state at the final bracket's stable end (found only)
   std::vector<double> steady_sizes;  // its classes' sizes on a graded grid (empty: 1..N)
   double steady_lambda = 0;          // the λ of steady_state
+  // Where the search ran out of positive steady states (not found): the λ without one, and the smallest λ
+  // evaluated with one (0: none). A larger N, or λ_crit < lambda_lowest_steady.
+  double lambda_no_steady = 0;
+  double lambda_lowest_steady = 0;
 };
 
 struct HopfOptions {
@@ -84,8 +88,9 @@ struct HopfOptions {
   // to (a, ln λ) in steps of at most 0.002 in a and 0.5 in ln λ, each Newton solve starting from the last
   // one, so that it stays on start's branch (the truncated system has other positive roots: from a CVODE
   // start at brownian a = 0.6, λ = 5.745e-8, K = 64, r = 1.04, N = 2^33 Newton finds a saddle with a positive
-  // real eigenvalue and M0 20 % above the branch that carries the Hopf point). A failed step falls back to
-  // the solver's own start.
+  // real eigenvalue and M0 20 % above the branch that carries the Hopf point). A failed path means no positive
+  // root on the branch at that λ (no CVODE start is tried); later evaluations follow the nearest evaluated
+  // λ the same way (steps ≤ 0.5 in ln λ).
   double start_a = 0;
   double start_lambda = 0;
   // When [lambda_lo, lambda_hi] does not hold the crossing, step the bracket towards it (each step

@@ -139,3 +139,21 @@ TEST_CASE("locate_hopf from a start at another (a, λ) follows its branch to the
   CHECK(p.omega == Approx(1.2525e-6).epsilon(2e-3));
   CHECK(p.steady_lambda >= p.lambda_crit);  // the stable end's state
 }
+
+TEST_CASE("locate_hopf steps up from a bracket with no positive steady state", "[stability][hopf]") {
+  // a = 0.95, N = 1024: λ_crit = 0.01267. At λ ~ 2e-5 (λN = 0.02) the truncated system has no positive root,
+  // so neither end of [2e-5, 2.2e-5] can be evaluated; the bracket steps up in doubling steps until one can.
+  AggregationModel model = cutoff_model(1024);
+  HopfOptions options;
+  const HopfPoint none = locate_hopf(model, 0.95, 2e-5, 2.2e-5, 1e-2, options);
+  INFO(none.note);
+  CHECK_FALSE(none.found);
+  CHECK(none.note.find("no steady state at lambda_hi") != std::string::npos);
+  CHECK(none.lambda_no_steady == Approx(2.2e-5));
+  options.bracket_steps = 30;
+  const HopfPoint p = locate_hopf(model, 0.95, 2e-5, 2.2e-5, 1e-2, options);
+  INFO(p.note);
+  CHECK(p.note.find("no steady state below lambda") != std::string::npos);
+  REQUIRE(p.found);
+  CHECK(std::abs(p.lambda_crit - 0.0126719) <= p.lambda_tolerance);
+}

@@ -252,6 +252,14 @@ void converged_lambda_crit(const ScanPlan& plan, const std::filesystem::path& po
                 << todo.size() << " values of a (from a = " << shortest_text(todo.front()) << ", guess "
                 << shortest_text(guess) << ")\n" << std::flush;
     HopfCurveOptions options;
+    // On the graded grid the model's N (size) is the truncation the scan stands on (the scene chose it for
+    // its smallest λ): no N beyond it.
+    if (!plan.hopf_grid.uniform() && plan.size() >= 2 * options.min_size) {
+      options.max_size = plan.size();
+      // Classes grow only as log N, so each a starts at N = 1024 / guess rather than 8 / guess: the roots stay
+      // positive down to λ ≈ 25 / N (a = 0.6, r = 1.02), and a guess 30 times above λ_crit still brackets it.
+      options.size_per_inverse_lambda = 1024;
+    }
     hopf_curve(base, todo, guess, std::size_t(std::ceil(8.0 / guess)), options, [&](const ConvergedHopfPoint& p) {
       std::string note = p.note;
       for (char& c : note)
