@@ -47,15 +47,10 @@ class GrowthRate {
       // Along λ in steps of at most 0.5 in ln λ, Newton only: one long jump (a bracket stepped by ln 3)
       // can land on another root of the truncated system, whose complex pair may be stable although the
       // branch's is not (a = 0.59: "stable" at 5.7e-11 on such a root, unstable on the branch below 7.07e-11).
-      // No CVODE restarts here either: from a root on the branch, a failed path means this λ has no positive
-      // root near the branch (too short a truncation, or below where the grid's roots stay positive), and a
-      // CVODE start would cost minutes at small λ only to land on another root.
+      // No other start either: from a root on the branch, a failed path means this λ has no positive root
+      // near the branch (too short a truncation, or below where the grid's roots stay positive), and a CVODE
+      // start would cost minutes at small λ only to land on another root.
       steady = follow_branch(model, nearest->n, a_, nearest->x, x);
-      if (!steady.converged) {
-        SteadyStateOptions newton = options_.steady;
-        newton.start_retries = 0;
-        steady = solve_steady_state(model, newton, nearest->n);
-      }
     } else if (!options_.start.empty()) {
       // The caller's state at a nearby (a, λ), cut or extended to this N (carried onto this grid's classes
       // when either is graded).
@@ -66,14 +61,13 @@ class GrowthRate {
                                            : extend_steady_state(options_.start, N);
       else
         guess = regrid(start_sizes(), options_.start, model.pivots());
-      steady = options_.start_lambda > 0.0
+      steady = branch_start()
                    ? follow_branch(model, std::move(guess), options_.start_a, std::log(options_.start_lambda), x)
                    : solve_steady_state(model, options_.steady, guess);
     }
-    // The solver's own start (CVODE) only where nothing better is known; from a start on the branch a failed
-    // path means no positive root here (at a = 0.58, λ = 1e-14 the CVODE starts took minutes per λ).
-    if (!steady.converged && !nearest && !(options_.start_lambda > 0.0 && !options_.start.empty()))
-      steady = solve_steady_state(model, options_.steady);
+    // The solver's own start (CVODE) only where nothing on the branch is known (at a = 0.58, λ = 1e-14 the
+    // CVODE starts took minutes per λ).
+    if (!steady.converged && !nearest && !branch_start()) steady = solve_steady_state(model, options_.steady);
     ++point.evaluations;
     if (!steady.converged)
       throw std::runtime_error("locate_hopf: no steady state at a = " + format_value(point.a) +
@@ -105,7 +99,7 @@ class GrowthRate {
   // The steady state at (a_, e^x) on model's grid by natural-parameter continuation from `guess`, a state on
   // this grid at (a0, e^x0) (the start state of HopfOptions carried onto it, or a sample). Each step starts Newton from the
   // last step's root and nowhere else (no CVODE restarts), so a failed step means the branch was lost:
-  // the result is then not converged, and the caller falls back to the solver's own start.
+  // the result is then not converged.
   SteadyStateResult follow_branch(AggregationModel model, std::vector<double> guess, double a0, double x0,
                                   double x) const {
     const int steps = std::max({1, int(std::ceil(std::abs(a_ - a0) / 0.002)), int(std::ceil(std::abs(x - x0) / 0.5))});
@@ -122,6 +116,9 @@ class GrowthRate {
     }
     return result;
   }
+
+  // A steady state on the branch, at a known (a, λ), was given (HopfOptions::start, start_a, start_lambda).
+  bool branch_start() const { return options_.start_lambda > 0.0 && !options_.start.empty(); }
 
   AggregationModel base_;
   double a_;

@@ -156,15 +156,15 @@ ConvergedHopfPoint locate_hopf_converged(const AggregationModel& base, double a,
         // The search ran below the guess to where this N has no positive root: the next N is long enough for
         // that λ (4 size_per_inverse_lambda / λ: on the graded grid the roots go negative below λ ≈ 25 / N at
         // a = 0.6, r = 1.02), and its bracket starts where this one was last stable.
-        if (p.lambda_no_steady > 0.0) {
-          const std::size_t needed = power_of_two_at_least(4 * options.size_per_inverse_lambda / p.lambda_no_steady);
-          // (at most max_size / 2, so that N / 2 -> N can still be compared)
-          if (needed > 2 * N && max_size >= 4 * N) N = std::min(needed, max_size / 2) / 2;  // the loop doubles it
-        }
         if (p.lambda_lowest_steady > 0.0) {
           guess = p.lambda_lowest_steady;
           result.note += "N = " + std::to_string(N) + ": stable down to lambda = " + format_value(p.lambda_lowest_steady) +
                          ", no positive steady state at " + format_value(p.lambda_no_steady) + "; ";
+        }
+        if (p.lambda_no_steady > 0.0) {
+          const std::size_t needed = power_of_two_at_least(4 * options.size_per_inverse_lambda / p.lambda_no_steady);
+          // (at most max_size / 2, so that N / 2 -> N can still be compared)
+          if (needed > 2 * N && max_size >= 4 * N) N = std::min(needed, max_size / 2) / 2;  // the loop doubles it
         }
         continue;
       }

@@ -250,7 +250,6 @@ TEST_CASE("a start that is another lambda's root is not accepted: Newton balance
       REQUIRE(s.converged);
       n = s.n;
     }
-  const std::vector<double> x = model.pivots();
   auto M0 = [](const std::vector<double>& v) { double m = 0; for (double e : v) m += e; return m; };
   model.lambda = ShatteringRate::constant(0.98e-10);
   const SteadyStateResult s = solve_steady_state(model, {}, n);

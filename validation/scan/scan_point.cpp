@@ -32,7 +32,8 @@ void classify_by_stability(const AggregationModel& model, ScanRecord& r) {
   // steady tail (n_k ∝ k^-a e^{-0.65 λ k}) lies beyond N, and under `drop` Newton then finds a state with all
   // the mass in class N draining at the leak rate (a = 0.95, λ = 1e-6, N = 2048: 99.9 % of the mass there).
   // A resolved tail (λN ≥ 8) puts ~1e-4 / N of the mass in that class.
-  const double top = model.pivots().back() * steady.n.back() / total_mass(steady.n, model.pivots());
+  const std::vector<double> sizes = model.pivots();
+  const double top = sizes.back() * steady.n.back() / total_mass(steady.n, sizes);
   if (top > 0.01) {
     r.note += std::string(r.note.empty() ? "" : "; ") + "the steady state piles up at the truncation (" +
               shortest_text(top) + " of the mass in the largest class): N too short for lambda";
