@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <sys/wait.h>
 #include <thread>
+#include <vector>
 
 #include "tests/apps/command_fixture.hpp"
 #include "tests/validation/scene_fixture.hpp"
@@ -56,8 +57,9 @@ lambda = { from = 0.01, to = 1.0, count = 3, spacing = "log" }
 std::map<std::string, std::string> point_files(const fs::path& out) {
   std::map<std::string, std::string> files;
   for (const auto& entry : fs::directory_iterator(out / "points"))
-    // Grid points only: with the stability solvers in the build the scan also keeps hopf_*.csv files.
-    if (entry.path().extension() == ".csv" && !entry.path().filename().string().starts_with("hopf_"))
+    // Grid points only: the scan also keeps hopf_*.csv files and the refined repeats (*_refined.csv).
+    if (const std::string name = entry.path().filename().string();
+        entry.path().extension() == ".csv" && !name.starts_with("hopf") && !name.ends_with("_refined.csv"))
       files[entry.path().filename().string()] = aggkit::testing::read_text(entry.path());
   return files;
 }
@@ -229,4 +231,94 @@ TEST_CASE("scan cli: bad input exits 2 naming the key and the value") {
   const Outcome unwritable_mpi = run(scan_command(mpirun(2), scene, folder / "file" / "out"), folder);
   CHECK(unwritable_mpi.exit_code == 2);
   CHECK_THAT(unwritable_mpi.err, Contains("--out"));
+}
+
+namespace {
+// A deliberately coarse graded grid (fixed-pivot shares, K = 8, r = 1.6: 34 classes) on which λ_crit(0.9) is
+// 0.0027, against 0.0096 when converged: at λ = 0.004 the run relaxes and linear stability agrees on this
+// grid, while on the refined grid (K = 16, r = 1.3) the steady state is unstable and the run oscillates.
+// λ = 0.012 relaxes on both; (0.9, 0.001) oscillates on both. Each run a tenth of a second.
+const char* const coarse_scan = R"(
+name = "coarse-scan"
+[model]
+kernel = { name = "brownian", a = 0.9 }
+size = 1048576
+grid = { resolved = 8, ratio = 1.6, scheme = "fixed-pivot" }
+truncation = "drop"
+[time]
+end = 1000.0
+every = 1.0
+[scan]
+a = [0.85, 0.9]
+lambda = [0.001, 0.004, 0.012]
+)";
+
+std::map<std::string, std::string> scan_row(const fs::path& csv, double a, double lambda) {
+  std::istringstream in(aggkit::testing::read_text(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::istringstream header(line); std::getline(header, line, ',');) names.push_back(line);
+  for (std::string row; std::getline(in, row);) {
+    std::vector<std::string> fields;
+    std::istringstream cells(row);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    fields.resize(names.size());
+    std::map<std::string, std::string> named;
+    for (std::size_t i = 0; i < names.size(); ++i) named[names[i]] = fields[i];
+    if (std::stod(named["a"]) == a && std::stod(named["lambda"]) == lambda) return named;
+  }
+  return {};
+}
+}  // namespace
+
+TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is unresolved") {
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-refine");
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", coarse_scan);
+  const Outcome outcome = run(scan_command("", scene, folder / "out"), folder);
+  INFO(outcome.err);
+  REQUIRE(outcome.exit_code == 0);
+  const fs::path csv = folder / "out" / "scan.csv";
+  CHECK_THAT(aggkit::testing::first_line(csv), Contains(",note,mean_steady,regime_refined"));
+  const auto low = scan_row(csv, 0.9, 0.004);
+  REQUIRE(!low.empty());
+  CHECK(low.at("regime") == "unresolved");
+  CHECK(low.at("regime_refined") == "sustained");
+  CHECK_THAT(low.at("note"), Contains("was damped in the run; on the refined grid (N = 2097152; graded(K=16; r=1.3") &&
+                                 Contains("unstable steady state"));
+  CHECK(fs::exists(folder / "out" / "points" / "a0.9_lambda0.004_N2097152_refined.csv"));
+  const auto high = scan_row(csv, 0.9, 0.012);  // relaxes on both grids: keeps its verdict
+  CHECK((high.at("regime") == "damped" || high.at("regime") == "steady"));
+  CHECK((high.at("regime_refined") == "damped" || high.at("regime_refined") == "steady"));
+  // Only relaxing verdicts are repeated: (0.9, 0.001) oscillates on the coarse grid already.
+  const auto sustained = scan_row(csv, 0.9, 0.001);
+  CHECK(sustained.at("regime") == "sustained");
+  CHECK(sustained.at("regime_refined").empty());
+  CHECK(!fs::exists(folder / "out" / "points" / "a0.9_lambda0.001_N2097152_refined.csv"));
+
+  // Without refinement the coarse grid's verdict stands, from the same grid runs (refine is not part of
+  // the fingerprint: nothing is recomputed).
+  std::string plain = coarse_scan;
+  plain += "refine = false\n";
+  const auto unrefined = aggkit::testing::write_text(folder / "plain.toml", plain);
+  const Outcome again = run(scan_command("", unrefined, folder / "out"), folder);
+  INFO(again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("7 runs, 7 finished earlier, 0 to compute"));  // 6 points and the Hopf curve
+  CHECK(scan_row(csv, 0.9, 0.004).at("regime") == "damped");
+  CHECK(scan_row(csv, 0.9, 0.004).at("regime_refined").empty());
+}
+
+TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the same results on 2 ranks", "[mpi]") {
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-curve-mpi");
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", coarse_scan);
+  const Outcome single = run(scan_command("", scene, folder / "single"), folder);
+  REQUIRE(single.exit_code == 0);
+  const Outcome two = run(scan_command(mpirun(2), scene, folder / "two"), folder);
+  INFO(two.err);
+  REQUIRE(two.exit_code == 0);
+  CHECK_THAT(two.err, Contains("and the converged Hopf curve: 7 runs"));
+  for (const char* file : {"scan.csv", "lambda_crit.csv"})
+    CHECK(aggkit::testing::read_text(folder / "single" / file) == aggkit::testing::read_text(folder / "two" / file));
+  CHECK_THAT(aggkit::testing::read_text(folder / "two" / "lambda_crit.csv"), Contains("hopf-converged"));
 }

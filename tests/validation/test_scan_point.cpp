@@ -66,6 +66,8 @@ TEST_CASE("scan point: a = 0.9, lambda = 0.01 is damped towards the steady state
   INFO("rightmost " << r.rightmost_real << " +- " << r.rightmost_imag << " i, decay " << r.decay_rate << ", period " << r.period);
   CHECK(r.regime_stability == "damped");
   CHECK(r.agree == "yes");
+  // The run has reached the steady state: the tail's mean is 0.9 % from the steady M0 (steady_match 5 %).
+  CHECK(std::abs(r.mean - r.mean_steady) < 0.02 * r.mean_steady);
   // Independent check of the time series by the linearisation (solvers/stability.hpp): the damped mode's
   // period is 2π/Im μ up to the nonlinear frequency shift of a swing still ~10 % of the mean (O(10 %²) ~ 1 %:
   // 2 % allowed), and the envelope decays at least as fast as the linear rate -Re μ (nonlinear damping adds
@@ -103,4 +105,39 @@ TEST_CASE("scan point: the progress line's outcome names only the numbers the re
   sustained.amplitude = 0.0123;
   CHECK(outcome_summary(sustained) == "sustained, period 52.1, amplitude 0.0123");
   for (const ScanRecord* r : {&steady, &damped, &sustained}) CHECK(outcome_summary(*r).find("nan") == std::string::npos);
+}
+
+TEST_CASE("scan point: a relaxation that ends far from its steady state is unresolved, not damped") {
+  // a = 0.6, λ = 1e-4 on a graded grid that holds the steady tail (N = 2^40 ≫ 8/λ): the steady state exists
+  // and is stable, but it is reached only after times ~1/λ; by t = 2000 the run shows the coarsening of
+  // nearly pure aggregation (M0 ≈ 5e-4, falling monotonically), not the approach to the steady M0 ≈ 9.4e-3.
+  const char* const text = R"(
+name = "slow-relaxation"
+[model]
+kernel = { name = "brownian", a = 0.6 }
+size = 1099511627776
+grid = { resolved = 64, ratio = 1.05 }
+truncation = "drop"
+[time]
+end = 2000.0
+every = 2.0
+[[engine]]
+name = "cvode"
+method = "bdf-gmres"
+rtol = 1e-6
+[scan]
+a = [0.6]
+lambda = [1e-4]
+)";
+  const ScanPlan plan = parse_scan_plan(text);
+  const ScanRecord r = run_scan_point(plan, {0, 0.6, 1e-4}, plan.size());
+  INFO(r.regime << ": " << r.note);
+  CHECK(r.regime_stability == "damped");  // the steady state is there and stable
+  CHECK(r.mean_steady == Approx(9.4e-3).epsilon(0.02));
+  CHECK(r.mean < 0.1 * r.mean_steady);
+  CHECK(r.regime == "unresolved");
+  CHECK_THAT(r.note, Catch::Contains("was damped in the run; the run ends before reaching the steady state"));
+  // The time series' own verdict, as a refined repeat keeps it (it is compared by its class).
+  const ScanRecord raw = run_scan_point(plan, {0, 0.6, 1e-4}, plan.size(), {}, false);
+  CHECK(raw.regime == "damped");
 }

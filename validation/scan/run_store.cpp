@@ -88,8 +88,10 @@ DistributedRuns compute_unfinished_runs(std::size_t count, const std::function<b
               << todo.size() << " to compute on " << world.size << (world.size == 1 ? " rank\n" : " ranks\n") << std::flush;
   // Runs are numbered over the whole batch: after a resume the count continues after the runs finished
   // earlier ("8/9") instead of starting again at 1.
+  // Each rank draws the next run from a shared counter, so a rank held up by a long run draws fewer.
   long failed = 0;
-  for (std::size_t k = std::size_t(world.rank); k < todo.size(); k += std::size_t(world.size)) {
+  SharedCounter counter;
+  for (std::size_t k = counter.next(); k < todo.size(); k = counter.next()) {
     if (compute(todo[k], runs.reused + k + 1, count)) ++runs.computed;
     else ++failed;
   }

@@ -3,7 +3,8 @@
 // interruption: a folder DIR/points/ that holds one small file per finished run, each written atomically
 // (a killed command leaves finished files whole and never a half-written one under a final name), a
 // fingerprint of everything the results depend on (results of another scene are not reused), and the
-// unfinished runs computed round-robin over the ranks of MPI_COMM_WORLD (scan_mpi.hpp).
+// unfinished runs computed over the ranks of MPI_COMM_WORLD, each rank drawing the next one when it is free
+// (scan_mpi.hpp).
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -34,10 +35,10 @@ struct DistributedRuns {
 };
 
 // Every rank, collectively: runs i < count for which finished(i) is false are listed (the same list on every
-// rank: finished() must read the shared points folder), then computed round-robin over the ranks by
-// compute(i, number, count) — `number` its 1-based place in the batch of `count`, after the runs finished
-// earlier (a resumed batch counts on: "8/9") — which returns
-// false for a failed run (not written: a rerun retries it). Returns when every rank has finished, with a
+// rank: finished() must read the shared points folder), then computed over the ranks, each drawing the next
+// unfinished run when it is free, by compute(i, number, count) — `number` its 1-based place in the batch of
+// `count`, after the runs finished earlier (a resumed batch counts on: "8/9") — which returns false for a
+// failed run (not written: a rerun retries it). Returns when every rank has finished, with a
 // progress line on rank 0: "<command>: <what>: N runs, F finished earlier, T to compute on K ranks".
 DistributedRuns compute_unfinished_runs(std::size_t count, const std::function<bool(std::size_t)>& finished,
                                         const std::function<bool(std::size_t i, std::size_t number, std::size_t count)>& compute,

@@ -5,6 +5,7 @@
 #include <tuple>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -26,11 +27,13 @@ namespace aggkit {
 
 namespace {
 
-// One CVODE run of a scan: a grid point, or a point repeated at 2N. Results are cached in DIR/points under a
-// name made of (a, λ, N), so a grid point and a truncation-check point at the same (a, λ, N) are one run.
+// One CVODE run of a scan: a grid point, a point repeated at 2N, or the refined repeat of a relaxing point
+// (refined_plan at 2N). Results are cached in DIR/points under a name made of (a, λ, N) and "_refined", so
+// a grid point and a truncation-check point at the same (a, λ, N) are one run.
 struct Run {
   double a = 0, lambda = 0;
   std::size_t size = 0;
+  bool refined = false;
   std::string key() const {
     std::string key = "a";  // appended piecewise: GCC 12 warns falsely (-Wrestrict) on "a" + std::string
     key += shortest_text(a);
@@ -38,15 +41,28 @@ struct Run {
     key += shortest_text(lambda);
     key += "_N";
     key += std::to_string(size);
+    if (refined) key += "_refined";
     return key;
   }
-  bool operator<(const Run& o) const { return std::tie(a, lambda, size) < std::tie(o.a, o.lambda, o.size); }
+  Run refinement() const { return {a, lambda, 2 * size, true}; }
+  bool operator<(const Run& o) const {
+    return std::tie(a, lambda, size, refined) < std::tie(o.a, o.lambda, o.size, o.refined);
+  }
+};
+
+bool relaxing(const ScanRecord& r) { return r.regime == "damped" || r.regime == "steady"; }
+
+// A task drawn with the runs but run whole by one rank (the converged Hopf curve, a continuation in a).
+struct SerialTask {
+  std::function<bool()> finished, compute;  // compute: false if it failed
 };
 
 class RunCache {
  public:
   RunCache(const ScanPlan& plan, std::filesystem::path folder, std::ostream* progress)
-      : plan_(plan), folder_(std::move(folder)), progress_(progress), world_(mpi_world()) {}
+      : plan_(plan), folder_(std::move(folder)), progress_(progress), world_(mpi_world()) {
+    if (plan.refine) fine_ = refined_plan(plan);
+  }
 
   std::optional<ScanRecord> finished(const Run& run) const {
     const std::optional<ScanRecord> r = parse_point_file(read_text_file(file(run)));
@@ -54,14 +70,34 @@ class RunCache {
     return r;
   }
 
-  // Computes the runs not finished yet, spread round-robin over the ranks; every rank returns when all have.
-  void compute(std::vector<Run> runs, const std::string& what) {
+  // Computes the runs not finished yet over the ranks, each rank drawing the next when it is free; every rank
+  // returns when all have. With `refine` (and [scan] refine), a run that relaxes is followed at once by its
+  // refined repeat. `first`, if given, is drawn before the runs.
+  void compute(std::vector<Run> runs, const std::string& what, bool refine, const SerialTask* first = nullptr) {
     std::sort(runs.begin(), runs.end());
     runs.erase(std::unique(runs.begin(), runs.end(), [](const Run& x, const Run& y) { return !(x < y) && !(y < x); }),
                runs.end());
+    refine = refine && fine_.has_value();
+    const std::size_t offset = first ? 1 : 0;
+    // Only the grid's points (size N; not the truncation check's 2N) are refined.
+    const auto needs_refinement = [&](const Run& run) {
+      if (!refine || run.refined || run.size != plan_.size()) return false;
+      const std::optional<ScanRecord> r = finished(run);
+      return r && relaxing(*r) && !finished(run.refinement());
+    };
     const DistributedRuns done = compute_unfinished_runs(
-        runs.size(), [&](std::size_t i) { return finished(runs[i]).has_value(); },
-        [&](std::size_t i, std::size_t number, std::size_t todo) { return compute_one(runs[i], number, todo); },
+        runs.size() + offset,
+        [&](std::size_t i) {
+          if (i < offset) return first->finished();
+          const Run& run = runs[i - offset];
+          return finished(run).has_value() && !needs_refinement(run);
+        },
+        [&](std::size_t i, std::size_t number, std::size_t count) {
+          if (i < offset) return first->compute();
+          const Run& run = runs[i - offset];
+          if (!finished(run) && !compute_one(run, number, count)) return false;
+          return !needs_refinement(run) || compute_one(run.refinement(), number, count);
+        },
         "aggkit scan", what, progress_);
     reused_ += done.reused;
     failed_ += done.failed;
@@ -75,12 +111,15 @@ class RunCache {
   std::filesystem::path file(const Run& run) const { return folder_ / (run.key() + ".csv"); }
 
   bool compute_one(const Run& run, std::size_t number, std::size_t count) {
+    const ScanPlan& plan = run.refined ? *fine_ : plan_;
     const std::string label = "a = " + shortest_text(run.a) + ", lambda = " + shortest_text(run.lambda) +
-                              ", N = " + std::to_string(run.size);
+                              ", N = " + std::to_string(run.size) +
+                              (run.refined ? " refined (grid " + plan.scene.model.grid.describe() + ")" : "");
     Progress progress(progress_, std::chrono::seconds(10));
-    progress.start(label, number, count, plan_.scene.time.end);
+    progress.start(label, number, count, plan.scene.time.end);
     try {
-      ScanRecord r = run_scan_point(plan_, {0, run.a, run.lambda}, run.size, [&](double t) { progress.reached(t); });
+      ScanRecord r = run_scan_point(plan, {0, run.a, run.lambda}, run.size, [&](double t) { progress.reached(t); },
+                                    !run.refined);
       r.rank = world_.rank;
       write_file_atomically(file(run), point_file_text(r));
       ++computed_;
@@ -98,6 +137,7 @@ class RunCache {
   }
 
   const ScanPlan& plan_;
+  std::optional<ScanPlan> fine_;  // refined_plan(plan_) with [scan] refine
   std::filesystem::path folder_;
   std::ostream* progress_;
   MpiWorld world_;
@@ -205,42 +245,57 @@ void hopf_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points,
   }
 }
 
-// λ_crit(a) as the converged curve on the graded hopf_grid (solvers/hopf_curve.hpp): continuation from the
-// largest a down, so it runs on rank 0 (the other ranks wait); each a is cached in DIR/points. The first
-// guess is the grid bracket's λ_crit of the largest a, or a locate_hopf over the scan's λ range (its
-// bracket stepped down by up to 30 widths).
-void converged_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points, std::vector<LambdaCritRow>& crit,
-                           std::ostream* progress) {
-  const MpiWorld world = mpi_world();
-  const std::string header =
-      "a,converged,lambda_crit,bracket,omega,N,lambda_crit_half,change,resolved,ratio,lambda_crit_2K,change_2K,"
-      "lambda_crit_half_ratio,change_half_ratio,note";
-  const auto file = [&](double a) {
-    std::string name = "hopfcurve_a";
-    name += shortest_text(a) + "_K" + std::to_string(plan.hopf_grid.resolved) + "_r" + shortest_text(plan.hopf_grid.ratio) + "_" +
-            scheme_name(plan.hopf_grid.scheme) + ".csv";
-    return points / name;
-  };
-  const auto parse = [&](double a) -> std::optional<std::vector<std::string>> {
-    std::istringstream in(read_text_file(file(a)));
-    std::string line, field;
-    if (!std::getline(in, line) || line != header || !std::getline(in, line)) return std::nullopt;
-    std::vector<std::string> f;
-    std::istringstream fields(line);
-    while (std::getline(fields, field, ',')) f.push_back(field);
-    if (f.size() < 14) return std::nullopt;
-    f.resize(15);
-    return f;
-  };
+// λ_crit(a) as the converged curve on the graded hopf_grid (solvers/hopf_curve.hpp), one file per a in
+// DIR/points. A continuation from the largest a down, so one rank runs it whole while the others compute the
+// grid's points (converge_hopf_curve is the task drawn first; read_converged_lambda_crit reads the files).
+const std::string hopf_curve_header =
+    "a,converged,lambda_crit,bracket,omega,N,lambda_crit_half,change,resolved,ratio,lambda_crit_2K,change_2K,"
+    "lambda_crit_half_ratio,change_half_ratio,note";
+
+std::filesystem::path hopf_curve_file(const ScanPlan& plan, const std::filesystem::path& points, double a) {
+  std::string name = "hopfcurve_a";
+  name += shortest_text(a) + "_K" + std::to_string(plan.hopf_grid.resolved) + "_r" + shortest_text(plan.hopf_grid.ratio) +
+          "_" + scheme_name(plan.hopf_grid.scheme) + ".csv";
+  return points / name;
+}
+
+std::optional<std::vector<std::string>> read_hopf_curve_file(const ScanPlan& plan, const std::filesystem::path& points,
+                                                              double a) {
+  std::istringstream in(read_text_file(hopf_curve_file(plan, points, a)));
+  std::string line, field;
+  if (!std::getline(in, line) || line != hopf_curve_header || !std::getline(in, line)) return std::nullopt;
+  std::vector<std::string> f;
+  std::istringstream fields(line);
+  while (std::getline(fields, field, ',')) f.push_back(field);
+  if (f.size() < 14) return std::nullopt;
+  f.resize(15);
+  return f;
+}
+
+std::vector<double> hopf_curve_todo(const ScanPlan& plan, const std::filesystem::path& points) {
   std::vector<double> todo;
   for (auto it = plan.a.rbegin(); it != plan.a.rend(); ++it)
-    if (!parse(*it)) todo.push_back(*it);
-  if (world.rank == 0 && !todo.empty()) {
+    if (!read_hopf_curve_file(plan, points, *it)) todo.push_back(*it);
+  return todo;
+}
+
+// Computes the values of a not in DIR/points yet (on the calling rank alone); false if it failed. The first
+// guess is λ_crit of the nearest larger a already computed (a resumed curve), else a locate_hopf over the
+// scan's λ range (its bracket stepped down by up to 30 widths): the same guess whichever rank runs it and
+// whatever the grid's points show.
+bool converge_hopf_curve(const ScanPlan& plan, const std::filesystem::path& points, std::ostream* progress) {
+  const std::vector<double> todo = hopf_curve_todo(plan, points);
+  if (todo.empty()) return true;
+  const int rank = mpi_world().rank;
+  try {
     AggregationModel base = point_model(plan, todo.front(), plan.lambda.front(), plan.size());
     base.grid = plan.hopf_grid;
     double guess = NAN;
-    for (const auto& row : crit)
-      if (row.a == todo.front() && std::isfinite(row.lambda_crit)) guess = row.lambda_crit;
+    for (double a : plan.a)  // increasing: the first one above todo.front() with a value is the nearest
+      if (const auto f = read_hopf_curve_file(plan, points, a); a > todo.front() && !std::isfinite(guess) && f) {
+        const double value = std::stod((*f)[2]);
+        if (value > 0) guess = value;
+      }
     if (!std::isfinite(guess)) {
       HopfOptions rough;
       rough.bracket_steps = 30;
@@ -248,13 +303,13 @@ void converged_lambda_crit(const ScanPlan& plan, const std::filesystem::path& po
       guess = h.found ? h.lambda_crit : std::sqrt(plan.lambda.front() * plan.lambda.back());
     }
     if (progress)
-      *progress << "aggkit scan: converging lambda_crit(a) on the grid " << plan.hopf_grid.describe() << " for "
-                << todo.size() << " values of a (from a = " << shortest_text(todo.front()) << ", guess "
+      *progress << "aggkit scan: [rank " << rank << "] converging lambda_crit(a) on the grid " << plan.hopf_grid.describe()
+                << " for " << todo.size() << " values of a (from a = " << shortest_text(todo.front()) << ", guess "
                 << shortest_text(guess) << ")\n" << std::flush;
     HopfCurveOptions options;
     // On the graded grid the model's N (size) is the truncation the scan stands on (the scene chose it for
     // its smallest λ): no N beyond it.
-    if (!plan.hopf_grid.uniform() && plan.size() >= 2 * options.min_size) {
+    if (plan.size() >= 2 * options.min_size) {
       options.max_size = plan.size();
       // Classes grow only as log N, so each a starts at N = 1024 / guess rather than 8 / guess: the roots stay
       // positive down to λ ≈ 25 / N (a = 0.6, r = 1.02), and a guess 30 times above λ_crit still brackets it.
@@ -265,21 +320,30 @@ void converged_lambda_crit(const ScanPlan& plan, const std::filesystem::path& po
       for (char& c : note)
         if (c == ',' || c == '\n') c = ';';
       const auto n = [](double x) { return shortest_text(x); };
-      write_file_atomically(file(p.a), header + "\n" + n(p.a) + "," + (p.converged ? "yes" : "no") + "," + n(p.lambda_crit) +
-                                           "," + n(p.bracket) + "," + n(p.omega) + "," + std::to_string(p.size) + "," +
-                                           n(p.lambda_crit_half) + "," + n(p.change) + "," + std::to_string(p.resolved) +
-                                           "," + n(p.ratio) + "," + n(p.lambda_crit_2K) + "," + n(p.change_K) + "," +
-                                           n(p.lambda_crit_fine_ratio) + "," + n(p.change_ratio) + "," + note + "\n");
+      write_file_atomically(hopf_curve_file(plan, points, p.a),
+                            hopf_curve_header + "\n" + n(p.a) + "," + (p.converged ? "yes" : "no") + "," +
+                                n(p.lambda_crit) + "," + n(p.bracket) + "," + n(p.omega) + "," + std::to_string(p.size) +
+                                "," + n(p.lambda_crit_half) + "," + n(p.change) + "," + std::to_string(p.resolved) + "," +
+                                n(p.ratio) + "," + n(p.lambda_crit_2K) + "," + n(p.change_K) + "," +
+                                n(p.lambda_crit_fine_ratio) + "," + n(p.change_ratio) + "," + note + "\n");
       if (progress)
-        *progress << "aggkit scan: lambda_crit(" << shortest_text(p.a) << ") = " << shortest_text(p.lambda_crit) << " at N = "
-                  << p.size << " (" << p.unknowns << " classes), changes N " << shortest_text(p.change) << ", 2K "
-                  << shortest_text(p.change_K) << ", (r-1)/2 " << shortest_text(p.change_ratio)
-                  << (p.converged ? "" : ": NOT CONVERGED " + p.note) << "\n" << std::flush;
+        *progress << "aggkit scan: [rank " << rank << "] lambda_crit(" << shortest_text(p.a) << ") = "
+                  << shortest_text(p.lambda_crit) << " at N = " << p.size << " (" << p.unknowns << " classes), changes N "
+                  << shortest_text(p.change) << ", 2K " << shortest_text(p.change_K) << ", (r-1)/2 "
+                  << shortest_text(p.change_ratio) << (p.converged ? "" : ": NOT CONVERGED " + p.note) << "\n"
+                  << std::flush;
     });
+    return true;
+  } catch (const std::exception& e) {
+    if (progress) *progress << "aggkit scan: [rank " << rank << "] the converged Hopf curve failed: " << e.what() << "\n";
+    return false;
   }
-  mpi_barrier();
+}
+
+// The converged curve's values into lambda_crit.csv's rows (every rank, after converge_hopf_curve).
+void read_converged_lambda_crit(const ScanPlan& plan, const std::filesystem::path& points, std::vector<LambdaCritRow>& crit) {
   for (auto& row : crit) {
-    const auto f = parse(row.a);
+    const auto f = read_hopf_curve_file(plan, points, row.a);
     if (!f) continue;
     const auto number = [](const std::string& x) { return x.empty() ? NAN : std::stod(x); };
     const double lambda_crit = number((*f)[2]);
@@ -323,26 +387,48 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   RunCache cache(plan, points, options.progress);
   const std::size_t N = plan.size();
 
-  // Phase 1: the grid, and the truncation-check points at N and 2N.
+  // Phase 1: the grid (each relaxing point followed by its refined repeat), the truncation-check points at N
+  // and 2N, and, drawn first so that it runs beside the points, the converged Hopf curve on a graded hopf_grid.
   std::vector<Run> runs;
   for (std::size_t i = 0; i < plan.point_count(); ++i) runs.push_back({plan.point(i).a, plan.point(i).lambda, N});
   for (const auto& [a, lambda] : plan.check_points) {
     runs.push_back({a, lambda, N});
     runs.push_back({a, lambda, 2 * N});
   }
-  cache.compute(runs, "grid of " + std::to_string(plan.a.size()) + " a x " + std::to_string(plan.lambda.size()) +
-                          " lambda at N = " + std::to_string(N));
+  const bool curve = plan.stability && !plan.hopf_grid.uniform();
+  const SerialTask hopf{[&] { return hopf_curve_todo(plan, points).empty(); },
+                        [&] { return converge_hopf_curve(plan, points, options.progress); }};
+  cache.compute(runs,
+                "grid of " + std::to_string(plan.a.size()) + " a x " + std::to_string(plan.lambda.size()) +
+                    " lambda at N = " + std::to_string(N) + (curve ? ", and the converged Hopf curve" : ""),
+                true, curve ? &hopf : nullptr);
 
-  // λ_crit(a) from the grid (every rank computes the same from the shared results).
+  // A relaxing verdict stands only if its refined repeat relaxes too, towards a steady state that linear
+  // stability finds stable on the refined grid (every rank reads the same files).
   std::vector<ScanRecord> records;
   std::map<double, std::vector<ScanRecord>> by_a;
   for (std::size_t i = 0; i < plan.point_count(); ++i) {
     const ScanPoint p = plan.point(i);
-    if (auto r = cache.finished({p.a, p.lambda, N})) {
-      r->index = i;
-      records.push_back(*r);
-      by_a[p.a].push_back(*r);
+    auto r = cache.finished({p.a, p.lambda, N});
+    if (!r) continue;
+    r->index = i;
+    if (plan.refine && relaxing(*r)) {
+      const std::optional<ScanRecord> fine = cache.finished(Run{p.a, p.lambda, N}.refinement());
+      if (!fine) continue;  // its repeat failed (counted and reported): the point is not finished
+      r->regime_refined = fine->regime;
+      const bool unstable = fine->regime_stability == "sustained";
+      if (!relaxing(*fine) || unstable) {
+        r->note = "was " + r->regime + " in the run; on the refined grid (N = " + std::to_string(fine->size) + ", " +
+                  refined_plan(plan).scene.model.grid.describe() + ") it is " + fine->regime +
+                  (unstable ? " with an unstable steady state (Re mu = " + shortest_text(fine->rightmost_real) + ")"
+                            : "") +
+                  (fine->note.empty() ? "" : " (" + fine->note + ")") + (r->note.empty() ? "" : "; " + r->note);
+        r->regime = "unresolved";
+        r->agree = "";
+      }
     }
+    records.push_back(*r);
+    by_a[p.a].push_back(*r);
   }
   std::vector<LambdaCritRow> crit;
   for (double a : plan.a) {
@@ -368,7 +454,7 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
         bracket_runs.push_back({row.a, row.lambda_sustained, 2 * N});
         bracket_runs.push_back({row.a, row.lambda_relaxing, 2 * N});
       }
-    cache.compute(bracket_runs, "lambda_crit brackets at 2N = " + std::to_string(2 * N));
+    cache.compute(bracket_runs, "lambda_crit brackets at 2N = " + std::to_string(2 * N), false);
     for (auto& row : crit) {
       if (!std::isfinite(row.lambda_crit)) continue;
       const auto below = cache.finished({row.a, row.lambda_sustained, 2 * N});
@@ -389,8 +475,8 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
 
   // λ_crit(a) from the Hopf point of the linear stability (solvers/stability.hpp), where the grid gave only
   // a bracket.
-  if (plan.stability && !plan.hopf_grid.uniform()) {
-    converged_lambda_crit(plan, points, crit, options.progress);
+  if (curve) {
+    read_converged_lambda_crit(plan, points, crit);
   } else if (plan.stability) {
     hopf_lambda_crit(plan, points, crit, false, options.progress);
     if (plan.check_lambda_crit) hopf_lambda_crit(plan, points, crit, true, options.progress);

@@ -67,6 +67,38 @@ long mpi_sum(long value) {
   MPI_Allreduce(&value, &global, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
   return global;
 }
+
+SharedCounter::SharedCounter() {
+  if (!mpi_active() || mpi_world().size == 1) return;
+  auto* window = new MPI_Win;
+  const bool owner = mpi_world().rank == 0;
+  MPI_Win_allocate(owner ? MPI_Aint(sizeof(long)) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &base_, window);
+  if (owner) {  // the first value, stored in an exclusive epoch (valid in the separate and unified memory models)
+    MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, *window);
+    *base_ = 0;
+    MPI_Win_unlock(0, *window);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  window_ = window;
+}
+
+SharedCounter::~SharedCounter() {
+  if (!window_) return;
+  auto* window = static_cast<MPI_Win*>(window_);
+  if (mpi_active()) MPI_Win_free(window);
+  delete window;
+}
+
+std::size_t SharedCounter::next() {
+  if (!window_) return std::size_t(local_++);
+  const MPI_Win window = *static_cast<MPI_Win*>(window_);
+  const long one = 1;
+  long drawn = 0;
+  MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window);
+  MPI_Fetch_and_op(&one, &drawn, MPI_LONG, 0, 0, MPI_SUM, window);
+  MPI_Win_unlock(0, window);
+  return std::size_t(drawn);
+}
 }  // namespace aggkit
 
 namespace aggkit {

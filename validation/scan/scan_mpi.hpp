@@ -3,6 +3,7 @@
 // (`mpirun -np K aggkit scan ...`). Without mpirun the process is a singleton MPI job of one rank; a
 // library user who never initialises MPI gets a serial scan (rank 0 of 1). mpi.h stays out of headers.
 // The sweep uses the same, and `aggkit run` under mpirun its ranks (MpiRanks) for the realizations.
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,24 @@ bool mpi_all(bool value);
 namespace aggkit {
 // Sum of `value` over all ranks.
 long mpi_sum(long value);
+
+// A counter shared by the ranks of MPI_COMM_WORLD: next() hands out 0, 1, 2, ... each value once, to whichever
+// rank asks first, so runs of uneven cost balance over the ranks (a rank that drew a long run draws fewer).
+// One-sided MPI atomics (MPI_Fetch_and_op on a window held by rank 0): no other rank has to be inside MPI for
+// a rank to draw. A plain counter without MPI. Construction and destruction are collective.
+class SharedCounter {
+ public:
+  SharedCounter();
+  ~SharedCounter();
+  SharedCounter(const SharedCounter&) = delete;
+  SharedCounter& operator=(const SharedCounter&) = delete;
+  std::size_t next();
+
+ private:
+  long local_ = 0;        // without MPI (or on one rank)
+  long* base_ = nullptr;  // the window's memory (rank 0)
+  void* window_ = nullptr;  // MPI_Win, kept out of this header
+};
 
 // "NAME=value" of the environment variable that shows this process was started by mpirun or srun (Open MPI,
 // MPICH/PMI, PMIx), or "" when none is set.

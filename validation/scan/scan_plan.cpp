@@ -117,7 +117,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
                        "uniformly spaced outputs from t = every to the end: time.every dividing time.end");
 
   const SceneTable scan(scan_table, "scan");
-  scan.allow_only({"a", "lambda", "series", "tail", "stability", "truncation_check", "hopf_grid"});
+  scan.allow_only({"a", "lambda", "series", "tail", "stability", "steady_match", "refine", "truncation_check", "hopf_grid"});
   bool a_log = false;
   plan.a = read_axis(scan, "a", a_log);
   for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
@@ -149,6 +149,9 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
     scan.fail("tail", "at least 16 outputs in the classified tail (it has about " +
                           std::to_string(int(tail_samples)) + "; raise tail or output more often)");
   plan.stability = scan.optional_boolean("stability").value_or(true);
+  plan.steady_match = scan.optional_number("steady_match", Bound::positive).value_or(plan.steady_match);
+  if (!(plan.steady_match < 1)) scan.fail("steady_match", "a fraction in (0, 1) of the steady state's value");
+  plan.refine = scan.optional_boolean("refine").value_or(true);
   plan.hopf_grid = scene.model.grid;
   if (const auto grid = scan.optional_table("hopf_grid")) {
     grid->allow_only({"resolved", "ratio", "scheme"});
@@ -174,7 +177,8 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   toml::table fingerprint = run_part;
   fingerprint.erase("name");
   toml::table scan_settings = scan_table;
-  for (const char* key : {"a", "lambda", "truncation_check"}) scan_settings.erase(key);
+  // refine only adds repeats, cached under their own names: the grid's results do not depend on it.
+  for (const char* key : {"a", "lambda", "truncation_check", "refine"}) scan_settings.erase(key);
   fingerprint.insert("scan", scan_settings);
   plan.fingerprint = toml_text(fingerprint);
   return plan;
@@ -184,6 +188,16 @@ ScanPlan load_scan_plan(const std::filesystem::path& path) {
   ScanPlan plan = parse_scan_plan(read_scene_file(path), path.string());
   plan.scene.path = path;
   return plan;
+}
+
+ScanPlan refined_plan(const ScanPlan& plan) {
+  ScanPlan fine = plan;
+  SizeGrid& grid = fine.scene.model.grid;
+  if (!grid.uniform()) {
+    grid.resolved *= 2;
+    grid.ratio = 1 + (grid.ratio - 1) / 2;
+  }
+  return fine;
 }
 
 AggregationModel point_model(const ScanPlan& plan, double a, double lambda, std::size_t size) {

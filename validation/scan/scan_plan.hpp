@@ -15,6 +15,13 @@
 //   series = "M0"                         the moment classified: M0 (default) or M2
 //   tail = 0.5                            fraction of the run classified (the rest is transient); default 0.5
 //   stability = true                      also steady state + linear stability where available (default)
+//   steady_match = 0.05                   a damped or steady verdict needs the tail's mean within this
+//                                         fraction of the steady state's value (the run reached it); else
+//                                         the point is unresolved (default 0.05)
+//   refine = true                         repeat every damped or steady point on the refined grid (2N;
+//                                         graded: also 2K and (r - 1)/2); the verdict stands only if the
+//                                         repeat relaxes too and its steady state is stable, else the
+//                                         point is unresolved (default true)
 //   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
 //                                         repeat these points (and λ_crit(a)) at size 2N (optional)
 //   hopf_grid = { resolved = 256, ratio = 1.005 }   the size grid of λ_crit(a) (default: the model's grid).
@@ -51,6 +58,8 @@ struct ScanPlan {
   double series_order = 0;            // its p
   OscillationCriteria criteria;       // tail_fraction from `tail`
   bool stability = true;
+  double steady_match = 0.05;         // largest |tail mean - steady value| / steady value of a relaxing verdict
+  bool refine = true;                 // relaxing verdicts repeated on refined_plan()
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N
   SizeGrid hopf_grid;                                   // the grid of λ_crit(a) (the model's by default)
@@ -69,5 +78,10 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source = "sce
 
 // The model of one point: the scene's with the kernel's a, a constant λ and truncation size `size`.
 AggregationModel point_model(const ScanPlan& plan, double a, double lambda, std::size_t size);
+
+// The plan of the refined repeats: a graded grid with K doubled and r - 1 halved (a uniform grid as it is;
+// the repeat's N is doubled by the caller). The run's length is checked within the run itself: a relaxing
+// verdict needs the tail at the steady state (steady_match) and, if damped, a converged decay.
+ScanPlan refined_plan(const ScanPlan& plan);
 
 }  // namespace aggkit

@@ -21,7 +21,7 @@ namespace {
 
 // Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
 // oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
-void classify_by_stability(const AggregationModel& model, ScanRecord& r) {
+void classify_by_stability(const AggregationModel& model, double series_order, ScanRecord& r) {
   const SteadyStateResult steady = solve_steady_state(model);
   if (!steady.converged) {
     r.note += std::string(r.note.empty() ? "" : "; ") + "steady state not converged (residual " +
@@ -39,6 +39,8 @@ void classify_by_stability(const AggregationModel& model, ScanRecord& r) {
               shortest_text(top) + " of the mass in the largest class): N too short for lambda";
     return;
   }
+  r.mean_steady = 0;  // the classified moment Σ n_i x_i^p of the steady state
+  for (std::size_t i = 0; i < sizes.size(); ++i) r.mean_steady += steady.n[i] * std::pow(sizes[i], series_order);
   const StabilityResult stability = analyse_stability(model, steady.n);
   if (stability.rightmost.empty()) return;
   const std::complex<double> mu = stability.rightmost.front();
@@ -52,7 +54,7 @@ void classify_by_stability(const AggregationModel& model, ScanRecord& r) {
 }  // namespace
 
 ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,
-                          const std::function<void(double t)>& progress) {
+                          const std::function<void(double t)>& progress, bool judge_relaxation) {
   const auto started = std::chrono::steady_clock::now();
   Scene run;  // the point's scene: the scan scene's model with this (a, λ, N) and its time grid
   run.name = plan.scene.name;
@@ -90,15 +92,17 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   r.cycles = c.cycles;
   r.converged = c.converged;
   r.note = c.note;
-  if (plan.stability) classify_by_stability(run.model, r);
+  if (plan.stability) classify_by_stability(run.model, plan.series_order, r);
   // A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability
   // finds unstable (Re μ > 0) cannot relax, so a damped or steady time series there means the run is too
   // short for the period (or the truncation too short for the tail); and a damped verdict whose own
   // convergence check failed (too few cycles, a slow drift) is no verdict either, nor is a relaxation with no
   // steady state to relax to (at λ far below 1/t_end the run sees the coarsening of pure aggregation, whose
-  // M0 decays monotonically, while the steady state's tail lies beyond the grid). Such points are
-  // "unresolved": neither damped nor sustained.
-  if (r.regime == "damped" || r.regime == "steady") {
+  // M0 decays monotonically, while the steady state's tail lies beyond the grid); nor a relaxation whose tail
+  // has not come near the steady state (the same coarsening where the steady state exists but is reached
+  // only after a time ~1/λ: the run is too short to show how it gets there). Such points are "unresolved":
+  // neither damped nor sustained.
+  if (judge_relaxation && (r.regime == "damped" || r.regime == "steady")) {
     std::string why;
     if (r.regime_stability == "sustained")
       why = "linear stability: unstable steady state (Re mu = " + shortest_text(r.rightmost_real) + ")";
@@ -106,6 +110,9 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
       why = "the decay did not converge in the run";
     else if (plan.stability && r.regime_stability.empty())
       why = "no steady state was found to confirm the relaxation (a coarsening transient relaxes too)";
+    else if (std::isfinite(r.mean_steady) && !(std::abs(r.mean - r.mean_steady) <= plan.steady_match * r.mean_steady))
+      why = "the run ends before reaching the steady state (" + plan.series + " tail mean " + shortest_text(r.mean) +
+            ", steady " + shortest_text(r.mean_steady) + "): too short for the relaxation";
     if (!why.empty()) {
       r.note = "was " + r.regime + " in the run; " + why + (r.note.empty() ? "" : "; " + r.note);
       r.regime = "unresolved";

@@ -24,6 +24,11 @@ struct ScanRecord {
   double rightmost_real = nan, rightmost_imag = nan;
   std::string agree;                   // yes | no | "" (no stability verdict)
   std::string note;                    // commas and line breaks replaced
+  // The classified moment at the steady state (NaN where none was found): a relaxing run must end near it.
+  double mean_steady = nan;
+  // The verdict of the same point on the refined grid over twice the run ([scan] refine; "" where not
+  // repeated): a damped or steady verdict stands only if the repeat relaxes too.
+  std::string regime_refined;
   // Not in scan.csv (so that it is reproducible): where and how long.
   double seconds = 0;
   int rank = 0;
