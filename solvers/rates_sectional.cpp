@@ -60,16 +60,23 @@ class SectionalRates final : public Rates {
         Pair pair;
         pair.weight = (i == j ? 0.5 : 1.0) * model.kernel.at(x_[i], x_[j]);
         if (v > N) {
-          pair.target = std::uint32_t(M);  // leaves the grid (drop) or does not collide (cutoff)
+          pair.stencil = std::uint32_t(M) << 2;  // leaves the grid (drop) or does not collide (cutoff)
           if (cutoff_) pair.weight = 0.0;
         } else {
           const PivotShare share = pivot_share(x_, v, model.grid.scheme, model.grid.resolved);
-          pair.target = std::uint32_t(share.first);
-          pair.count = std::uint32_t(share.count);
-          for (int m = 0; m < 3; ++m) pair.share[m] = share.weight[m];
+          pair.stencil = std::uint32_t(share.first) << 2 | std::uint32_t(share.count);
+          pair.share[0] = share.weight[0];
+          pair.share[1] = share.weight[1];
         }
         pairs_.push_back(pair);
       }
+    // Pairs that leave the grid are those with x_i + x_j > N: for each i, the j from leak_start_[i] on.
+    leak_start_.assign(M, M);
+    row_.assign(M, 0);
+    for (std::size_t i = 0, at = 0; i < M; at += M - i, ++i) {
+      row_[i] = at;
+      for (std::size_t j = M; j > i && pairs_[at + (j - 1 - i)].target() == M; --j) leak_start_[i] = j - 1;
+    }
   }
 
   static constexpr std::size_t max_classes = 6000;
@@ -83,10 +90,9 @@ class SectionalRates final : public Rates {
     if (cutoff_) return 0.0;
     const std::size_t M = x_.size();
     double leak = 0.0;
-    const Pair* pair = pairs_.data();
     for (std::size_t i = 0; i < M; ++i)
-      for (std::size_t j = i; j < M; ++j, ++pair)
-        if (pair->target == M) leak += (x_[i] + x_[j]) * pair->weight * n[i] * n[j];
+      for (std::size_t j = leak_start_[i]; j < M; ++j)
+        leak += (x_[i] + x_[j]) * pairs_[row_[i] + (j - i)].weight * n[i] * n[j];
     return leak;
   }
 
@@ -129,7 +135,7 @@ class SectionalRates final : public Rates {
     const Pair* pair = pairs_.data();
     for (std::size_t i = 0; i < M; ++i)
       for (std::size_t j = i; j < M; ++j, ++pair)
-        if (pair->target == M) {
+        if (pair->target() == M) {
           const double c = (x_[i] + x_[j]) * pair->weight;
           gradient[i] += c * n[j];
           gradient[j] += c * n[i];
@@ -139,12 +145,18 @@ class SectionalRates final : public Rates {
   std::string describe() const override { return std::string(scheme_name(scheme_)) + " sections, O(M^2), M = " + std::to_string(x_.size()); }
 
  private:
+  // 32 bytes: the table is streamed twice per Newton-Krylov step (f and J v) and holds M²/2 pairs, ~19 MB at
+  // M = 1100, beyond the caches; the third share is 1 - the other two (Σ w_m = 1 is one of the conditions
+  // that define them), the stencil's first pivot and its size are one word.
   struct Pair {
-    double weight = 0.0;                // w_ij
-    double share[3] = {1.0, 0.0, 0.0};  // the parts of the aggregate given to pivots target, target + 1, ..
-    std::uint32_t target = 0;           // the first pivot of the stencil (M: beyond N)
-    std::uint32_t count = 1;            // pivots in the stencil
+    double weight = 0.0;            // w_ij
+    double share[2] = {1.0, 0.0};   // the parts of the aggregate given to pivots target(), target() + 1
+    std::uint32_t stencil = 1;      // target() << 2 | count()
+    std::size_t target() const { return stencil >> 2; }  // the first pivot of the stencil (M: beyond N)
+    std::uint32_t count() const { return stencil & 3; }  // pivots in the stencil (1 to 3)
+    double share_at(std::uint32_t m) const { return m < 2 ? share[m] : 1.0 - share[0] - share[1]; }
   };
+  static_assert(sizeof(Pair) == 32);
 
   // out += scale Σ_{i≤j} w_ij (u_i v_j + u_j v_i) V_ij.
   void accumulate(double t, std::span<const double> u, std::span<const double> v, std::span<double> out,
@@ -162,9 +174,13 @@ class SectionalRates final : public Rates {
         lost_i += r;
         out[j] -= r + lambda * r;
         monomers += (xi + x_[j]) * r;
-        const std::size_t p = pair->target;
-        if (p < M)
-          for (std::uint32_t m = 0; m < pair->count; ++m) out[p + m] += pair->share[m] * r;
+        const std::size_t p = pair->target();
+        if (p < M) {
+          out[p] += pair->share[0] * r;
+          const std::uint32_t count = pair->count();
+          if (count > 1) out[p + 1] += pair->share[1] * r;
+          if (count > 2) out[p + 2] += pair->share_at(2) * r;
+        }
       }
       out[i] -= lost_i + lambda * lost_i;
     }
@@ -188,9 +204,9 @@ class SectionalRates final : public Rates {
           add(i, column, -(d + lambda * d));
           add(j, column, -(d + lambda * d));
           add(0, column, lambda * (x_[i] + x_[j]) * d);
-          const std::size_t p = pair->target;
+          const std::size_t p = pair->target();
           if (p < M)
-            for (std::uint32_t m = 0; m < pair->count; ++m) add(p + m, column, pair->share[m] * d);
+            for (std::uint32_t m = 0; m < pair->count(); ++m) add(p + m, column, pair->share_at(m) * d);
         }
       }
   }
@@ -200,6 +216,8 @@ class SectionalRates final : public Rates {
   bool cutoff_;
   GridScheme scheme_;
   std::vector<Pair> pairs_;
+  std::vector<std::size_t> row_;         // index in pairs_ of (i, i)
+  std::vector<std::size_t> leak_start_;  // first j ≥ i whose pair (i, j) leaves the grid (M: none)
 };
 
 }  // namespace

@@ -193,10 +193,7 @@ ScanPlan load_scan_plan(const std::filesystem::path& path) {
 ScanPlan refined_plan(const ScanPlan& plan) {
   ScanPlan fine = plan;
   SizeGrid& grid = fine.scene.model.grid;
-  if (!grid.uniform()) {
-    grid.resolved *= 2;
-    grid.ratio = 1 + (grid.ratio - 1) / 2;
-  }
+  if (!grid.uniform()) grid.ratio = 1 + (grid.ratio - 1) / 2;
   return fine;
 }
 

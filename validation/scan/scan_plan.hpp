@@ -19,7 +19,7 @@
 //                                         fraction of the steady state's value (the run reached it); else
 //                                         the point is unresolved (default 0.05)
 //   refine = true                         repeat every damped or steady point on the refined grid (2N;
-//                                         graded: also 2K and (r - 1)/2); the verdict stands only if the
+//                                         graded: also (r - 1)/2); the verdict stands only if the
 //                                         repeat relaxes too and its steady state is stable, else the
 //                                         point is unresolved (default true)
 //   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
@@ -79,8 +79,9 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source = "sce
 // The model of one point: the scene's with the kernel's a, a constant λ and truncation size `size`.
 AggregationModel point_model(const ScanPlan& plan, double a, double lambda, std::size_t size);
 
-// The plan of the refined repeats: a graded grid with K doubled and r - 1 halved (a uniform grid as it is;
-// the repeat's N is doubled by the caller). The run's length is checked within the run itself: a relaxing
+// The plan of the refined repeats: a graded grid with r - 1 halved (a uniform grid as it is; the repeat's N
+// is doubled by the caller). Not K: on the scan's grids doubling K moves λ_crit by ≤ 6e-5, halving r - 1 by
+// up to 8e-4, and 2K would add K classes to a pair table that grows as their square. The run's length is checked within the run itself: a relaxing
 // verdict needs the tail at the steady state (steady_match) and, if damped, a converged decay.
 ScanPlan refined_plan(const ScanPlan& plan);
 
