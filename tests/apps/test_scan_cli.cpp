@@ -322,4 +322,28 @@ TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the s
   for (const char* file : {"scan.csv", "lambda_crit.csv"})
     CHECK(aggkit::testing::read_text(folder / "single" / file) == aggkit::testing::read_text(folder / "two" / file));
   CHECK_THAT(aggkit::testing::read_text(folder / "two" / "lambda_crit.csv"), Contains("hopf-converged"));
+
+  // A damaged cached point of the curve (a disk filled mid-write) is computed again, to the same value within
+  // its bracket (the resumed continuation starts from a = 0.9's cached value, not from the path to it).
+  const fs::path cached = folder / "single" / "points" / "hopfcurve_a0.85_K8_r1.6_fixed-pivot.csv";
+  REQUIRE(fs::exists(cached));
+  std::string text = aggkit::testing::read_text(cached);
+  const std::size_t value = text.find(',', text.find("\n0.85,") + 6) + 1;  // λ_crit, after a and converged
+  text.replace(value, text.find(',', value) - value, "0.00zz");
+  aggkit::testing::write_text(cached, text);
+  fs::remove(folder / "single" / "lambda_crit.csv");
+  const Outcome repaired = run(scan_command("", scene, folder / "single"), folder);
+  INFO(repaired.err);
+  REQUIRE(repaired.exit_code == 0);
+  CHECK_THAT(repaired.err, Contains("converging lambda_crit(a)") && Contains("for 1 values of a"));
+  const auto crit = [](const fs::path& csv) {
+    std::istringstream in(aggkit::testing::read_text(csv));
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("0.85,", 0) == 0) return std::stod(line.substr(5));
+    return 0.0;
+  };
+  const double again = crit(folder / "single" / "lambda_crit.csv"), before = crit(folder / "two" / "lambda_crit.csv");
+  CHECK(before > 0);
+  CHECK(again == Approx(before).epsilon(1e-4));  // the bracket: 8.5e-8 of 0.00157 (5e-5)
 }

@@ -267,8 +267,16 @@ std::optional<std::vector<std::string>> read_hopf_curve_file(const ScanPlan& pla
   std::vector<std::string> f;
   std::istringstream fields(line);
   while (std::getline(fields, field, ',')) f.push_back(field);
-  if (f.size() < 14) return std::nullopt;
+  if (f.size() < 14 || (f[1] != "yes" && f[1] != "no")) return std::nullopt;
   f.resize(15);
+  for (std::size_t i = 2; i < 14; ++i) {  // numbers (empty: NaN); a damaged file is computed again
+    std::size_t used = 0;
+    try {
+      if (!f[i].empty() && (std::stod(f[i], &used), used != f[i].size())) return std::nullopt;
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+  }
   return f;
 }
 
