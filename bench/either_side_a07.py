@@ -44,8 +44,8 @@ def envelope(t, y):
     i = np.where((y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:]))[0] + 1  # maxima
     j = np.where((y[1:-1] < y[:-2]) & (y[1:-1] <= y[2:]))[0] + 1  # minima
     turns = np.sort(np.concatenate((i, j)))
-    slope, _ = np.polyfit(t[turns], np.log(np.abs(y[turns])), 1)
-    residual = np.log(np.abs(y[turns])) - np.polyval([slope, _], t[turns])
+    slope, intercept = np.polyfit(t[turns], np.log(np.abs(y[turns])), 1)
+    residual = np.log(np.abs(y[turns])) - (slope * t[turns] + intercept)
     period = np.mean(np.diff(t[i]))
     return slope, period, len(i), np.max(np.abs(residual))
 

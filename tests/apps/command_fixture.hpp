@@ -5,8 +5,11 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <vector>
 
 #include "tests/validation/scene_fixture.hpp"
 
@@ -29,6 +32,33 @@ inline CommandOutcome run_command(const std::string& command, const std::filesys
   const int status = std::system((command + " >/dev/null 2>" + quoted(err.string())).c_str());
   REQUIRE(WIFEXITED(status));
   return {WEXITSTATUS(status), read_text(err)};
+}
+
+// A CSV file as rows of (column name -> text); a row ending in ',' has an empty last field. Every row must
+// have the header's number of fields.
+using CsvTable = std::vector<std::map<std::string, std::string>>;
+inline CsvTable read_csv(const std::filesystem::path& file) {
+  std::istringstream in(read_text(file));
+  const auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream fields(text);
+    while (std::getline(fields, cell, ',')) cells.push_back(cell);
+    if (!text.empty() && text.back() == ',') cells.emplace_back();
+    return cells;
+  };
+  std::string line;
+  std::vector<std::string> header;
+  CsvTable rows;
+  if (std::getline(in, line)) header = split(line);
+  while (std::getline(in, line)) {
+    const auto cells = split(line);
+    REQUIRE(cells.size() == header.size());
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 // The prefix that starts a command on RANKS MPI ranks (as root, more ranks than cores allowed).

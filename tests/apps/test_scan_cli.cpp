@@ -254,21 +254,10 @@ a = [0.85, 0.9]
 lambda = [0.001, 0.004, 0.012]
 )";
 
+// The scan.csv row of (a, λ), or an empty row.
 std::map<std::string, std::string> scan_row(const fs::path& csv, double a, double lambda) {
-  std::istringstream in(aggkit::testing::read_text(csv));
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  for (std::istringstream header(line); std::getline(header, line, ',');) names.push_back(line);
-  for (std::string row; std::getline(in, row);) {
-    std::vector<std::string> fields;
-    std::istringstream cells(row);
-    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
-    fields.resize(names.size());
-    std::map<std::string, std::string> named;
-    for (std::size_t i = 0; i < names.size(); ++i) named[names[i]] = fields[i];
-    if (std::stod(named["a"]) == a && std::stod(named["lambda"]) == lambda) return named;
-  }
+  for (const auto& row : aggkit::testing::read_csv(csv))
+    if (std::stod(row.at("a")) == a && std::stod(row.at("lambda")) == lambda) return row;
   return {};
 }
 }  // namespace
@@ -337,10 +326,8 @@ TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the s
   REQUIRE(repaired.exit_code == 0);
   CHECK_THAT(repaired.err, Contains("converging lambda_crit(a)") && Contains("for 1 values of a"));
   const auto crit = [](const fs::path& csv) {
-    std::istringstream in(aggkit::testing::read_text(csv));
-    std::string line;
-    while (std::getline(in, line))
-      if (line.rfind("0.85,", 0) == 0) return std::stod(line.substr(5));
+    for (const auto& row : aggkit::testing::read_csv(csv))
+      if (row.at("a") == "0.85") return std::stod(row.at("lambda_crit"));
     return 0.0;
   };
   const double again = crit(folder / "single" / "lambda_crit.csv"), before = crit(folder / "two" / "lambda_crit.csv");

@@ -31,29 +31,8 @@ using aggkit::testing::mpirun;
 
 Outcome run(const std::string& command, const fs::path& folder) { return aggkit::testing::run_command(command, folder); }
 
-using Table = std::vector<std::map<std::string, std::string>>;
-Table read_csv(const fs::path& file) {
-  std::istringstream in(aggkit::testing::read_text(file));
-  std::string line;
-  std::vector<std::string> header;
-  Table rows;
-  const auto split = [](const std::string& text) {
-    std::vector<std::string> cells;
-    std::string cell;
-    std::istringstream fields(text);
-    while (std::getline(fields, cell, ',')) cells.push_back(cell);
-    return cells;
-  };
-  if (std::getline(in, line)) header = split(line);
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
-    REQUIRE(cells.size() == header.size());
-    std::map<std::string, std::string> row;
-    for (std::size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
+using Table = aggkit::testing::CsvTable;
+using aggkit::testing::read_csv;
 
 // CVODE on the constant kernel, pure aggregation (M0 = 2/(2 + t) exactly [Leyvraz2003]), N = 256 (tail weight
 // (t/(t+2))^256 < 1e-40 at t <= 4): 3 end times x 2 tolerances, each run a few milliseconds.

@@ -50,8 +50,6 @@ struct Run {
   }
 };
 
-bool relaxing(const ScanRecord& r) { return r.regime == "damped" || r.regime == "steady"; }
-
 // A task drawn with the runs but run whole by one rank (the converged Hopf curve, a continuation in a).
 struct SerialTask {
   std::function<bool()> finished, compute;  // compute: false if it failed
@@ -83,7 +81,7 @@ class RunCache {
     const auto needs_refinement = [&](const Run& run) {
       if (!refine || run.refined || run.size != plan_.size()) return false;
       const std::optional<ScanRecord> r = finished(run);
-      return r && relaxing(*r) && !finished(run.refinement());
+      return r && is_relaxing(*r) && !finished(run.refinement());
     };
     const DistributedRuns done = compute_unfinished_runs(
         runs.size() + offset,
@@ -150,14 +148,24 @@ struct HopfRecord {
   double lambda_crit = 0, tolerance = 0, omega = 0;
   std::string note;
 };
-std::optional<HopfRecord> parse_hopf_file(const std::string& text, const std::string& header) {
+// The fields of the one row under `header` in a cached Hopf file, if the file is whole: the header first, at
+// least `fields` fields, the second "yes" or "no" (found or converged).
+std::optional<std::vector<std::string>> cached_hopf_row(const std::string& text, const std::string& header,
+                                                        std::size_t fields) {
   std::istringstream in(text);
   std::string line, field;
   if (!std::getline(in, line) || line != header || !std::getline(in, line)) return std::nullopt;
   std::vector<std::string> f;
-  std::istringstream fields(line);
-  while (std::getline(fields, field, ',')) f.push_back(field);
-  if (f.size() < 5 || (f[1] != "yes" && f[1] != "no")) return std::nullopt;
+  std::istringstream cells(line);
+  while (std::getline(cells, field, ',')) f.push_back(field);
+  if (f.size() < fields || (f[1] != "yes" && f[1] != "no")) return std::nullopt;
+  return f;
+}
+
+std::optional<HopfRecord> parse_hopf_file(const std::string& text, const std::string& header) {
+  const auto row = cached_hopf_row(text, header, 5);
+  if (!row) return std::nullopt;
+  const std::vector<std::string>& f = *row;
   try {
     std::size_t used = 0;
     const auto number = [&](const std::string& x) {
@@ -261,13 +269,9 @@ std::filesystem::path hopf_curve_file(const ScanPlan& plan, const std::filesyste
 
 std::optional<std::vector<std::string>> read_hopf_curve_file(const ScanPlan& plan, const std::filesystem::path& points,
                                                               double a) {
-  std::istringstream in(read_text_file(hopf_curve_file(plan, points, a)));
-  std::string line, field;
-  if (!std::getline(in, line) || line != hopf_curve_header || !std::getline(in, line)) return std::nullopt;
-  std::vector<std::string> f;
-  std::istringstream fields(line);
-  while (std::getline(fields, field, ',')) f.push_back(field);
-  if (f.size() < 14 || (f[1] != "yes" && f[1] != "no")) return std::nullopt;
+  auto row = cached_hopf_row(read_text_file(hopf_curve_file(plan, points, a)), hopf_curve_header, 14);
+  if (!row) return std::nullopt;
+  std::vector<std::string>& f = *row;
   f.resize(15);
   for (std::size_t i = 2; i < 14; ++i) {  // numbers (empty: NaN); a damaged file is computed again
     std::size_t used = 0;
@@ -422,19 +426,20 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   // stability finds stable on the refined grid (every rank reads the same files).
   std::vector<ScanRecord> records;
   std::map<double, std::vector<ScanRecord>> by_a;
+  const std::string fine_grid = plan.refine ? refined_plan(plan).scene.model.grid.describe() : "";
   for (std::size_t i = 0; i < plan.point_count(); ++i) {
     const ScanPoint p = plan.point(i);
     auto r = cache.finished({p.a, p.lambda, N});
     if (!r) continue;
     r->index = i;
-    if (plan.refine && relaxing(*r)) {
+    if (plan.refine && is_relaxing(*r)) {
       const std::optional<ScanRecord> fine = cache.finished(Run{p.a, p.lambda, N}.refinement());
       if (!fine) continue;  // its repeat failed (counted and reported): the point is not finished
       r->regime_refined = fine->regime;
       const bool unstable = fine->regime_stability == "sustained";
-      if (!relaxing(*fine) || unstable) {
+      if (!is_relaxing(*fine) || unstable) {
         r->note = "was " + r->regime + " in the run; on the refined grid (N = " + std::to_string(fine->size) + ", " +
-                  refined_plan(plan).scene.model.grid.describe() + ") it is " + fine->regime +
+                  fine_grid + ") it is " + fine->regime +
                   (unstable ? " with an unstable steady state (Re mu = " + shortest_text(fine->rightmost_real) + ")"
                             : "") +
                   (fine->note.empty() ? "" : " (" + fine->note + ")") + (r->note.empty() ? "" : "; " + r->note);

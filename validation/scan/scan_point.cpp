@@ -102,7 +102,7 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   // has not come near the steady state (the same coarsening where the steady state exists but is reached
   // only after a time ~1/λ: the run is too short to show how it gets there). Such points are "unresolved":
   // neither damped nor sustained.
-  if (judge_relaxation && (r.regime == "damped" || r.regime == "steady")) {
+  if (judge_relaxation && is_relaxing(r)) {
     std::string why;
     if (r.regime_stability == "sustained")
       why = "linear stability: unstable steady state (Re mu = " + shortest_text(r.rightmost_real) + ")";

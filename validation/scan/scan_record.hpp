@@ -34,6 +34,9 @@ struct ScanRecord {
   int rank = 0;
 };
 
+// A relaxing verdict: damped or steady.
+inline bool is_relaxing(const ScanRecord& r) { return r.regime == "damped" || r.regime == "steady"; }
+
 // The outcome in words for a progress line: the regime and only the numbers it has, e.g. "sustained, period
 // 52.1, amplitude 0.0123", "damped, decay rate 0.0042 (period 48.7)", "steady" (never "period nan").
 std::string outcome_summary(const ScanRecord& record);
