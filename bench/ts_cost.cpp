@@ -11,6 +11,7 @@
 // Iterations per merge and free spheres per minimisation flat in N mean the minimisation work follows the
 // new contacts, not N [Degond2024, Sec. 3.3]; the rest of a step (flight and contact detection) is O(N)
 // per flight (detection and the cell update skipped in quiet flights).
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <cstdio>
@@ -109,7 +110,10 @@ int main(int argc, char** argv) {
   std::vector<double> ns, ts_times, ed_times;
   for (int k = 4; k < argc; ++k) {
     const auto n = std::size_t(std::atof(argv[k]));
-    const TsRun ts = run_ts(n, nu, dt_factor, 1);
+    // AGGKIT_TS_THREADS: cluster threads of the TS runs of `cost` and `ts` (default 1; CPU seconds then
+    // count every thread).
+    const char* threads = std::getenv("AGGKIT_TS_THREADS");
+    const TsRun ts = run_ts(n, nu, dt_factor, threads ? std::size_t(std::max(1, std::atoi(threads))) : 1);
     auto ed = bench::make_ed(2, ts_only ? 2 : n, nu, Boundary::reflecting, true, 1);
     const auto start = std::chrono::steady_clock::now();
     const double cpu0 = cpu_seconds();

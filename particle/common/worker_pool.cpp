@@ -17,7 +17,7 @@ std::uint32_t generation_of(std::uint64_t ticket) { return std::uint32_t(ticket 
 }  // namespace
 
 WorkerPool::WorkerPool(std::size_t threads) {
-  for (std::size_t t = 1; t < threads; ++t) workers_.emplace_back([this] { work(); });
+  for (std::size_t t = 1; t < threads; ++t) workers_.emplace_back([this, t] { work(t); });
 }
 
 WorkerPool::~WorkerPool() {
@@ -42,13 +42,17 @@ std::size_t WorkerPool::drain(std::uint32_t generation) {
       if (!error_) error_ = std::current_exception();
     }
     ++ran;
-    if (done_.value.fetch_add(1) + 1 == jobs && caller_sleeps_.value.load()) done_.value.notify_all();
+    finish_job(jobs);
     t = ticket_.value.load(std::memory_order_acquire);
   }
   return ran;
 }
 
-void WorkerPool::work() {
+void WorkerPool::finish_job(std::uint32_t jobs) {
+  if (done_.value.fetch_add(1) + 1 == jobs && caller_sleeps_.value.load()) done_.value.notify_all();
+}
+
+void WorkerPool::work(std::size_t index) {
   std::uint32_t seen = 0;
   for (;;) {
     std::uint64_t t = ticket_.value.load(std::memory_order_acquire);
@@ -70,20 +74,43 @@ void WorkerPool::work() {
     }
     if (stop_.load()) return;
     seen = generation_of(t);
+    // The run cannot finish before this thread's job is done, so the fields stay put until then.
+    if (pinned_) {
+      try {
+        invoke_(context_, index);
+      } catch (...) {
+        std::lock_guard lock(error_mutex_);
+        if (!error_) error_ = std::current_exception();
+      }
+      finish_job(jobs_);
+      continue;
+    }
     drain(seen);
   }
 }
 
-void WorkerPool::dispatch(std::size_t jobs, Invoke invoke, void* context) {
+void WorkerPool::dispatch(std::size_t jobs, Invoke invoke, void* context, bool pinned) {
   invoke_ = invoke;
   context_ = context;
   jobs_ = std::uint32_t(jobs);
+  pinned_ = pinned;
   done_.value.store(0, std::memory_order_relaxed);
   ++generation_;
-  ticket_.value.store((std::uint64_t(generation_) << 32) | jobs_);  // publishes the fields above
+  // Publishes the fields above; a pinned run leaves nothing to claim (each worker runs its own job).
+  ticket_.value.store((std::uint64_t(generation_) << 32) | (pinned ? 0u : jobs_));
   wake_.value.fetch_add(1);
   if (sleepers_.value.load() > 0) wake_.value.notify_all();
-  drain(generation_);
+  if (pinned) {
+    try {
+      invoke(context, 0);
+    } catch (...) {
+      std::lock_guard lock(error_mutex_);
+      if (!error_) error_ = std::current_exception();
+    }
+    finish_job(jobs_);
+  } else {
+    drain(generation_);
+  }
   // Wait for the jobs the workers claimed: poll, then block (the same handshake as the workers' with
   // caller_sleeps_ in place of the sleeper count).
   const auto since = std::chrono::steady_clock::now();

@@ -12,6 +12,11 @@
 // generation with the count of jobs not yet claimed (a worker late for one run cannot claim a job of the
 // next). The job is passed as a pointer to the caller's callable (no allocation per run). Blocking uses
 // C++20 atomic wait/notify, and a notify is issued only when some thread sleeps.
+//
+// run_each(job) calls job(t) once on each thread t (the caller is thread 0, worker k thread k): loops that
+// split the same arrays the same way phase after phase then find their part in the cache of the core that
+// wrote it last. With claimed jobs the part would change hands at random, and every phase would pull it
+// across from the other core.
 #include <atomic>
 #include <chrono>
 #include <cstddef>
@@ -55,13 +60,22 @@ class WorkerPool {
       return;
     }
     dispatch(jobs, [](void* context, std::size_t k) { (*static_cast<Callable*>(context))(k); },
-             const_cast<void*>(static_cast<const void*>(&job)));
+             const_cast<void*>(static_cast<const void*>(&job)), false);
+  }
+  // job(t) for t < threads(), job t on thread t; exceptions as run().
+  template <class Job>
+  void run_each(Job&& job) {
+    using Callable = std::remove_reference_t<Job>;
+    if (workers_.empty()) return run(1, job);
+    dispatch(threads(), [](void* context, std::size_t k) { (*static_cast<Callable*>(context))(k); },
+             const_cast<void*>(static_cast<const void*>(&job)), true);
   }
 
  private:
   using Invoke = void (*)(void*, std::size_t);
-  void dispatch(std::size_t jobs, Invoke invoke, void* context);
-  void work();
+  void dispatch(std::size_t jobs, Invoke invoke, void* context, bool pinned);
+  void work(std::size_t index);
+  void finish_job(std::uint32_t jobs);  // counts a finished job and wakes a sleeping caller at the last
   // Claims and runs jobs of generation `generation` until none is left; returns how many it ran.
   std::size_t drain(std::uint32_t generation);
 
@@ -79,6 +93,7 @@ class WorkerPool {
   Invoke invoke_ = nullptr;
   void* context_ = nullptr;
   std::uint32_t jobs_ = 0, generation_ = 0;
+  bool pinned_ = false;  // this run's jobs are one per thread (run_each), not claimed
   std::atomic<bool> stop_{false};
   std::mutex error_mutex_;  // taken only when a job throws
   std::exception_ptr error_;

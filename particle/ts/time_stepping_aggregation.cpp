@@ -174,12 +174,19 @@ void TimeSteppingAggregation::locate() {
   std::vector<double> longest(workers, 0.0);
   movers_.resize(workers);
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
-    movers_[w].clear();
+    // Locals, not longest[w] and movers_[w] in the loop: the workers' slots share cache lines (the
+    // vector's storage is kept by swapping it out and back).
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> movers;
+    movers.swap(movers_[w]);
+    movers.clear();
+    double most = 0;
     for (std::size_t p = from; p < to; ++p) {
-      longest[w] = std::max(longest[w], norm(flown_[p]));
+      most = std::max(most, norm(flown_[p]));
       const auto cell = std::uint32_t(grid_.index(grid_.coords_of(x_[p])));
-      if (cell != cells_.cell_of(std::uint32_t(p))) movers_[w].push_back({std::uint32_t(p), cell});
+      if (cell != cells_.cell_of(std::uint32_t(p))) movers.push_back({std::uint32_t(p), cell});
     }
+    longest[w] = most;
+    movers_[w].swap(movers);
   });
   longest_flight_ = *std::max_element(longest.begin(), longest.end());
   for (std::size_t w = 0; w < workers; ++w)

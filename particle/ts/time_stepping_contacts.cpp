@@ -39,7 +39,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     }
     return closest2 < contact2;
   };
-  auto scan = [&](std::uint32_t i, bool all) {
+  auto scan_into = [&](std::uint32_t i, bool all, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
     for_near(i, reach, [&](std::uint32_t j) {
       if (all && j < i) return;
       const Vector3 d = sep(i, j);
@@ -48,9 +48,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
       // a sphere it was not constrained against — is minimised again with that pair as a link.
       const bool linked = members_.cluster_of(j) != members_.cluster_of(i) ? touched(d, i, j)
                                                                            : (!all && dot(d, d) < same_cluster2);
-      if (linked) found.emplace_back(std::min(i, j), std::max(i, j));
+      if (linked) out.emplace_back(std::min(i, j), std::max(i, j));
     });
   };
+  auto scan = [&](std::uint32_t i, bool all) { scan_into(i, all, found); };
   double narrowest = grid_.cell_side()[0];
   for (int d = 1; d < box_.dimension; ++d) narrowest = std::min(narrowest, grid_.cell_side()[d]);
   if (among.empty() && reach <= narrowest) {
@@ -130,7 +131,14 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
       pass(0, cells, found, soonest[0]);
     } else {
       std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(workers);
-      pool_->run(workers, [&](std::size_t w) { pass(cells * w / workers, cells * (w + 1) / workers, parts[w], soonest[w]); });
+      // Each worker fills locals (the slots of parts and soonest share cache lines) and stores them once.
+      pool_->run_each([&](std::size_t w) {
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+        double soon = far;
+        pass(cells * w / workers, cells * (w + 1) / workers, out, soon);
+        parts[w] = std::move(out);
+        soonest[w] = soon;
+      });
       for (const auto& part : parts) found.insert(found.end(), part.begin(), part.end());
     }
     std::sort(found.begin(), found.end());
@@ -138,7 +146,20 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
   } else if (among.empty()) {
     for (std::uint32_t i = 0; i < x_.size(); ++i) scan(i, true);
   } else {
-    for (const std::uint32_t i : among) scan(i, false);
+    if (pool_ && among.size() >= parallel_scan) {
+      // Chunks of the given spheres claimed by the workers (their neighbourhoods cost unevenly); the sorted
+      // union does not depend on who scanned what.
+      const std::size_t chunks = 8 * pool_->threads();
+      std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> parts(chunks);
+      pool_->run(chunks, [&](std::size_t k) {
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+        for (std::size_t a = among.size() * k / chunks; a < among.size() * (k + 1) / chunks; ++a) scan_into(among[a], false, out);
+        parts[k] = std::move(out);
+      });
+      for (const auto& part : parts) found.insert(found.end(), part.begin(), part.end());
+    } else {
+      for (const std::uint32_t i : among) scan(i, false);
+    }
     std::sort(found.begin(), found.end());
     found.erase(std::unique(found.begin(), found.end()), found.end());
   }

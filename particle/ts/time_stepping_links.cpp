@@ -102,22 +102,33 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     return std::clamp((-b - std::sqrt(disc)) / (2.0 * a), 0.0, 1.0);
   };
   // Partner clusters of each cluster over the found pairs; a pair of clusters that only met each other
-  // (and no wall) in this flight is a binary collision.
-  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> partners;
+  // (and no wall) in this flight is a binary collision. The distinct cluster pairs, sorted by lower then
+  // higher cluster; per cluster, its partner and whether it has more than one (scratch arrays of N, reset
+  // for the clusters touched).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> meets;
+  meets.reserve(found.size());
   for (const auto& [i, j] : found) {
     const std::uint32_t ci = members_.cluster_of(i), cj = members_.cluster_of(j);
-    auto add = [&](std::uint32_t c, std::uint32_t other) {
-      auto& list = partners[c];
-      if (std::find(list.begin(), list.end(), other) == list.end()) list.push_back(other);
-    };
-    add(ci, cj);
-    add(cj, ci);
+    meets.emplace_back(std::min(ci, cj), std::max(ci, cj));
+  }
+  std::sort(meets.begin(), meets.end());
+  meets.erase(std::unique(meets.begin(), meets.end()), meets.end());
+  constexpr std::uint32_t nobody = ClusterMembership::none, several = ClusterMembership::none - 1;
+  partner_.resize(x_.size(), nobody);
+  for (const auto& [ci, cj] : meets) {
+    partner_[ci] = partner_[ci] == nobody ? cj : several;
+    partner_[cj] = partner_[cj] == nobody ? ci : several;
   }
   auto binary = [&](std::uint32_t ci, std::uint32_t cj) {
-    return partners[ci].size() == 1 && partners[cj].size() == 1 && !reflected_[ci] && !reflected_[cj];
+    return partner_[ci] == cj && partner_[cj] == ci && !reflected_[ci] && !reflected_[cj];
   };
-  // Earliest touching pair of each binary collision (found is sorted: deterministic).
-  std::unordered_map<std::uint32_t, std::pair<double, std::pair<std::uint32_t, std::uint32_t>>> earliest;  // by lower cluster
+  // Earliest touching pair of each binary collision (found is sorted: the first of equal times wins).
+  struct Collision {
+    std::uint32_t key;  // the lower cluster
+    double tau;
+    std::pair<std::uint32_t, std::uint32_t> pair;
+  };
+  std::vector<Collision> collisions;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> rest;
   for (const auto& pr : found) {
     const std::uint32_t ci = members_.cluster_of(pr.first), cj = members_.cluster_of(pr.second);
@@ -125,51 +136,86 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
       rest.push_back(pr);
       continue;
     }
-    const double tau = first_touch(pr.first, pr.second);
-    const auto [it, fresh] = earliest.emplace(std::min(ci, cj), std::make_pair(tau, pr));
-    if (!fresh && tau < it->second.first) it->second = {tau, pr};
+    collisions.push_back({std::min(ci, cj), first_touch(pr.first, pr.second), pr});
   }
-  std::vector<std::uint32_t> keys;
-  for (const auto& e : earliest) keys.push_back(e.first);
-  std::sort(keys.begin(), keys.end());
-  std::vector<std::uint32_t> moved;
-  double farthest = 0;  // the largest displacement of a moved sphere from where the pass saw it
+  for (const auto& [ci, cj] : meets) partner_[ci] = partner_[cj] = nobody;
+  std::stable_sort(collisions.begin(), collisions.end(), [](const Collision& a, const Collision& b) { return a.key < b.key; });
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < collisions.size(); ++k) {
+    if (kept > 0 && collisions[kept - 1].key == collisions[k].key) {
+      if (collisions[k].tau < collisions[kept - 1].tau) collisions[kept - 1] = collisions[k];
+    } else {
+      collisions[kept++] = collisions[k];
+    }
+  }
+  collisions.resize(kept);
+  // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
+  // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones. The merges
+  // (velocities and membership) go first, in key order; then every merged cluster's spheres are moved, the
+  // clusters spread over the workers (disjoint spheres); then the clusters now past a wall are reflected and
+  // the cell list is updated, in key order again: the same run on any number of threads.
+  const std::size_t merged = collisions.size();
+  std::vector<std::uint32_t> survivor(merged);
+  std::vector<Vector3> onward(merged);
+  std::size_t spheres = 0;
+  for (std::size_t k = 0; k < merged; ++k) {
+    const auto [i, j] = collisions[k].pair;
+    link(i, j);
+    survivor[k] = members_.cluster_of(i);
+    onward[k] = ((1.0 - collisions[k].tau) * dt) * velocity_[survivor[k]];
+    spheres += members_.size(survivor[k]);
+    ++counters_.contact_time_merges;
+  }
   const bool periodic = box_.boundary == Boundary::periodic;  // wrap and minimum image: identities otherwise
   const double inf = std::numeric_limits<double>::infinity();
-  for (const std::uint32_t key : keys) {
-    const auto& [tau, pr] = earliest[key];
-    const auto [i, j] = pr;
-    // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
-    // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones. (The
-    // merge changes velocities only, so it goes first and every sphere is moved in one pass, which also
-    // gathers reflect's bounds: reflect is called only when the cluster crosses a wall.)
-    link(i, j);
-    const std::uint32_t c = members_.cluster_of(i);
-    const Vector3 rest_of_flight = ((1.0 - tau) * dt) * velocity_[c];
+  std::vector<char> inside(merged, 1);
+  auto move_back = [&](std::size_t k) {
+    const double tau = collisions[k].tau;
     Vector3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
-    const std::size_t from = moved.size();
-    for (std::uint32_t p = members_.first(c); p != ClusterMembership::none; p = members_.next(p)) {
+    for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p)) {
       before_[p] = x_[p];
       x_[p] = x_[p] - (1.0 - tau) * flown_[p];
-      x_[p] = x_[p] + rest_of_flight;
+      x_[p] = x_[p] + onward[k];
       for (int d = 0; d < box_.dimension; ++d) {
         lo[d] = std::min(lo[d], x_[p][d] - radius_);
         hi[d] = std::max(hi[d], x_[p][d] + radius_);
       }
-      moved.push_back(p);
     }
-    bool inside = true;
-    for (int d = 0; d < box_.dimension; ++d) inside = inside && lo[d] >= 0 && hi[d] <= box_.side[d];
-    if (!inside) reflect(c);
-    ++counters_.contact_time_merges;
-    for (std::size_t k = from; k < moved.size(); ++k) {
-      const std::uint32_t p = moved[k];
+    for (int d = 0; d < box_.dimension; ++d) inside[k] = inside[k] && lo[d] >= 0 && hi[d] <= box_.side[d];
+  };
+  // Per collision: the spheres whose cell changed (with the new cell) and the largest displacement from
+  // where the pass saw a sphere.
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> changed(merged);
+  std::vector<double> farthest_of(merged, 0.0);
+  auto relocate = [&](std::size_t k) {
+    double most = 0;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> to;  // a local: the slots of changed share cache lines
+    for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p)) {
       if (periodic) x_[p] = box_.wrap(x_[p]);
-      const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
-      if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+      const auto cell = std::uint32_t(grid_.index(grid_.coords_of(x_[p])));
+      if (cell != cells_.cell_of(p)) to.push_back({p, cell});
       before_[p] = periodic ? box_.minimum_image(x_[p] - before_[p]) : x_[p] - before_[p];
-      farthest = std::max(farthest, norm(before_[p]));
+      most = std::max(most, norm(before_[p]));
     }
+    changed[k] = std::move(to);
+    farthest_of[k] = most;
+  };
+  const bool spread = pool_ && merged > 1 && spheres >= parallel_merge;
+  auto each = [&](auto&& job) {
+    if (spread) pool_->run(merged, job);
+    else for (std::size_t k = 0; k < merged; ++k) job(k);
+  };
+  each(move_back);
+  for (std::size_t k = 0; k < merged; ++k)
+    if (!inside[k]) reflect(survivor[k]);
+  each(relocate);
+  std::vector<std::uint32_t> moved;
+  moved.reserve(spheres);
+  double farthest = 0;
+  for (std::size_t k = 0; k < merged; ++k) {
+    for (const auto& [p, cell] : changed[k]) cells_.move(p, cell);
+    for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p)) moved.push_back(p);
+    farthest = std::max(farthest, farthest_of[k]);
   }
   // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
   // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the

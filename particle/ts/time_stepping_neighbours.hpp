@@ -33,7 +33,8 @@ template <class F>
 void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
   const std::size_t workers = n >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
   if (workers <= 1) return f(std::size_t(0), n, std::size_t(0));
-  pool_->run(workers, [&](std::size_t w) { f(n * w / workers, n * (w + 1) / workers, w); });
+  // Range w on thread w, phase after phase: each range stays in one core's cache (worker_pool.hpp).
+  pool_->run_each([&](std::size_t w) { f(n * w / workers, n * (w + 1) / workers, w); });
 }
 
 }  // namespace aggkit

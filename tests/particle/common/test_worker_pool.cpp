@@ -65,6 +65,38 @@ TEST_CASE("worker pool: jobs run on several threads and write their own outputs"
   CHECK(arrived.load() == 2);
 }
 
+TEST_CASE("worker pool: run_each runs job t on thread t, the caller's job 0, the same thread every run", "[common][worker_pool]") {
+  for (std::size_t threads : {1u, 2u, 4u}) {
+    WorkerPool pool(threads);
+    std::vector<std::thread::id> first(threads), now(threads);
+    for (int r = 0; r < 200; ++r) {
+      std::vector<std::atomic<int>> ran(threads);
+      for (auto& k : ran) k.store(0);
+      pool.run_each([&](std::size_t t) {
+        ran[t].fetch_add(1);
+        now[t] = std::this_thread::get_id();
+      });
+      for (auto& k : ran) REQUIRE(k.load() == 1);
+      if (r == 0) first = now;
+      REQUIRE(now == first);
+      if (r % 50 == 49) std::this_thread::sleep_for(3 * WorkerPool::spin_time);  // blocked workers too
+    }
+    CHECK(first[0] == std::this_thread::get_id());
+    for (std::size_t a = 0; a < threads; ++a)
+      for (std::size_t b = a + 1; b < threads; ++b) CHECK(first[a] != first[b]);
+    // Mixed with claimed runs, and a throwing job rethrown after the others ran.
+    check_runs(pool, 50, std::chrono::microseconds(0));
+    std::vector<std::atomic<int>> ran(threads);
+    for (auto& k : ran) k.store(0);
+    CHECK_THROWS_WITH(pool.run_each([&](std::size_t t) {
+                        ran[t].fetch_add(1);
+                        if (t + 1 == threads) throw std::runtime_error("thread " + std::to_string(t));
+                      }),
+                      Catch::Contains("thread"));
+    for (auto& k : ran) CHECK(k.load() == 1);
+  }
+}
+
 TEST_CASE("worker pool: a throwing job is rethrown after the others finished, and the pool stays usable", "[common][worker_pool]") {
   for (std::size_t threads : {1u, 3u}) {
     WorkerPool pool(threads);

@@ -104,6 +104,24 @@ TEST_CASE("ts: contact detection split over two threads gives the same run as on
   CHECK(one.positions() == two.positions());
 }
 
+TEST_CASE("ts: contact-time merges spread over two threads give the same run as one, to one cluster", "[ts][threads]") {
+  // 5000 discs to one cluster: the late flights merge clusters of thousands of spheres, above the size at
+  // which the moves of a flight's merged clusters are spread over the workers (the merges, reflections and
+  // cell moves stay in key order).
+  auto one = make_run(2, 5000, 0.3, Boundary::reflecting, 0.005, 1);
+  auto two = make_run(2, 5000, 0.3, Boundary::reflecting, 0.005, 2);
+  while (one.clusters() > 1 && one.counters().steps < 20000) {
+    one.step();
+    two.step();
+  }
+  CHECK(one.clusters() == 1);
+  CHECK(two.clusters() == 1);
+  CHECK(one.counters().contact_time_merges == two.counters().contact_time_merges);
+  CHECK(one.counters().minimisation_iterations == two.counters().minimisation_iterations);
+  CHECK(one.positions() == two.positions());
+  CHECK(one.wall_impulse() == two.wall_impulse());
+}
+
 TEST_CASE("ts: quiet flights (detection skipped within a safe time) give the same run as detecting every flight",
           "[ts][quiet]") {
   // The safe time is a proof that a skipped pass would have found nothing: the runs must agree to the
