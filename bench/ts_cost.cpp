@@ -4,6 +4,7 @@
 //   bench_ts_cost cost DT_FACTOR NU N1 [N2 ...]      one line per N, then the cost exponents (log-log fits)
 //   bench_ts_cost threads DT_FACTOR NU N REPEATS     cluster_threads 1 and 2 alternated, REPEATS times each
 //   bench_ts_cost ts DT_FACTOR NU N1 [N2 ...]        as cost, TS only (ED columns 0): for A/B runs of TS builds
+//   ... --threads K                                  (cost, ts) TS on K cluster threads; wall seconds recorded too
 // Per N: TS seconds, steps, substeps, merges, minimisation iterations per merge, free spheres per
 // minimisation, merges found after a minimisation (secondary), ED seconds and events, TS/ED, and the
 // flights within a safe time, which skip contact detection (quiet), and the spheres re-checked after
@@ -78,13 +79,25 @@ double exponent(const std::vector<double>& n, const std::vector<double>& t, doub
 
 int main(int argc, char** argv) {
   const bool ts_only = argc >= 2 && std::strcmp(argv[1], "ts") == 0;
+  // `--threads K` (cost and ts modes): cluster threads of the TS runs (default 1). With K > 1 the case names
+  // carry threads=K and the wall seconds are recorded too (CPU seconds then count every thread).
+  std::size_t cluster_threads = 1;
+  std::vector<char*> command(argv, argv + argc);  // as given, for the figures' command column
+  for (int k = 1; k + 1 < argc; ++k)
+    if (std::strcmp(argv[k], "--threads") == 0) {
+      cluster_threads = std::size_t(std::max(1, std::atoi(argv[k + 1])));
+      for (int m = k; m + 2 < argc; ++m) argv[m] = argv[m + 2];
+      argc -= 2;
+      break;
+    }
   if (argc < 5 || (std::strcmp(argv[1], "cost") != 0 && std::strcmp(argv[1], "threads") != 0 && !ts_only)) {
-    std::fprintf(stderr, "usage: %s cost|ts DT_FACTOR NU N1 [N2 ...] | threads DT_FACTOR NU N REPEATS\n", argv[0]);
+    std::fprintf(stderr, "usage: %s cost|ts DT_FACTOR NU N1 [N2 ...] [--threads K] | threads DT_FACTOR NU N REPEATS\n", argv[0]);
     return 2;
   }
   const double dt_factor = std::atof(argv[2]), nu = std::atof(argv[3]);
-  const bench::Figures figures("ts_cost", argc, argv);
-  const std::string setup = "nu=" + bench::Figures::text(nu) + " dt_factor=" + bench::Figures::text(dt_factor);
+  const bench::Figures figures("ts_cost", int(command.size()), command.data());
+  const std::string setup = "nu=" + bench::Figures::text(nu) + " dt_factor=" + bench::Figures::text(dt_factor) +
+                            (cluster_threads > 1 ? " threads=" + std::to_string(cluster_threads) : "");
   bench::print_load();
   if (std::strcmp(argv[1], "threads") == 0) {
     const auto n = std::size_t(std::atof(argv[4]));
@@ -110,10 +123,7 @@ int main(int argc, char** argv) {
   std::vector<double> ns, ts_times, ed_times;
   for (int k = 4; k < argc; ++k) {
     const auto n = std::size_t(std::atof(argv[k]));
-    // AGGKIT_TS_THREADS: cluster threads of the TS runs of `cost` and `ts` (default 1; CPU seconds then
-    // count every thread).
-    const char* threads = std::getenv("AGGKIT_TS_THREADS");
-    const TsRun ts = run_ts(n, nu, dt_factor, threads ? std::size_t(std::max(1, std::atoi(threads))) : 1);
+    const TsRun ts = run_ts(n, nu, dt_factor, cluster_threads);
     auto ed = bench::make_ed(2, ts_only ? 2 : n, nu, Boundary::reflecting, true, 1);
     const auto start = std::chrono::steady_clock::now();
     const double cpu0 = cpu_seconds();
@@ -129,6 +139,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     if (ts_only) {
       figures.add(setup + " N=" + bench::Figures::text(double(n)), "ts_cpu_seconds", ts.cpu, "s");
+      if (cluster_threads > 1) figures.add(setup + " N=" + bench::Figures::text(double(n)), "ts_wall_seconds", ts.seconds, "s");
       ns.push_back(double(n));
       ts_times.push_back(std::max(ts.cpu, 1e-3));
       continue;
