@@ -39,6 +39,10 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       x_(positions.begin(), positions.end()),
       velocity_(velocities.begin(), velocities.end()),
       flown_(positions.size(), Vector3{0, 0, 0}),
+      applied_(positions.size(), 0),
+      extent_low_(positions.size()),
+      extent_high_(positions.size()),
+      drift_(positions.size()),
       reflected_(positions.size(), 0),
       before_(positions.size()),
       links_(positions.size()) {
@@ -126,10 +130,148 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
   }
 }
 
+const std::vector<std::uint32_t>& TimeSteppingAggregation::live() const {
+  if (live_stale_) {
+    live_.clear();
+    for (std::uint32_t c = 0; c < x_.size(); ++c)
+      if (members_.size(c) > 0) live_.push_back(c);
+    live_stale_ = false;
+  }
+  return live_;
+}
+
+void TimeSteppingAggregation::replay(const std::uint32_t* ids, std::size_t count, std::size_t from) const {
+  // The arithmetic of an applied flight (flight() below), flight by flight: one sphere's flights are a chain
+  // of dependent additions, so up to `width` spheres go side by side as independent chains.
+  constexpr std::size_t width = 8;
+  const bool periodic = box_.boundary == Boundary::periodic;
+  double x[3][width], v[3][width], f[3][width];
+  for (std::size_t first = 0; first < count; first += width) {
+    const std::size_t held = std::min(width, count - first);
+    for (std::size_t m = 0; m < width; ++m) {
+      const std::uint32_t p = ids[first + std::min(m, held - 1)];  // the last sphere again as padding
+      const Vector3& u = velocity_[members_.cluster_of(p)];
+      for (int a = 0; a < 3; ++a) {
+        x[a][m] = x_[p][a];
+        v[a][m] = u[a];
+        f[a][m] = flown_[p][a];
+      }
+    }
+    for (std::size_t k = from; k < logged_.size(); ++k) {
+      const double dt = logged_[k];
+      for (int a = 0; a < 3; ++a)
+        for (std::size_t m = 0; m < width; ++m) {
+          f[a][m] = dt * v[a][m];
+          x[a][m] = x[a][m] + f[a][m];
+        }
+      if (periodic)
+        for (std::size_t m = 0; m < held; ++m) {
+          const Vector3 w = box_.wrap({x[0][m], x[1][m], x[2][m]});
+          for (int a = 0; a < 3; ++a) x[a][m] = w[a];
+        }
+    }
+    for (std::size_t m = 0; m < held; ++m) {
+      x_[ids[first + m]] = {x[0][m], x[1][m], x[2][m]};
+      flown_[ids[first + m]] = {f[0][m], f[1][m], f[2][m]};
+    }
+  }
+}
+
+void TimeSteppingAggregation::sync(std::uint32_t cluster) const {
+  const std::size_t from = applied_[cluster];
+  if (from == logged_.size()) return;
+  if (from == 0) partial_.push_back(cluster);
+  thread_local std::vector<std::uint32_t> ids;
+  ids.clear();
+  for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) ids.push_back(p);
+  replay(ids.data(), ids.size(), from);
+  applied_[cluster] = std::uint32_t(logged_.size());
+}
+
+void TimeSteppingAggregation::sync_all() const {
+  if (logged_.empty()) return;
+  // The clusters brought up to date part of the way (at a wall) by their members, the rest by index.
+  for (const std::uint32_t c : partial_) sync(c);
+  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t) {
+    constexpr std::size_t batch = 64;
+    std::uint32_t ids[batch];
+    std::size_t held = 0;
+    for (std::size_t p = from; p < to; ++p) {
+      if (applied_[members_.cluster_of(std::uint32_t(p))] != 0) continue;
+      ids[held++] = std::uint32_t(p);
+      if (held == batch) {
+        replay(ids, held, 0);
+        held = 0;
+      }
+    }
+    if (held > 0) replay(ids, held, 0);
+  });
+  partial_.clear();
+  for (const std::uint32_t c : live()) applied_[c] = 0;
+  logged_.clear();
+}
+
+void TimeSteppingAggregation::measure_extent(std::uint32_t cluster) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Vector3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p))
+    for (int d = 0; d < box_.dimension; ++d) {
+      lo[d] = std::min(lo[d], x_[p][d] - radius_);
+      hi[d] = std::max(hi[d], x_[p][d] + radius_);
+    }
+  extent_low_[cluster] = lo;
+  extent_high_[cluster] = hi;
+  drift_[cluster] = {0, 0, 0};
+}
+
+bool TimeSteppingAggregation::quiet_flight(double dt) {
+  // Bounded log (memory, and the round-off the extents' margin covers).
+  if (logged_.size() >= (std::size_t(1) << 20)) sync_all();
+  logged_.push_back(dt);
+  if (box_.boundary == Boundary::reflecting) {
+    if (!extents_) {
+      for (const std::uint32_t c : live()) measure_extent(c);
+      extents_ = true;
+    }
+    double side = 0;
+    for (int d = 0; d < box_.dimension; ++d) side = std::max(side, box_.side[d]);
+    // Far above the round-off of a position summed over up to 2^20 flights (2^20 · 2^-53 of the box).
+    const double margin = 1e-9 * side;
+    for (const std::uint32_t c : live()) {
+      drift_[c] = drift_[c] + dt * velocity_[c];
+      bool near = false;
+      for (int d = 0; d < box_.dimension; ++d)
+        near = near || extent_low_[c][d] + drift_[c][d] < margin || extent_high_[c][d] + drift_[c][d] > box_.side[d] - margin;
+      if (!near) continue;
+      // Up to date, and the applied flight's test: reflected when a sphere is past a wall.
+      sync(c);
+      bool past = false;
+      for (std::uint32_t p = members_.first(c); p != ClusterMembership::none && !past; p = members_.next(p))
+        for (int d = 0; d < box_.dimension; ++d)
+          past = past || x_[p][d] - radius_ < 0 || x_[p][d] + radius_ > box_.side[d];
+      if (past) reflect(c);
+      measure_extent(c);
+    }
+  }
+  if (!jumped_) {
+    safe_left_ -= dt;
+    return false;
+  }
+  // A wall moved a cluster by more than its flight: the safe time is over, detect now.
+  sync_all();
+  safe_left_ = 0;
+  extents_ = false;
+  locate();
+  return true;
+}
+
 bool TimeSteppingAggregation::flight(double dt) {
   for (const std::uint32_t c : reflected_list_) reflected_[c] = 0;
   reflected_list_.clear();
   jumped_ = false;
+  if (settings_.quiet_flights && dt < safe_left_) return quiet_flight(dt);
+  sync_all();
+  extents_ = false;
   // One streaming pass: every sphere flies (wrapped on periodic boxes) and, with walls, the clusters with a
   // sphere past one are noted (the test is reflect's own, sphere by sphere); they are then reflected in
   // increasing cluster order, as a walk through every cluster's members per axis would.
@@ -194,12 +336,15 @@ void TimeSteppingAggregation::locate() {
 }
 
 double TimeSteppingAggregation::update_speeds() {
+  // Live clusters only (O(clusters) per step): link() zeroes the speed of a cluster it absorbs.
   speed_.resize(x_.size());
+  const std::vector<std::uint32_t>& alive = live();
   std::vector<double> fastest(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1), 0.0);
-  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
-    double top = 0;  // a local maximum: a store to fastest[w] per sphere would alias speed_ for the compiler
-    for (std::size_t c = from; c < to; ++c) {
-      const double s = members_.size(std::uint32_t(c)) > 0 ? norm(velocity_[c]) : 0.0;
+  for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+    double top = 0;  // a local maximum: a store to fastest[w] per cluster would alias speed_ for the compiler
+    for (std::size_t k = from; k < to; ++k) {
+      const std::uint32_t c = alive[k];
+      const double s = norm(velocity_[c]);
       speed_[c] = s;
       top = std::max(top, s);
     }
@@ -257,10 +402,8 @@ TsStop TimeSteppingAggregation::advance(double t, std::size_t target_clusters, c
 bool TimeSteppingAggregation::at_rest() const {
   const Vector3* first = nullptr;
   double scale = 0;
-  for (std::uint32_t c = 0; c < x_.size(); ++c)
-    if (members_.size(c) > 0) scale = std::max(scale, norm(velocity_[c]));
-  for (std::uint32_t c = 0; c < x_.size(); ++c) {
-    if (members_.size(c) == 0) continue;
+  for (const std::uint32_t c : live()) scale = std::max(scale, norm(velocity_[c]));
+  for (const std::uint32_t c : live()) {
     if (!first) first = &velocity_[c];
     else if (norm(velocity_[c] - *first) > 1e-12 * scale) return false;
   }
@@ -274,6 +417,7 @@ std::vector<Vector3> TimeSteppingAggregation::velocities() const {
 }
 
 std::vector<Vector3> TimeSteppingAggregation::cluster_positions(std::uint32_t cluster) const {
+  sync_all();
   // Unwrapped along the links (breadth first from the cluster's first particle).
   std::unordered_map<std::uint32_t, Vector3> placed;
   std::vector<std::uint32_t> queue{members_.first(cluster)};
@@ -310,6 +454,7 @@ Vector3 TimeSteppingAggregation::momentum() const {
 }
 
 double TimeSteppingAggregation::largest_overlap() const {
+  sync_all();
   const double contact2 = 4.0 * radius_ * radius_;
   double worst = 0;
   for (std::uint32_t i = 0; i < x_.size(); ++i)
@@ -321,6 +466,7 @@ double TimeSteppingAggregation::largest_overlap() const {
 }
 
 double TimeSteppingAggregation::largest_relative_overlap() const {
+  sync_all();
   double worst = 0;
   for (std::uint32_t i = 0; i < x_.size(); ++i)
     for_near(i, 2.0 * radius_, [&](std::uint32_t j) { worst = std::max(worst, 1.0 - norm(sep(i, j)) / (2.0 * radius_)); });

@@ -43,6 +43,14 @@
 // and finding nothing. Anything that can move a cluster faster than its speed (a merge, a minimisation, a
 // wall correction other than a specular reflection) ends the safe time.
 //
+// Quiet flights are rigid-body moves: a flight within the safe time is logged (its Δt), not applied to every
+// sphere; a cluster's spheres are brought up to date by replaying the logged flights in order with the
+// arithmetic of an applied flight (x ← x + Δt V, wrapped on periodic boxes), so the run is the same to the
+// bit. A quiet flight then costs O(clusters): each live cluster's extent at its last update, shifted by its
+// flight since, is checked against the walls (a margin far above the round-off), and only a cluster that may
+// touch one is brought up to date, tested sphere by sphere and reflected as in an applied flight. Everything
+// that reads positions (a detection pass, the outputs, checkpoints) brings every cluster up to date first.
+//
 // Near re-check: a contact-time merge moves the two clusters off the positions the detection pass saw (by
 // D = |their displacement|, for most spheres of a large cluster that absorbs a small one a tiny fraction
 // of the flight); the spheres that can now touch another cluster are re-checked. The pass records, for
@@ -144,7 +152,10 @@ class TimeSteppingAggregation {
   const Box& box() const { return box_; }
   double radius() const { return radius_; }
   const TsCounters& counters() const { return counters_; }
-  const std::vector<Vector3>& positions() const { return x_; }  // wrapped into the box
+  const std::vector<Vector3>& positions() const {  // wrapped into the box
+    sync_all();
+    return x_;
+  }
   std::vector<Vector3> velocities() const;
   Vector3 cluster_velocity(std::uint32_t particle) const { return velocity_[members_.cluster_of(particle)]; }
   std::uint32_t cluster_of(std::uint32_t particle) const { return members_.cluster_of(particle); }
@@ -173,8 +184,16 @@ class TimeSteppingAggregation {
     std::uint32_t cluster;
     std::vector<std::uint32_t> seeds;  // ends of new links
   };
-  // Moves every sphere; returns whether the flight needs a detection pass (then the cell list is updated).
+  // Moves every sphere (a quiet flight: logs it, header); returns whether the flight needs a detection pass
+  // (then every sphere is up to date and the cell list updated).
   bool flight(double dt);
+  bool quiet_flight(double dt);  // flight() within the safe time
+  // Replays the logged flights not yet applied to the spheres of one cluster / of every cluster (header).
+  void sync(std::uint32_t cluster) const;
+  void sync_all() const;
+  void replay(const std::uint32_t* particles, std::size_t count, std::size_t from) const;  // logged flights from `from`
+  void measure_extent(std::uint32_t cluster);  // extent_low_/high_ of a cluster from its spheres (up to date)
+  const std::vector<std::uint32_t>& live() const;  // the live clusters, increasing
   void reflect(std::uint32_t cluster);
   void locate();  // cell list and longest_flight_ from x_ and flown_
   double update_speeds();  // speed_ from velocity_ (on the workers); returns the largest
@@ -215,9 +234,18 @@ class TimeSteppingAggregation {
   template <class F>
   void for_ranges(std::size_t n, F&& f) const;  // per cell, its half-stencil neighbours (no_cell past a wall)
   ClusterMembership members_;
-  std::vector<Vector3> x_;
+  // Positions and flights of the spheres, up to date only after sync_all() (quiet flights are logged):
+  // mutable because readers bring them up to date, which changes no state a caller can see.
+  mutable std::vector<Vector3> x_;
   std::vector<Vector3> velocity_;  // per cluster id
-  std::vector<Vector3> flown_;     // per sphere: its displacement in the last flight (walls included)
+  mutable std::vector<Vector3> flown_;  // per sphere: its displacement in the last flight (walls included)
+  mutable std::vector<double> logged_;           // Δt of the quiet flights not yet applied to every sphere
+  mutable std::vector<std::uint32_t> applied_;   // per cluster id: how many of them its spheres have had
+  mutable std::vector<std::uint32_t> partial_;   // clusters with 0 < applied_ (brought up to date at a wall)
+  std::vector<Vector3> extent_low_, extent_high_, drift_;  // per cluster id: extent at its last update, flight since
+  bool extents_ = false;                         // extent_low_/high_ hold for every live cluster
+  mutable std::vector<std::uint32_t> live_;      // live clusters, increasing (rebuilt after merges)
+  mutable bool live_stale_ = true;
   std::vector<char> reflected_;    // per cluster: reflected by a wall in the last flight
   std::vector<std::uint32_t> reflected_list_;  // the clusters reflected_ marks
   std::vector<Vector3> before_;    // scratch of merge_binary_contacts: positions at the pass, then the moves

@@ -23,6 +23,8 @@ void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {
   // Momentum-weighted velocity of the merged cluster [Degond2024, eq. 2.9 and Sec. 3, step 3b].
   velocity_[ca] = (1.0 / (na + nb)) * (na * velocity_[ca] + nb * velocity_[cb]);
   velocity_[cb] = {0, 0, 0};
+  if (cb < speed_.size()) speed_[cb] = 0;  // absorbed: no longer a live cluster (update_speeds skips it)
+  live_stale_ = true;
   members_.merge(ca, cb, [](std::uint32_t) {});
   ++counters_.merges;
 }

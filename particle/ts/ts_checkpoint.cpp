@@ -1,10 +1,13 @@
 // TimeSteppingAggregation::save and restore (time_stepping_aggregation.hpp).
+#include <algorithm>
+
 #include "particle/common/checkpoint.hpp"
 #include "particle/ts/time_stepping_aggregation.hpp"
 
 namespace aggkit {
 
 void TimeSteppingAggregation::save(StateWriter& out) const {
+  sync_all();  // the logged quiet flights applied (the same positions as applied flights would give)
   out.put(std::uint64_t(x_.size()));
   members_.save(out);
   cells_.save(out);
@@ -49,6 +52,11 @@ void TimeSteppingAggregation::restore(StateReader& in) {
   in.get(wall_impulse_);
   in.get(counters_);
   in.get(last_mean_);
+  logged_.clear();
+  partial_.clear();
+  std::fill(applied_.begin(), applied_.end(), 0u);
+  extents_ = false;
+  live_stale_ = true;
   if (x_.size() != n || velocity_.size() != n || flown_.size() != n || reflected_.size() != n)
     throw CheckpointError("the checkpoint's TS configuration has another number of particles");
 }

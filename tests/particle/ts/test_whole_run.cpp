@@ -4,6 +4,10 @@
 // number of cluster threads.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <string>
+
+#include "particle/common/checkpoint.hpp"
 #include "particle/common/initial_state.hpp"
 #include "particle/ts/time_stepping_aggregation.hpp"
 
@@ -180,6 +184,53 @@ TEST_CASE("ts: re-checking only the spheres that can meet another cluster after 
   CHECK(near.counters().contact_time_merges > 100);
   CHECK(near.counters().rechecked_spheres < all.counters().rechecked_spheres);
   CHECK(near.positions() == all.positions());
+}
+
+TEST_CASE("ts: quiet flights are logged and replayed: wall bounces, reads and checkpoints in a quiet stretch change nothing",
+          "[ts][quiet]") {
+  // Five small clusters-to-be in a large box, 2-D and 3-D: long quiet stretches in which clusters bounce off
+  // the walls (brought up to date and reflected there, the others only logged). Against a run detecting every
+  // flight (every flight applied to every sphere): the same run to the bit, with a third run whose positions
+  // are read every 7th step (each read brings every sphere up to date mid-stretch) and a fourth restored
+  // from a checkpoint taken mid-stretch.
+  for (const int dimension : {2, 3}) {
+    const double side = 40;
+    const Box box{dimension, {side, side, dimension == 3 ? side : 0.0}, Boundary::reflecting};
+    std::vector<Vector3> x, v;
+    for (int k = 0; k < 5; ++k) {
+      x.push_back({5.0 + 7.0 * k, 4.0 + 6.5 * k, dimension == 3 ? 30.0 - 5.0 * k : 0.0});
+      v.push_back({std::cos(1.3 * k + 0.4), std::sin(1.3 * k + 0.4), dimension == 3 ? 0.3 * (k - 2) : 0.0});
+    }
+    TsSettings quiet_settings, every_settings;
+    quiet_settings.dt_factor = every_settings.dt_factor = 0.002;
+    every_settings.quiet_flights = false;
+    TimeSteppingAggregation quiet(box, 0.5, x, v, quiet_settings), every(box, 0.5, x, v, every_settings),
+        read(box, 0.5, x, v, quiet_settings), restored(box, 0.5, x, v, quiet_settings);
+    std::string saved;
+    for (int s = 0; s < 3000; ++s) {
+      quiet.step();
+      every.step();
+      read.step();
+      if (s % 7 == 3) CHECK(read.positions().size() == x.size());
+      if (s == 1500) {
+        StateWriter out;
+        quiet.save(out);
+        saved = out.take();
+      }
+    }
+    StateReader in(saved);
+    restored.restore(in);
+    while (restored.counters().steps < quiet.counters().steps) restored.step();
+    INFO("dimension " << dimension);
+    CHECK(quiet.counters().quiet_flights > quiet.counters().substeps / 2);  // mostly quiet
+    CHECK(quiet.counters().wall_contacts > 10);                              // bounces in quiet stretches
+    CHECK(quiet.counters().wall_contacts == every.counters().wall_contacts);
+    CHECK(quiet.positions() == every.positions());
+    CHECK(quiet.wall_impulse() == every.wall_impulse());
+    CHECK(read.positions() == every.positions());
+    CHECK(restored.positions() == every.positions());
+    CHECK(restored.wall_impulse() == every.wall_impulse());
+  }
 }
 
 TEST_CASE("ts: a start with overlaps is refused naming particles.initial", "[ts][input]") {
