@@ -269,7 +269,10 @@ bool TimeSteppingAggregation::flight(double dt) {
   for (const std::uint32_t c : reflected_list_) reflected_[c] = 0;
   reflected_list_.clear();
   jumped_ = false;
-  if (settings_.quiet_flights && dt < safe_left_) return quiet_flight(dt);
+  // A stretch of quiet flights is logged when it is long enough to repay the extents' pass over every
+  // sphere (header); a short one is applied flight by flight. Either way the same run.
+  if (settings_.quiet_flights && dt < safe_left_ && (!logged_.empty() || safe_left_ > logged_stretch * dt))
+    return quiet_flight(dt);
   sync_all();
   extents_ = false;
   // One streaming pass: every sphere flies (wrapped on periodic boxes) and, with walls, the clusters with a
