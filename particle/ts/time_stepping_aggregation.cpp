@@ -230,19 +230,34 @@ bool TimeSteppingAggregation::quiet_flight(double dt) {
   logged_.push_back(dt);
   if (box_.boundary == Boundary::reflecting) {
     if (!extents_) {
-      for (const std::uint32_t c : live()) measure_extent(c);
+      const std::vector<std::uint32_t>& alive = live();
+      for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t) {
+        for (std::size_t k = from; k < to; ++k) measure_extent(alive[k]);
+      });
       extents_ = true;
     }
     double side = 0;
     for (int d = 0; d < box_.dimension; ++d) side = std::max(side, box_.side[d]);
     // Far above the round-off of a position summed over up to 2^20 flights (2^20 · 2^-53 of the box).
     const double margin = 1e-9 * side;
-    for (const std::uint32_t c : live()) {
-      drift_[c] = drift_[c] + dt * velocity_[c];
-      bool near = false;
-      for (int d = 0; d < box_.dimension; ++d)
-        near = near || extent_low_[c][d] + drift_[c][d] < margin || extent_high_[c][d] + drift_[c][d] > box_.side[d] - margin;
-      if (!near) continue;
+    // The clusters that may touch a wall, found on the workers, then handled in increasing order.
+    const std::vector<std::uint32_t>& alive = live();
+    const std::size_t workers = std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1);
+    std::vector<std::vector<std::uint32_t>> near(workers);
+    for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+      std::vector<std::uint32_t> found;
+      for (std::size_t k = from; k < to; ++k) {
+        const std::uint32_t c = alive[k];
+        drift_[c] = drift_[c] + dt * velocity_[c];
+        bool close = false;
+        for (int d = 0; d < box_.dimension; ++d)
+          close = close || extent_low_[c][d] + drift_[c][d] < margin || extent_high_[c][d] + drift_[c][d] > box_.side[d] - margin;
+        if (close) found.push_back(c);
+      }
+      near[w] = std::move(found);
+    });
+    for (std::size_t w = 1; w < workers; ++w) near[0].insert(near[0].end(), near[w].begin(), near[w].end());
+    for (const std::uint32_t c : near[0]) {
       // Up to date, and the applied flight's test: reflected when a sphere is past a wall.
       sync(c);
       bool past = false;
@@ -270,8 +285,10 @@ bool TimeSteppingAggregation::flight(double dt) {
   reflected_list_.clear();
   jumped_ = false;
   // A stretch of quiet flights is logged when it is long enough to repay the extents' pass over every
-  // sphere (header); a short one is applied flight by flight. Either way the same run.
-  if (settings_.quiet_flights && dt < safe_left_ && (!logged_.empty() || safe_left_ > logged_stretch * dt))
+  // sphere and the clusters are few beside the spheres (header); otherwise it is applied flight by flight,
+  // which the workers share by spheres. Either way the same run.
+  if (settings_.quiet_flights && dt < safe_left_ &&
+      (!logged_.empty() || (safe_left_ > logged_stretch * dt && members_.clusters() * logged_clusters <= x_.size())))
     return quiet_flight(dt);
   sync_all();
   extents_ = false;

@@ -253,6 +253,7 @@ class TimeSteppingAggregation {
   static constexpr std::size_t parallel_merge = 1024;  // fewer spheres in a flight's merged clusters: one worker
   static constexpr std::size_t parallel_scan = 1024;   // fewer spheres re-checked for contacts: one worker
   static constexpr double logged_stretch = 8;  // quiet flights logged when the safe time holds more than this many
+  static constexpr std::size_t logged_clusters = 8;  // ... and at most 1/8 as many clusters as spheres remain
   double longest_flight_ = 0;      // the largest |flown_|
   std::vector<double> speed_;      // per cluster id: |velocity_|, set at the start of a step
   double safe_left_ = 0;           // time left of the safe time of the last detection pass
