@@ -34,7 +34,14 @@ int main(int argc, char** argv) {
     auto ed = bench::make_ed(dimension, n, nu, boundary, true);
     const double setup = bench::seconds_since(start);
     start = std::chrono::steady_clock::now();
-    ed.advance(1e30, 1);
+    // Progress on stderr about once a minute: clusters left, events so far (a long 3-D run shows how far it got).
+    auto reported = start;
+    ed.advance(1e30, 1, [&] {
+      if (bench::seconds_since(reported) < 60) return;
+      reported = std::chrono::steady_clock::now();
+      std::fprintf(stderr, "# N %zu: %.0f s, %zu clusters left, %llu events\n", n, bench::seconds_since(start), ed.clusters(),
+                   (unsigned long long)ed.counters().events());
+    });
     const double run = bench::seconds_since(start);
     const auto& c = ed.counters();
     const double exponent = previous_n > 0 ? std::log(run / previous_t) / std::log(double(n) / previous_n) : NAN;
