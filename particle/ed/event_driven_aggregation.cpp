@@ -79,7 +79,7 @@ EventDrivenAggregation::EventDrivenAggregation(const Box& box, double radius, st
     if (const int l = grid_.level_for(extent(p)); l < grid_.top()) populated_ = std::max(populated_, l);
   for (std::uint32_t p = 0; p < positions.size(); ++p) register_cluster(p);
   for (std::uint32_t p = 0; p < positions.size(); ++p) predict_cluster(p, /*higher_only=*/true);
-  compact_at_ = std::max<std::size_t>(1u << 16, 8 * positions.size());
+  compact_at_ = std::max<std::size_t>(min_compact, positions.size() / 2);
 }
 
 // The elastic stage runs on the elastic gas (particle/ed/elastic_gas.hpp, an order of magnitude faster than
@@ -138,8 +138,10 @@ void EventDrivenAggregation::execute_next_event() {
 
 void EventDrivenAggregation::maybe_compact() {
   if (queue_.size() < compact_at_) return;
+  // Purged once the queue has grown by half since the last purge: a purge is one sequential pass and a
+  // heapify, O(1) per event, against a pop's O(log n) cache misses for each stale event it would meet.
   queue_.compact([this](const Event& e) { return valid(e); });
-  compact_at_ = std::max<std::size_t>({compact_at_, 4 * queue_.size()});
+  compact_at_ = std::max<std::size_t>({min_compact, particles() / 2, queue_.size() + queue_.size() / 2});
 }
 
 bool EventDrivenAggregation::valid(const Event& e) const {

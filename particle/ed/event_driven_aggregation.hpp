@@ -168,7 +168,8 @@ class EventDrivenAggregation {
   std::vector<Ray> rays_;  // scratch of first_contact
   std::uint64_t next_stamp_ = 1;
   EventQueue queue_;
-  std::size_t compact_at_ = 0;
+  std::size_t compact_at_ = 0;  // queue size at which stale events are purged (maybe_compact)
+  static constexpr std::size_t min_compact = std::size_t(1) << 16;
   int populated_ = 0;          // the coarsest stored level with an owner (clusters below the top)
   std::uint64_t raises_ = 0;   // times populated_ rose; a crossing event carries the count at its prediction
   long double now_ = 0, clock_origin_ = 0;

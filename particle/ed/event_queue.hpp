@@ -2,7 +2,8 @@
 // The event queue of the ED engine: a 4-ary min-heap on time with lazy invalidation. Each event carries the
 // trajectory stamps of the clusters involved when it was predicted; a stamp changes whenever a cluster's
 // velocity or membership changes, so a popped event whose stamps differ from the current ones is stale and
-// skipped. Stale events are purged when they outnumber the live ones (`compact`).
+// skipped. The engine purges stale events (`compact`) whenever the queue has grown by half since the last
+// purge.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
