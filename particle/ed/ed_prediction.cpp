@@ -157,11 +157,21 @@ EventDrivenAggregation::Contact EventDrivenAggregation::first_contact(std::uint3
     }
   }
   std::sort(rays_.begin(), rays_.end(), [](const Ray& a, const Ray& b) { return a.begin < b.begin; });
+  ++memo_call_;
   for (const Ray& r : rays_) {
     if (r.begin >= best.time) break;
     cast(owner, shift + offset_[r.particle], w, r.begin, std::min(r.end + min_length, best.time), r.particle, best);
   }
   return best;
+}
+
+std::uint32_t EventDrivenAggregation::first_in_cell(std::uint32_t owner, const CellCoords& cell) const {
+  const std::size_t slot = (std::size_t(cell[0]) * 73856093u ^ std::size_t(cell[1]) * 19349663u ^ std::size_t(cell[2]) * 83492791u) &
+                           (memo_size - 1);
+  MemoCell& m = memo_[slot];
+  if (m.call == memo_call_ && m.cell == cell) return m.head;
+  m = {cell, memo_call_, index_.first(owner, cell)};
+  return m.head;
 }
 
 // Member `ray` of another cluster, at `start` in `owner`'s frame at time 0 and moving with w, walks the
@@ -179,7 +189,7 @@ void EventDrivenAggregation::cast(std::uint32_t owner, const Vector3& start, con
     for (const CellCoords& o : g.stencil()) {
       if (axis >= 0 && o[axis] != direction) continue;
       const CellCoords cell{c[0] + o[0], c[1] + o[1], c[2] + o[2]};
-      for (std::uint32_t m = index_.first(owner, cell); m != ClusterIndex::none; m = index_.next(m)) {
+      for (std::uint32_t m = first_in_cell(owner, cell); m != ClusterIndex::none; m = index_.next(m)) {
         const double tc = collision_time(g.stencil_image(offset_[m] - u, o), minus_w, sigma);
         if (tc == never) continue;
         if (t + tc < best.time) best = {t + tc, ray, m};

@@ -166,6 +166,18 @@ class EventDrivenAggregation {
     std::uint32_t particle;
   };
   std::vector<Ray> rays_;  // scratch of first_contact
+  // The owner's first member per cell, remembered within one first_contact: the rays of neighbouring members
+  // walk overlapping stencils, and each question to the cluster index is a cache miss in a large run. Direct
+  // mapped; an entry counts only for the call (`memo_call_`) that wrote it.
+  struct MemoCell {
+    CellCoords cell{};
+    std::uint64_t call = 0;
+    std::uint32_t head = 0;
+  };
+  static constexpr std::size_t memo_size = 1024;
+  mutable std::vector<MemoCell> memo_ = std::vector<MemoCell>(memo_size);
+  mutable std::uint64_t memo_call_ = 0;
+  std::uint32_t first_in_cell(std::uint32_t owner, const CellCoords& cell) const;
   std::uint64_t next_stamp_ = 1;
   EventQueue queue_;
   std::size_t compact_at_ = 0;  // queue size at which stale events are purged (maybe_compact)
