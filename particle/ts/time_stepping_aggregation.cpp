@@ -7,12 +7,42 @@
 #include <unordered_map>
 
 #include "analysis/input_error.hpp"
+#include "particle/common/simd_clones.hpp"
 
 namespace aggkit {
 
 namespace {
 
 constexpr double paper_radius = 0.2;  // [Degond2024, Table 1]: the units the DAHA parameters are tuned in
+
+// The replay of logged flights (sync below) for a block of `lanes` spheres, coordinates by axis: per flight
+// f = Δt v and x ← x + f, wrapped on periodic boxes, exactly the arithmetic of an applied flight. Vectorised
+// over the block; contraction into fused multiply-adds is off, so that every vector unit gives the bits of the
+// applied flight's separate multiply and add.
+constexpr std::size_t lanes = 32;
+struct ReplayBlock {
+  double x[3][lanes], v[3][lanes], f[3][lanes];
+};
+AGGKIT_SIMD_CLONES __attribute__((optimize("fp-contract=off"))) void replay_block(ReplayBlock& b, const double* dts,
+                                                                                  std::size_t flights, int dimension,
+                                                                                  const double* periodic_side) {
+  for (std::size_t k = 0; k < flights; ++k) {
+    const double dt = dts[k];
+    for (int a = 0; a < dimension; ++a) {
+      for (std::size_t m = 0; m < lanes; ++m) {
+        b.f[a][m] = dt * b.v[a][m];
+        b.x[a][m] = b.x[a][m] + b.f[a][m];
+      }
+      if (periodic_side) {  // Box::wrap, branch-free
+        const double side = periodic_side[a];
+        for (std::size_t m = 0; m < lanes; ++m) {
+          const double r = b.x[a][m] - side * std::floor(b.x[a][m] / side);
+          b.x[a][m] = r >= side ? 0.0 : r;
+        }
+      }
+    }
+  }
+}
 
 // Cells wide enough for the swept contact test of a flight of at most `substep` diameters per cluster
 // (reach 2R + 2 · flight) to need only the 3^d stencil; 2R when that would leave a periodic axis fewer than
@@ -141,39 +171,27 @@ const std::vector<std::uint32_t>& TimeSteppingAggregation::live() const {
 }
 
 void TimeSteppingAggregation::replay(const std::uint32_t* ids, std::size_t count, std::size_t from) const {
-  // The arithmetic of an applied flight (flight() below), flight by flight: one sphere's flights are a chain
-  // of dependent additions, so up to `width` spheres go side by side as independent chains.
-  constexpr std::size_t width = 8;
-  const bool periodic = box_.boundary == Boundary::periodic;
-  double x[3][width], v[3][width], f[3][width];
-  for (std::size_t first = 0; first < count; first += width) {
-    const std::size_t held = std::min(width, count - first);
-    for (std::size_t m = 0; m < width; ++m) {
+  // Blocks of `lanes` spheres side by side (replay_block): one sphere's flights are a chain of dependent
+  // additions, a block's are independent chains on the vector unit.
+  ReplayBlock b;
+  const double* periodic_side = box_.boundary == Boundary::periodic ? box_.side.data() : nullptr;
+  for (std::size_t first = 0; first < count; first += lanes) {
+    const std::size_t held = std::min(lanes, count - first);
+    for (std::size_t m = 0; m < lanes; ++m) {
       const std::uint32_t p = ids[first + std::min(m, held - 1)];  // the last sphere again as padding
       const Vector3& u = velocity_[members_.cluster_of(p)];
       for (int a = 0; a < 3; ++a) {
-        x[a][m] = x_[p][a];
-        v[a][m] = u[a];
-        f[a][m] = flown_[p][a];
+        b.x[a][m] = x_[p][a];
+        b.v[a][m] = u[a];
+        b.f[a][m] = flown_[p][a];
       }
     }
-    for (std::size_t k = from; k < logged_.size(); ++k) {
-      const double dt = logged_[k];
-      for (int a = 0; a < 3; ++a)
-        for (std::size_t m = 0; m < width; ++m) {
-          f[a][m] = dt * v[a][m];
-          x[a][m] = x[a][m] + f[a][m];
-        }
-      if (periodic)
-        for (std::size_t m = 0; m < held; ++m) {
-          const Vector3 w = box_.wrap({x[0][m], x[1][m], x[2][m]});
-          for (int a = 0; a < 3; ++a) x[a][m] = w[a];
-        }
-    }
-    for (std::size_t m = 0; m < held; ++m) {
-      x_[ids[first + m]] = {x[0][m], x[1][m], x[2][m]};
-      flown_[ids[first + m]] = {f[0][m], f[1][m], f[2][m]};
-    }
+    replay_block(b, logged_.data() + from, logged_.size() - from, box_.dimension, periodic_side);
+    for (std::size_t m = 0; m < held; ++m)
+      for (int a = 0; a < box_.dimension; ++a) {
+        x_[ids[first + m]][a] = b.x[a][m];
+        flown_[ids[first + m]][a] = b.f[a][m];
+      }
   }
 }
 
@@ -193,7 +211,7 @@ void TimeSteppingAggregation::sync_all() const {
   // The clusters brought up to date part of the way (at a wall) by their members, the rest by index.
   for (const std::uint32_t c : partial_) sync(c);
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t) {
-    constexpr std::size_t batch = 64;
+    constexpr std::size_t batch = 4 * lanes;
     std::uint32_t ids[batch];
     std::size_t held = 0;
     for (std::size_t p = from; p < to; ++p) {
