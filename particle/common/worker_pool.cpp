@@ -33,22 +33,22 @@ std::size_t WorkerPool::drain(std::uint32_t generation) {
   while (generation_of(t) == generation && std::uint32_t(t) != 0) {
     if (!ticket_.value.compare_exchange_weak(t, t - 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
     // Claimed: the run cannot finish before this job is done, so its fields stay put until then.
-    const std::uint32_t jobs = jobs_;
-    try {
-      invoke_(context_, jobs - std::uint32_t(t));
-    } catch (...) {
-      // Kept for the caller (the first one), which rethrows it once every job of the run is done.
-      std::lock_guard lock(error_mutex_);
-      if (!error_) error_ = std::current_exception();
-    }
+    run_job(jobs_ - std::uint32_t(t));
     ++ran;
-    finish_job(jobs);
     t = ticket_.value.load(std::memory_order_acquire);
   }
   return ran;
 }
 
-void WorkerPool::finish_job(std::uint32_t jobs) {
+void WorkerPool::run_job(std::size_t k) {
+  const std::uint32_t jobs = jobs_;  // read before this job counts as done: the caller may then start the next run
+  try {
+    invoke_(context_, k);
+  } catch (...) {
+    // Kept for the caller (the first one), which rethrows it once every job of the run is done.
+    std::lock_guard lock(error_mutex_);
+    if (!error_) error_ = std::current_exception();
+  }
   if (done_.value.fetch_add(1) + 1 == jobs && caller_sleeps_.value.load()) done_.value.notify_all();
 }
 
@@ -76,13 +76,7 @@ void WorkerPool::work(std::size_t index) {
     seen = generation_of(t);
     // The run cannot finish before this thread's job is done, so the fields stay put until then.
     if (pinned_) {
-      try {
-        invoke_(context_, index);
-      } catch (...) {
-        std::lock_guard lock(error_mutex_);
-        if (!error_) error_ = std::current_exception();
-      }
-      finish_job(jobs_);
+      run_job(index);
       continue;
     }
     drain(seen);
@@ -100,17 +94,8 @@ void WorkerPool::dispatch(std::size_t jobs, Invoke invoke, void* context, bool p
   ticket_.value.store((std::uint64_t(generation_) << 32) | (pinned ? 0u : jobs_));
   wake_.value.fetch_add(1);
   if (sleepers_.value.load() > 0) wake_.value.notify_all();
-  if (pinned) {
-    try {
-      invoke(context, 0);
-    } catch (...) {
-      std::lock_guard lock(error_mutex_);
-      if (!error_) error_ = std::current_exception();
-    }
-    finish_job(jobs_);
-  } else {
-    drain(generation_);
-  }
+  if (pinned) run_job(0);
+  else drain(generation_);
   // Wait for the jobs the workers claimed: poll, then block (the same handshake as the workers' with
   // caller_sleeps_ in place of the sleeper count).
   const auto since = std::chrono::steady_clock::now();

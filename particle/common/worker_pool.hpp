@@ -75,7 +75,9 @@ class WorkerPool {
   using Invoke = void (*)(void*, std::size_t);
   void dispatch(std::size_t jobs, Invoke invoke, void* context, bool pinned);
   void work(std::size_t index);
-  void finish_job(std::uint32_t jobs);  // counts a finished job and wakes a sleeping caller at the last
+  // Runs job k of the current run (an exception is kept for the caller), counts it done and wakes a
+  // sleeping caller at the last.
+  void run_job(std::size_t k);
   // Claims and runs jobs of generation `generation` until none is left; returns how many it ran.
   std::size_t drain(std::uint32_t generation);
 

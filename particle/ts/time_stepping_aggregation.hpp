@@ -228,11 +228,12 @@ class TimeSteppingAggregation {
   std::vector<CellCoords> half_stencil_;  // the offset 0 and one of each ± pair of the 3^d stencil
   static constexpr std::uint32_t no_cell = 0xffffffffu;
   static constexpr std::size_t parallel_cells = 16384;  // fewer cells or spheres: one worker (thread start-up dominates)
-  std::vector<std::uint32_t> half_neighbours_;
+  std::vector<std::uint32_t> half_neighbours_;  // per cell, its half-stencil neighbours (no_cell past a wall)
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> movers_;  // scratch of locate: (sphere, new cell) per worker
-  // f(from, to, worker) over ranges of [0, n) on `threads` workers (one below parallel_cells items).
+  std::size_t thread_count() const { return pool_ ? pool_->threads() : 1; }  // threads of the parallel phases
+  // f(from, to, worker) over ranges of [0, n) on thread_count() threads (one below parallel_cells items).
   template <class F>
-  void for_ranges(std::size_t n, F&& f) const;  // per cell, its half-stencil neighbours (no_cell past a wall)
+  void for_ranges(std::size_t n, F&& f) const;
   ClusterMembership members_;
   // Positions and flights of the spheres, up to date only after sync_all() (quiet flights are logged):
   // mutable because readers bring them up to date, which changes no state a caller can see.

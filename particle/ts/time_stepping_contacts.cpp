@@ -63,7 +63,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     const bool bound = safe != nullptr && !speed_.empty();
     double fastest = 0;
     if (bound) {
-      std::vector<double> top(std::max<std::size_t>(std::min<std::size_t>(settings_.threads, 64), 1), 0.0);
+      std::vector<double> top(thread_count(), 0.0);
       for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
         double most = 0;
         for (std::size_t c = from; c < to; ++c) most = std::max(most, speed_[c]);
@@ -74,7 +74,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     // Gaps less a margin far above the round-off the positions gather over the quiet flights.
     const double contact_margin = 2.0 * radius_ * (1.0 + 1e-6);
     const double far_gap = narrowest - contact_margin;
-    const std::size_t workers = cells >= parallel_cells ? std::min<std::size_t>(settings_.threads, 64) : 1;
+    const std::size_t workers = cells >= parallel_cells ? thread_count() : 1;
     // Nearest other-cluster distance per sphere (near re-check): a pair updates both spheres, which other
     // workers' cells may hold, so with several workers the minimum is taken atomically.
     double* close = nullptr;
