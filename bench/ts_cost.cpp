@@ -117,9 +117,9 @@ int main(int argc, char** argv) {
   }
   std::printf("# 2-D reflecting, square lattice, unit speed, nu %g, TS dt_factor %g, to one cluster; TS then ED per N\n", nu,
               dt_factor);
-  std::printf("%9s %9s %9s %8s %9s %8s %9s %9s %9s %9s %9s %10s %9s %9s %10s\n", "N", "ts_cpu_s", "ts_wall_s", "steps",
+  std::printf("%9s %9s %9s %8s %9s %8s %9s %9s %9s %9s %9s %10s %9s %9s %10s %9s %10s\n", "N", "ts_cpu_s", "ts_wall_s", "steps",
               "substeps", "merges", "iter/mrg", "free/min", "secondary", "ed_cpu_s", "ed_wall_s", "ed_events", "ts/ed_cpu",
-              "quiet", "recheck");
+              "quiet", "recheck", "local", "examined/N");
   std::vector<double> ns, ts_times, ed_times;
   for (int k = 4; k < argc; ++k) {
     const auto n = std::size_t(std::atof(argv[k]));
@@ -130,12 +130,13 @@ int main(int argc, char** argv) {
     if (!ts_only) ed.advance(1e30, 1);
     const double ed_seconds = bench::seconds_since(start), ed_cpu = cpu_seconds() - cpu0;
     const TsCounters& c = ts.counters;
-    std::printf("%9zu %9.3f %9.3f %8llu %9llu %8llu %9.1f %9.1f %9llu %9.3f %9.3f %10llu %9.2f %9llu %10llu\n", n, ts.cpu, ts.seconds,
+    std::printf("%9zu %9.3f %9.3f %8llu %9llu %8llu %9.1f %9.1f %9llu %9.3f %9.3f %10llu %9.2f %9llu %10llu %9llu %10.1f\n", n, ts.cpu, ts.seconds,
                 (unsigned long long)c.steps, (unsigned long long)c.substeps, (unsigned long long)c.merges,
                 double(c.minimisation_iterations) / double(std::max<std::uint64_t>(c.merges, 1)),
                 double(c.free_spheres) / double(std::max<std::uint64_t>(c.minimisations, 1)),
                 (unsigned long long)c.secondary_merges, ed_cpu, ed_seconds, (unsigned long long)ed.counters().events(),
-                ts_only ? 0.0 : ts.cpu / ed_cpu, (unsigned long long)c.quiet_flights, (unsigned long long)c.rechecked_spheres);
+                ts_only ? 0.0 : ts.cpu / ed_cpu, (unsigned long long)c.quiet_flights, (unsigned long long)c.rechecked_spheres,
+                (unsigned long long)c.local_passes, double(c.examined_spheres) / double(n));
     std::fflush(stdout);
     if (ts_only) {
       figures.add(setup + " N=" + bench::Figures::text(double(n)), "ts_cpu_seconds", ts.cpu, "s");

@@ -75,17 +75,25 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       drift_(positions.size()),
       reflected_(positions.size(), 0),
       before_(positions.size()),
-      links_(positions.size()) {
+      links_(positions.size()),
+      expires_(positions.size(), 0.0),
+      near_key_(positions.size(), 0.0),
+      rate_(positions.size(), 0.0),
+      checked_pass_(positions.size(), 0),
+      changed_(positions.size(), 0),
+      stale_(positions.size(), 0) {
   if (positions.size() != velocities.size() || positions.size() < 2)
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
   settings.validate();
   for (const CellCoords& o : grid_.stencil())
-    if (o[2] > 0 || (o[2] == 0 && (o[1] > 0 || (o[1] == 0 && o[0] >= 0)))) half_stencil_.push_back(o);
-  half_neighbours_.assign(grid_.size() * half_stencil_.size(), no_cell);
+    if (o[2] > 0 || (o[2] == 0 && (o[1] > 0 || (o[1] == 0 && o[0] >= 0)))) stencil_.push_back(o);
+  half_width_ = stencil_.size();
+  for (std::size_t k = 1; k < half_width_; ++k) stencil_.push_back({-stencil_[k][0], -stencil_[k][1], -stencil_[k][2]});
+  neighbours_.assign(grid_.size() * stencil_.size(), no_cell);
   for (std::size_t cell = 0; cell < grid_.size(); ++cell)
-    for (std::size_t k = 0; k < half_stencil_.size(); ++k)
-      if (const auto n = grid_.neighbour(grid_.coords(cell), half_stencil_[k]))
-        half_neighbours_[cell * half_stencil_.size() + k] = std::uint32_t(grid_.index(*n));
+    for (std::size_t k = 0; k < stencil_.size(); ++k)
+      if (const auto n = grid_.neighbour(grid_.coords(cell), stencil_[k]))
+        neighbours_[cell * stencil_.size() + k] = std::uint32_t(grid_.index(*n));
   for (std::uint32_t p = 0; p < x_.size(); ++p) cells_.insert(p, grid_.index(grid_.coords_of(x_[p])));
   const auto start_overlaps = overlaps_between_clusters({});
   for (const auto& [a, b] : start_overlaps)
@@ -260,7 +268,7 @@ bool TimeSteppingAggregation::quiet_flight(double dt) {
     const double margin = 1e-9 * side;
     // The clusters that may touch a wall, found on the workers, then handled in increasing order.
     const std::vector<std::uint32_t>& alive = live();
-    const std::size_t workers = thread_count();
+    const std::size_t workers = range_slots();
     std::vector<std::vector<std::uint32_t>> near(workers);
     for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
       std::vector<std::uint32_t> found;
@@ -299,6 +307,7 @@ bool TimeSteppingAggregation::quiet_flight(double dt) {
 }
 
 bool TimeSteppingAggregation::flight(double dt) {
+  clock_ += dt;
   for (const std::uint32_t c : reflected_list_) reflected_[c] = 0;
   reflected_list_.clear();
   jumped_ = false;
@@ -314,7 +323,7 @@ bool TimeSteppingAggregation::flight(double dt) {
   // sphere past one are noted (the test is reflect's own, sphere by sphere); they are then reflected in
   // increasing cluster order, as a walk through every cluster's members per axis would.
   const bool walls = box_.boundary == Boundary::reflecting, periodic = box_.boundary == Boundary::periodic;
-  std::vector<std::vector<std::uint32_t>> past(thread_count());
+  std::vector<std::vector<std::uint32_t>> past(range_slots());
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
     for (std::size_t p = from; p < to; ++p) {
       const std::uint32_t c = members_.cluster_of(std::uint32_t(p));
@@ -350,7 +359,7 @@ void TimeSteppingAggregation::locate() {
   // New cells found in parallel, moved in the (order-dependent) cell list serially.
   // The spheres that changed cell are found in parallel (in increasing order within each worker's range,
   // the ranges in order) and moved serially in that order: the same cell list as a serial walk.
-  const std::size_t workers = thread_count();
+  const std::size_t workers = range_slots();
   std::vector<double> longest(workers, 0.0);
   movers_.resize(workers);
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
@@ -377,7 +386,7 @@ double TimeSteppingAggregation::update_speeds() {
   // Live clusters only (O(clusters) per step): link() zeroes the speed of a cluster it absorbs.
   speed_.resize(x_.size());
   const std::vector<std::uint32_t>& alive = live();
-  std::vector<double> fastest(thread_count(), 0.0);
+  std::vector<double> fastest(range_slots(), 0.0);
   for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
     double top = 0;  // a local maximum: a store to fastest[w] per cluster would alias speed_ for the compiler
     for (std::size_t k = from; k < to; ++k) {
@@ -408,11 +417,11 @@ void TimeSteppingAggregation::step(double dt) {
       continue;
     }
     double safe = 0;
-    auto found = overlaps_between_clusters({}, true, &safe, settings_.contact_time ? &nearest_ : nullptr);
+    auto found = detect(safe);
     if (found.empty()) {
-      // Nothing moves before the next flight: the pass's safe time holds from here (a margin for the
-      // round-off of the positions flown meanwhile).
-      safe_left_ = safe * (1.0 - 1e-9);
+      // Nothing moves before the next flight: every sphere's safe time holds that long (each with a margin
+      // for the round-off of the positions flown meanwhile).
+      safe_left_ = safe;
       continue;
     }
     if (settings_.contact_time) found = merge_binary_contacts(std::move(found), dt / double(substeps));

@@ -43,6 +43,16 @@
 // and finding nothing. Anything that can move a cluster faster than its speed (a merge, a minimisation, a
 // wall correction other than a specular reflection) ends the safe time.
 //
+// Local detection: the pass also gives every sphere its own safe time — its gaps to the spheres of other
+// clusters it examined, each over the pair's closing speed, and the narrowest cell side less 2R over its
+// speed plus the largest — and the clock until which it holds. While a sphere's time holds, no pair it is
+// part of can touch unless the other sphere's cluster changed (a merge, a minimisation, a wall other than a
+// specular reflection), and such a cluster's spheres are examined at the next pass. So after a flight only
+// the spheres whose time ran out, and those of changed clusters, are examined (each against its whole
+// stencil): the pairs found are those of a pass over every sphere. When more than a quarter have run out,
+// or after a wall moved a cluster, every sphere is examined (the half-stencil pass, cheaper per sphere).
+// The quiet flights' safe time is the earliest of the spheres' ends.
+//
 // Quiet flights are rigid-body moves: a flight within the safe time is logged (its Δt), not applied to every
 // sphere; a cluster's spheres are brought up to date by replaying the logged flights in order with the
 // arithmetic of an applied flight (x ← x + Δt V, wrapped on periodic boxes), so the run is the same to the
@@ -53,10 +63,12 @@
 //
 // Near re-check: a contact-time merge moves the two clusters off the positions the detection pass saw (by
 // D = |their displacement|, for most spheres of a large cluster that absorbs a small one a tiny fraction
-// of the flight); the spheres that can now touch another cluster are re-checked. The pass records, for
-// every sphere, the distance to the nearest sphere of another cluster it examined (every pair closer than
-// the narrowest cell side is examined); a sphere whose nearest such distance is at least 2R + its own D +
-// the largest D of the flight (and a margin) cannot touch any sphere that was then in another cluster, and
+// of the flight); the spheres that can now touch another cluster are re-checked. An examination records
+// the distance to the nearest sphere of another cluster (every pair closer than the narrowest cell side is
+// examined); less the closing-speed bound times the time since (and lowered by the examinations of its
+// neighbours since, whose clusters may have jumped) it bounds that distance at the pass. A sphere whose
+// bound is at least 2R + its own D + the largest D of the flight (and a margin) cannot touch any sphere
+// that was then in another cluster, and
 // the pairs within one of the merged clusters keep their separations (a rigid shift): re-checking only the
 // others finds the same pairs as re-checking every moved sphere, for O(those spheres) instead of
 // O(size of the merged cluster) neighbour searches.
@@ -94,6 +106,8 @@ struct TsSettings {
   bool quiet_flights = true;       // skip detection within a pass's safe time (see the header); same run
   bool near_recheck = true;        // after contact-time merges re-check only the spheres that can meet
                                    // another cluster (see the header); same run
+  bool local_detection = true;     // after a flight examine only the spheres whose safe time ran out (see
+                                   // the header); same run
   // InputError for a field outside its option row's range (ts_option_rows), or a damping δ c̄ > 1.
   void validate() const;
 };
@@ -107,6 +121,8 @@ struct TsCounters {
   std::uint64_t substeps = 0;           // flights (≥ 1 per step; more when a cluster would fly too far)
   std::uint64_t quiet_flights = 0;      // flights within a safe time (no detection pass needed)
   std::uint64_t rechecked_spheres = 0;  // spheres re-checked after contact-time merges
+  std::uint64_t local_passes = 0;       // detection passes over the expired spheres only
+  std::uint64_t examined_spheres = 0;   // spheres examined by the detection passes after flights (N per full pass)
   std::uint64_t merges = 0;
   std::uint64_t contact_time_merges = 0;  // binary collisions merged at their contact time
   std::uint64_t secondary_merges = 0;  // merges found after a minimisation of the same step (not in flight)
@@ -200,12 +216,11 @@ class TimeSteppingAggregation {
   // Pairs to link: of different clusters overlapping now, or (`swept`, after a flight) whose relative
   // path over the flight came within 2R; with `among`, those of the given spheres, same-cluster pairs
   // overlapping by more than same_cluster_tolerance included.
-  // `safe`, when given (full swept pass only): the safe time of the header's quiet flights (0 when the
-  // pass took a path that does not bound it).
+  // `bounds` (full swept pass only): also the per-sphere state of local detection, for every sphere; false
+  // when the pass took a path that does not bound the safe times.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among,
                                                                                bool swept = false,
-                                                                               double* safe = nullptr,
-                                                                               std::vector<double>* nearest = nullptr) const;
+                                                                               bool* bounds = nullptr);
   void link(std::uint32_t a, std::uint32_t b);
   // Writes only the group's free spheres; `largest_move`: the largest displacement of one of them.
   DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move);
@@ -225,13 +240,18 @@ class TimeSteppingAggregation {
   std::unique_ptr<WorkerPool> pool_;  // the `threads` workers, kept between steps (null for one thread)
   CellGrid grid_;
   CellList cells_;
-  std::vector<CellCoords> half_stencil_;  // the offset 0 and one of each ± pair of the 3^d stencil
+  // The 3^d stencil: first the half of it a pass over every cell takes (the offset 0 and one of each ± pair),
+  // then the other half; per cell, its neighbour at each offset (no_cell past a wall).
+  std::vector<CellCoords> stencil_;
+  std::size_t half_width_ = 0;
   static constexpr std::uint32_t no_cell = 0xffffffffu;
   static constexpr std::size_t parallel_cells = 16384;  // fewer cells or spheres: one worker (thread start-up dominates)
-  std::vector<std::uint32_t> half_neighbours_;  // per cell, its half-stencil neighbours (no_cell past a wall)
+  std::vector<std::uint32_t> neighbours_;
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> movers_;  // scratch of locate: (sphere, new cell) per worker
   std::size_t thread_count() const { return pool_ ? pool_->threads() : 1; }  // threads of the parallel phases
-  // f(from, to, worker) over ranges of [0, n) on thread_count() threads (one below parallel_cells items).
+  // f(from, to, k) over ranges k of [0, n) in order, claimed by thread_count() threads (one range below
+  // parallel_cells items); per-range results go to slot k of range_slots() slots.
+  std::size_t range_slots() const { return pool_ ? 4 * pool_->threads() : 1; }
   template <class F>
   void for_ranges(std::size_t n, F&& f) const;
   ClusterMembership members_;
@@ -260,7 +280,28 @@ class TimeSteppingAggregation {
   double safe_left_ = 0;           // time left of the safe time of the last detection pass
   bool jumped_ = false;            // a cluster was moved by a wall other than by a specular reflection
   std::vector<std::vector<std::uint32_t>> links_;  // per sphere: its linked partners
-  std::vector<double> nearest_;    // per sphere: nearest other-cluster distance of the last pass (near re-check)
+  // Local detection (header). Per sphere: the clock until which its safe time holds; the rate at which its
+  // distance to the spheres of other clusters can shrink (its speed plus the largest, at its examination);
+  // near_key_ − rate_ · clock_: a lower bound of that distance now (near re-check), from its examination and
+  // from the passes that examined a neighbour since; the pass that examined it. Per cluster id: the pass
+  // after which it changed. stale_: scratch of a local pass (the spheres it examines).
+  std::vector<double> expires_, near_key_, rate_;
+  std::vector<std::uint64_t> checked_pass_, changed_;
+  std::vector<char> stale_;
+  std::uint64_t passes_ = 0;       // detection passes after flights so far
+  double clock_ = 0;               // time flown (the sum of the flights)
+  bool bounds_ = false;            // the per-sphere safe times hold for every sphere
+  static constexpr double local_share = 0.25;  // a local pass when at most this share of the spheres expired
+  // The detection pass after a flight (local or over every sphere, header); `safe`: the time from now that
+  // every sphere's safe time holds (0 when a pass took a path that does not bound it).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> detect(double& safe);
+  // The local pass over the spheres stale_ marks (each against its whole stencil).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> examine(std::span<const std::uint32_t> spheres, double fastest);
+  double fastest() const;       // the largest cluster speed (speed_ of the live clusters)
+  double narrowest() const;     // the narrowest cell side
+  // A sphere's safe time from the gap of a pair and their closing speed (header; a margin far above the
+  // round-off the positions gather over quiet flights).
+  double contact_margin() const { return 2.0 * radius_ * (1.0 + 1e-6); }
   double time_ = 0, dt0_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
   TsCounters counters_;

@@ -25,6 +25,7 @@ void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {
   velocity_[cb] = {0, 0, 0};
   if (cb < speed_.size()) speed_[cb] = 0;  // absorbed: no longer a live cluster (update_speeds skips it)
   live_stale_ = true;
+  changed_[ca] = passes_;  // its spheres are examined at the next pass (local detection)
   members_.merge(ca, cb, [](std::uint32_t) {});
   ++counters_.merges;
 }
@@ -222,11 +223,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
   // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
   // same-cluster tolerance, which a full re-check of the moved spheres would link again).
-  if (settings_.near_recheck && nearest_.size() == x_.size() && counters_.round_cap_hits == 0) {
-    double narrowest = grid_.cell_side()[0];
-    for (int d = 1; d < box_.dimension; ++d) narrowest = std::min(narrowest, grid_.cell_side()[d]);
+  if (settings_.near_recheck && bounds_ && counters_.round_cap_hits == 0) {
     const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
-    std::erase_if(moved, [&](std::uint32_t p) { return std::min(nearest_[p], narrowest) >= reach + norm(before_[p]); });
+    std::erase_if(moved, [&](std::uint32_t p) { return near_key_[p] - rate_[p] * clock_ >= reach + norm(before_[p]); });
   }
   counters_.rechecked_spheres += moved.size();
   // What the merged clusters now overlap is left to the minimisation, with the other contacts.

@@ -21,7 +21,14 @@ void TimeSteppingAggregation::save(StateWriter& out) const {
   out.put(safe_left_);
   out.put(std::uint8_t(jumped_));
   for (const auto& partners : links_) out.put(partners);
-  out.put(nearest_);
+  out.put(expires_);
+  out.put(near_key_);
+  out.put(rate_);
+  out.put(checked_pass_);
+  out.put(changed_);
+  out.put(passes_);
+  out.put(clock_);
+  out.put(std::uint8_t(bounds_));
   out.put(time_);
   out.put(wall_impulse_);
   out.put(counters_);
@@ -47,7 +54,14 @@ void TimeSteppingAggregation::restore(StateReader& in) {
     for (std::uint32_t j : partners)
       if (j >= n) throw CheckpointError("the checkpoint's TS links name a particle beyond the count");
   }
-  in.get(nearest_);
+  in.get(expires_);
+  in.get(near_key_);
+  in.get(rate_);
+  in.get(checked_pass_);
+  in.get(changed_);
+  in.get(passes_);
+  in.get(clock_);
+  bounds_ = in.read<std::uint8_t>() != 0;
   in.get(time_);
   in.get(wall_impulse_);
   in.get(counters_);
@@ -57,7 +71,8 @@ void TimeSteppingAggregation::restore(StateReader& in) {
   std::fill(applied_.begin(), applied_.end(), 0u);
   extents_ = false;
   live_stale_ = true;
-  if (x_.size() != n || velocity_.size() != n || flown_.size() != n || reflected_.size() != n)
+  if (x_.size() != n || velocity_.size() != n || flown_.size() != n || reflected_.size() != n || expires_.size() != n ||
+      near_key_.size() != n || rate_.size() != n || checked_pass_.size() != n || changed_.size() != n)
     throw CheckpointError("the checkpoint's TS configuration has another number of particles");
 }
 
