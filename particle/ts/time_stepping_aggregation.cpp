@@ -268,7 +268,7 @@ bool TimeSteppingAggregation::quiet_flight(double dt) {
     const double margin = 1e-9 * side;
     // The clusters that may touch a wall, found on the workers, then handled in increasing order.
     const std::vector<std::uint32_t>& alive = live();
-    const std::size_t workers = range_slots();
+    const std::size_t workers = thread_count();
     std::vector<std::vector<std::uint32_t>> near(workers);
     for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
       std::vector<std::uint32_t> found;
@@ -323,7 +323,7 @@ bool TimeSteppingAggregation::flight(double dt) {
   // sphere past one are noted (the test is reflect's own, sphere by sphere); they are then reflected in
   // increasing cluster order, as a walk through every cluster's members per axis would.
   const bool walls = box_.boundary == Boundary::reflecting, periodic = box_.boundary == Boundary::periodic;
-  std::vector<std::vector<std::uint32_t>> past(range_slots());
+  std::vector<std::vector<std::uint32_t>> past(thread_count());
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
     for (std::size_t p = from; p < to; ++p) {
       const std::uint32_t c = members_.cluster_of(std::uint32_t(p));
@@ -359,7 +359,7 @@ void TimeSteppingAggregation::locate() {
   // New cells found in parallel, moved in the (order-dependent) cell list serially.
   // The spheres that changed cell are found in parallel (in increasing order within each worker's range,
   // the ranges in order) and moved serially in that order: the same cell list as a serial walk.
-  const std::size_t workers = range_slots();
+  const std::size_t workers = thread_count();
   std::vector<double> longest(workers, 0.0);
   movers_.resize(workers);
   for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
@@ -386,7 +386,7 @@ double TimeSteppingAggregation::update_speeds() {
   // Live clusters only (O(clusters) per step): link() zeroes the speed of a cluster it absorbs.
   speed_.resize(x_.size());
   const std::vector<std::uint32_t>& alive = live();
-  std::vector<double> fastest(range_slots(), 0.0);
+  std::vector<double> fastest(thread_count(), 0.0);
   for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
     double top = 0;  // a local maximum: a store to fastest[w] per cluster would alias speed_ for the compiler
     for (std::size_t k = from; k < to; ++k) {

@@ -249,9 +249,7 @@ class TimeSteppingAggregation {
   std::vector<std::uint32_t> neighbours_;
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> movers_;  // scratch of locate: (sphere, new cell) per worker
   std::size_t thread_count() const { return pool_ ? pool_->threads() : 1; }  // threads of the parallel phases
-  // f(from, to, k) over ranges k of [0, n) in order, claimed by thread_count() threads (one range below
-  // parallel_cells items); per-range results go to slot k of range_slots() slots.
-  std::size_t range_slots() const { return pool_ ? 4 * pool_->threads() : 1; }
+  // f(from, to, worker) over ranges of [0, n) on thread_count() threads (one below parallel_cells items).
   template <class F>
   void for_ranges(std::size_t n, F&& f) const;
   ClusterMembership members_;

@@ -278,7 +278,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::de
   if (settings_.local_detection && bounds_ && !jumped_ && 2.0 * radius_ + 2.0 * longest_flight_ <= narrowest()) {
     // The spheres whose safe time ran out in the flight, or whose cluster changed since their examination;
     // and the earliest end among the others.
-    const std::size_t workers = range_slots();
+    const std::size_t workers = thread_count();
     std::vector<std::vector<std::uint32_t>> due(workers);
     std::vector<double> earliest(workers, std::numeric_limits<double>::infinity());
     for_ranges(n, [&](std::size_t from, std::size_t to, std::size_t w) {
@@ -316,7 +316,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::de
   auto found = overlaps_between_clusters({}, true, &bounds_);
   counters_.examined_spheres += n;
   if (bounds_) {
-    std::vector<double> first(range_slots(), std::numeric_limits<double>::infinity());
+    std::vector<double> first(thread_count(), std::numeric_limits<double>::infinity());
     for_ranges(n, [&](std::size_t from, std::size_t to, std::size_t w) {
       double soonest = std::numeric_limits<double>::infinity();
       for (std::size_t p = from; p < to; ++p) soonest = std::min(soonest, expires_[p]);

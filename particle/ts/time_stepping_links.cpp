@@ -205,8 +205,16 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   };
   const bool spread = pool_ && merged > 1 && spheres >= parallel_merge;
   auto each = [&](auto&& job) {
-    if (spread) pool_->run(merged, job);
-    else for (std::size_t k = 0; k < merged; ++k) job(k);
+    if (!spread) {
+      for (std::size_t k = 0; k < merged; ++k) job(k);
+      return;
+    }
+    // Runs of consecutive merges claimed by the workers: one claim per merge (most move a few spheres)
+    // would cost more than the moves.
+    const std::size_t runs = std::min(merged, 8 * pool_->threads());
+    pool_->run(runs, [&](std::size_t r) {
+      for (std::size_t k = merged * r / runs; k < merged * (r + 1) / runs; ++k) job(k);
+    });
   };
   each(move_back);
   for (std::size_t k = 0; k < merged; ++k)

@@ -31,11 +31,10 @@ void TimeSteppingAggregation::for_near(std::uint32_t i, double reach, F&& f) con
 
 template <class F>
 void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
-  const std::size_t chunks = n >= parallel_cells ? range_slots() : 1;
-  if (chunks <= 1) return f(std::size_t(0), n, std::size_t(0));
-  // Ranges claimed by the workers as they come free: a core that is slower this moment (other work on the
-  // machine, a cache its phase left cold) takes fewer.
-  pool_->run(chunks, [&](std::size_t k) { f(n * k / chunks, n * (k + 1) / chunks, k); });
+  const std::size_t workers = n >= parallel_cells ? thread_count() : 1;
+  if (workers <= 1) return f(std::size_t(0), n, std::size_t(0));
+  // Range w on thread w, phase after phase: each range stays in one core's cache (worker_pool.hpp).
+  pool_->run_each([&](std::size_t w) { f(n * w / workers, n * (w + 1) / workers, w); });
 }
 
 }  // namespace aggkit
