@@ -237,7 +237,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   }
   counters_.rechecked_spheres += moved.size();
   // What the merged clusters now overlap is left to the minimisation, with the other contacts.
-  for (const auto& pr : overlaps_between_clusters(moved)) rest.push_back(pr);
+  // (None left: nothing to re-check; an empty list would ask for a pass over every sphere.)
+  if (!moved.empty())
+    for (const auto& pr : overlaps_between_clusters(moved)) rest.push_back(pr);
   std::sort(rest.begin(), rest.end());
   rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
   return rest;

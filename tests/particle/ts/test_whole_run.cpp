@@ -291,3 +291,29 @@ TEST_CASE("ts: two discs in a head-on collision merge once, momentum conserved, 
   CHECK(ts.time() >= contact);
   CHECK(ts.time() <= contact + 2 * ts.time_step());
 }
+
+TEST_CASE("ts: a contact-time merge that stops a disc on a third one links the third in the same flight", "[ts][few][near]") {
+  // A and B meet head on at t = 0.45, in the flight (0.4, 0.6]; merged there, they stop. C comes down onto
+  // the place where A stops: at the end of the flight it overlaps A's stopped position by 0.005, while over
+  // the swept paths of the pass (A flying on to x = 10.6) it stayed 1.006 from A. Only the re-check of the
+  // merged spheres finds the pair in that flight; left to the next pass, C would be linked a flight later.
+  const Box box{2, {40, 40, 0}, Boundary::reflecting};
+  const std::vector<Vector3> x{{10, 10, 0}, {11.9, 10, 0}, {10.45, 11.295, 0}}, v{{1, 0, 0}, {-1, 0, 0}, {0, -0.5, 0}};
+  for (const bool near : {true, false}) {
+    TsSettings settings;
+    settings.dt_factor = 0.005;  // Δt(0) = 0.2, one flight per step (≤ 0.25 = 2R/4): flights end at 0.2, 0.4, 0.6
+    settings.near_recheck = near;
+    TimeSteppingAggregation ts(box, 0.5, x, v, settings);
+    ts.step();
+    ts.step();
+    REQUIRE(ts.clusters() == 3);
+    ts.step();
+    INFO("near re-check " << near);
+    REQUIRE(ts.time() == Approx(0.6).epsilon(1e-12));
+    CHECK(ts.counters().substeps == 3);
+    CHECK(ts.counters().contact_time_merges == 1);
+    CHECK(ts.counters().rechecked_spheres >= 1);
+    CHECK(ts.clusters() == 1);  // C linked in the flight of the merge
+    CHECK(ts.largest_relative_overlap() < 1e-2);
+  }
+}
