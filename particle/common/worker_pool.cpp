@@ -30,7 +30,7 @@ WorkerPool::~WorkerPool() {
 std::size_t WorkerPool::drain(std::uint32_t generation) {
   std::size_t ran = 0;
   std::uint64_t t = ticket_.value.load(std::memory_order_acquire);
-  while (generation_of(t) == generation && std::uint32_t(t) != 0) {
+  while (generation_of(t) == generation && std::uint32_t(t) != 0 && (std::uint32_t(t) & pinned_run) == 0) {
     if (!ticket_.value.compare_exchange_weak(t, t - 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
     // Claimed: the run cannot finish before this job is done, so its fields stay put until then.
     run_job(jobs_ - std::uint32_t(t));
@@ -75,7 +75,7 @@ void WorkerPool::work(std::size_t index) {
     if (stop_.load()) return;
     seen = generation_of(t);
     // The run cannot finish before this thread's job is done, so the fields stay put until then.
-    if (pinned_) {
+    if ((std::uint32_t(t) & pinned_run) != 0) {
       run_job(index);
       continue;
     }
@@ -87,11 +87,10 @@ void WorkerPool::dispatch(std::size_t jobs, Invoke invoke, void* context, bool p
   invoke_ = invoke;
   context_ = context;
   jobs_ = std::uint32_t(jobs);
-  pinned_ = pinned;
   done_.value.store(0, std::memory_order_relaxed);
   ++generation_;
   // Publishes the fields above; a pinned run leaves nothing to claim (each worker runs its own job).
-  ticket_.value.store((std::uint64_t(generation_) << 32) | (pinned ? 0u : jobs_));
+  ticket_.value.store((std::uint64_t(generation_) << 32) | (pinned ? pinned_run : jobs_));
   wake_.value.fetch_add(1);
   if (sleepers_.value.load() > 0) wake_.value.notify_all();
   if (pinned) run_job(0);

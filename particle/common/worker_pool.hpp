@@ -43,7 +43,7 @@ class WorkerPool {
 
   std::size_t threads() const { return workers_.size() + 1; }
 
-  // job(k) for k < jobs, job callable as job(std::size_t). jobs < 2^32.
+  // job(k) for k < jobs, job callable as job(std::size_t). jobs < 2^31.
   template <class Job>
   void run(std::size_t jobs, Job&& job) {
     using Callable = std::remove_reference_t<Job>;
@@ -86,7 +86,10 @@ class WorkerPool {
   // caller), and the wake-up words.
   struct alignas(64) Word64 { std::atomic<std::uint64_t> value{0}; };
   struct alignas(64) Word32 { std::atomic<std::uint32_t> value{0}; };
-  Word64 ticket_;      // (generation << 32) | jobs not yet claimed
+  // (generation << 32) | jobs not yet claimed, or | pinned_run for a run_each (nothing to claim): a worker
+  // tells the kind of a run from the word it saw the run in, never from a field the next run may rewrite.
+  static constexpr std::uint32_t pinned_run = 0x80000000u;
+  Word64 ticket_;
   Word32 done_;        // jobs of the current run finished
   Word32 wake_;        // bumped by each run and at shutdown: what blocked workers wait on
   Word32 sleepers_;    // workers blocked (or about to block) on wake_
@@ -95,7 +98,6 @@ class WorkerPool {
   Invoke invoke_ = nullptr;
   void* context_ = nullptr;
   std::uint32_t jobs_ = 0, generation_ = 0;
-  bool pinned_ = false;  // this run's jobs are one per thread (run_each), not claimed
   std::atomic<bool> stop_{false};
   std::mutex error_mutex_;  // taken only when a job throws
   std::exception_ptr error_;

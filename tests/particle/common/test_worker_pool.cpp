@@ -97,6 +97,28 @@ TEST_CASE("worker pool: run_each runs job t on thread t, the caller's job 0, the
   }
 }
 
+TEST_CASE("worker pool: a worker late for a claimed run does not run the next run_each's job twice", "[common][worker_pool]") {
+  // Claimed runs of two jobs, which the caller often finishes before a worker has looked, back to back with
+  // run_each: a worker that saw the claimed run but read the kind of run after the next run was published
+  // would run its run_each job once for each run (the kind is now read from the word the run was seen in).
+  // ThreadSanitizer flags the old read at once; here a job run twice, or late, shows as a wrong count.
+  for (std::size_t threads : {2u, 3u}) {
+    WorkerPool pool(threads);
+    std::vector<std::atomic<int>> each(threads);
+    std::atomic<int> claimed{0};
+    const int runs = 3000;
+    for (int r = 0; r < runs; ++r) {
+      pool.run(2, [&](std::size_t) { claimed.fetch_add(1); });
+      for (auto& k : each) k.store(0);
+      pool.run_each([&](std::size_t t) { each[t].fetch_add(1); });
+      int wrong = 0;
+      for (auto& k : each) wrong += k.load() != 1 ? 1 : 0;
+      REQUIRE(wrong == 0);
+    }
+    CHECK(claimed.load() == 2 * runs);
+  }
+}
+
 TEST_CASE("worker pool: a throwing job is rethrown after the others finished, and the pool stays usable", "[common][worker_pool]") {
   for (std::size_t threads : {1u, 3u}) {
     WorkerPool pool(threads);
