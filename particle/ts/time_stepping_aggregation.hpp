@@ -35,23 +35,19 @@
 // substeps that do not, each followed by steps 2–3; contacts are found along the flown paths (a pair whose
 // separation came within 2R during the flight), so none is tunnelled through however long the step.
 //
-// Quiet flights: a contact-detection pass also yields a safe time — the smallest gap between spheres of
-// different clusters (pairs in neighbouring cells: their gap; the rest: at least the narrowest cell side
-// less 2R) divided by the largest closing speed of the two clusters (|V_a| + |V_b|; 2 max|V| for the
-// rest). While the flights since a pass that found nothing stay within it, no pair can come within 2R, so
-// those flights skip detection and the cell-list update: the result is the same as detecting each flight
-// and finding nothing. Anything that can move a cluster faster than its speed (a merge, a minimisation, a
-// wall correction other than a specular reflection) ends the safe time.
-//
-// Local detection: the pass also gives every sphere its own safe time — its gaps to the spheres of other
-// clusters it examined, each over the pair's closing speed, and the narrowest cell side less 2R over its
-// speed plus the largest — and the clock until which it holds. While a sphere's time holds, no pair it is
-// part of can touch unless the other sphere's cluster changed (a merge, a minimisation, a wall other than a
-// specular reflection), and such a cluster's spheres are examined at the next pass. So after a flight only
-// the spheres whose time ran out, and those of changed clusters, are examined (each against its whole
+// Safe times (local detection): a detection pass gives every sphere it examines its own safe time — its
+// gaps to the spheres of other clusters in neighbouring cells, each over the pair's closing speed
+// (|V_a| + |V_b|), and for the rest (at least the narrowest cell side apart) that side less 2R over its speed
+// plus the largest — and the clock until which it holds. While a sphere's time holds, no pair it is part of
+// can touch unless the other sphere's cluster changed (a merge, a minimisation, a wall correction other than
+// a specular reflection), and a changed cluster's spheres are examined at the next pass. So after a flight
+// only the spheres whose time ran out, and those of changed clusters, are examined (each against its whole
 // stencil): the pairs found are those of a pass over every sphere. When more than a quarter have run out,
 // or after a wall moved a cluster, every sphere is examined (the half-stencil pass, cheaper per sphere).
-// The quiet flights' safe time is the earliest of the spheres' ends.
+//
+// Quiet flights: while the flights since a pass that found nothing stay within the earliest end of the
+// spheres' safe times, no pair can come within 2R, so those flights skip detection and the cell-list update:
+// the result is the same as detecting each flight and finding nothing.
 //
 // Quiet flights are rigid-body moves: a flight within the safe time is logged (its Δt), not applied to every
 // sphere; a cluster's spheres are brought up to date by replaying the logged flights in order with the
@@ -293,12 +289,12 @@ class TimeSteppingAggregation {
   // The detection pass after a flight (local or over every sphere, header); `safe`: the time from now that
   // every sphere's safe time holds (0 when a pass took a path that does not bound it).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> detect(double& safe);
-  // The local pass over the spheres stale_ marks (each against its whole stencil).
+  // The local pass over the given spheres (stale_ marks them), each against its whole stencil.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> examine(std::span<const std::uint32_t> spheres, double fastest);
   double fastest() const;       // the largest cluster speed (speed_ of the live clusters)
   double narrowest() const;     // the narrowest cell side
-  // A sphere's safe time from the gap of a pair and their closing speed (header; a margin far above the
-  // round-off the positions gather over quiet flights).
+  // The contact distance 2R of the safe times, with a margin far above the round-off the positions gather
+  // over quiet flights: a gap is a distance less this.
   double contact_margin() const { return 2.0 * radius_ * (1.0 + 1e-6); }
   double time_ = 0, dt0_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
