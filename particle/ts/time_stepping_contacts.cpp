@@ -102,9 +102,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     const std::size_t cells = grid_.size(), width = half_width_, row = stencil_.size();
     // Local detection's state (header): per sphere, its safe time (pairs in neighbouring cells by their gap
     // and closing speed, the others at least the narrowest cell side apart) and its nearest other-cluster
-    // distance, both minima over its pairs. A pair updates both spheres: a worker writes the spheres of its
-    // own cells directly and keeps those of other workers' cells (the stencil's cells past its range) in a
-    // list applied after the pass, so the minima do not depend on the split.
+    // distance, both minima over its pairs. A pair updates both spheres: a range of cells writes the spheres
+    // of its own cells directly and keeps those of other ranges' cells (the stencil's cells past its end) in
+    // a list applied after the pass, so no two workers write one sphere and the minima do not depend on the
+    // split.
     const bool bound = bounds != nullptr && !speed_.empty();
     const double most = bound ? fastest() : 0.0;
     const double margin = contact_margin(), far_gap = side - margin;
