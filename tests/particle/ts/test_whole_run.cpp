@@ -187,7 +187,7 @@ TEST_CASE("ts: re-checking only the spheres that can meet another cluster after 
   CHECK(near.positions() == all.positions());
 }
 
-TEST_CASE("ts: local detection (only the spheres whose safe time ran out examined) gives the same run as examining every sphere",
+TEST_CASE("ts: local detection (only the spheres whose safe time ran out examined) gives the same run as examining every sphere, on one and two threads",
           "[ts][local]") {
   // The per-sphere safe times and the stamps of changed clusters prove that the spheres left out find
   // nothing: the runs must agree to the bit, to one cluster, with both kinds of walls, in 2-D and 3-D, and
