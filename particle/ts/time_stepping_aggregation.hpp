@@ -228,6 +228,10 @@ class TimeSteppingAggregation {
   Vector3 sep(std::uint32_t i, std::uint32_t j) const { return box_.minimum_image(x_[j] - x_[i]); }
   template <class F>
   void for_near(std::uint32_t i, double reach, F&& f) const;  // every j != i within `reach` cells' span
+  // f(j, d) for every j != i in the 3^d cells around i's cell in the cell list, d = x_j − x_i as the image
+  // the stencil's offset stands for (the same bits from either sphere of a pair).
+  template <class F>
+  void for_stencil(std::uint32_t i, F&& f) const;
 
   Box box_;
   double radius_;

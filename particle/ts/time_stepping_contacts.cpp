@@ -51,6 +51,13 @@ double far_time(double far_gap, double rate) {
   return rate > 0 ? far_gap / rate : std::numeric_limits<double>::infinity();
 }
 
+// The contact test after a flight whose longest sphere displacement is `longest` (swept), or of overlaps
+// now: pairs farther apart than 2R plus twice that (and a margin for round-off) skip the swept test.
+Contact contact_test(const std::vector<Vector3>& flown, double radius, double longest, bool swept) {
+  const double apart = (2.0 * radius + (swept ? 2.0 * longest : 0.0)) * (1.0 + 1e-9);
+  return {flown, 4.0 * radius * radius, apart * apart, swept};
+}
+
 }  // namespace
 
 double TimeSteppingAggregation::fastest() const {
@@ -69,11 +76,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
     std::span<const std::uint32_t> among, bool swept, bool* bounds) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> found;
   if (bounds) *bounds = false;
-  const double contact2 = 4.0 * radius_ * radius_;
-  const double same_cluster2 = contact2 * (1 - same_cluster_tolerance) * (1 - same_cluster_tolerance);
+  const Contact touched = contact_test(flown_, radius_, longest_flight_, swept);
+  const double same_cluster2 = touched.contact2 * (1 - same_cluster_tolerance) * (1 - same_cluster_tolerance);
   const double reach = 2.0 * radius_ + (swept ? 2.0 * longest_flight_ : 0.0);
-  const double apart = reach * (1.0 + 1e-9);
-  const Contact touched{flown_, contact2, apart * apart, swept};
   const double side = narrowest();
   auto scan_into = [&](std::uint32_t i, bool all, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
     auto pair = [&](std::uint32_t j, const Vector3& d) {
@@ -85,14 +90,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
                                                                            : (!all && dot(d, d) < same_cluster2);
       if (linked) out.emplace_back(std::min(i, j), std::max(i, j));
     };
-    if (reach <= side) {  // the stencil's cells (the cell list is up to date for the given spheres)
-      const std::uint32_t* row = &neighbours_[cells_.cell_of(i) * stencil_.size()];
-      for (std::size_t k = 0; k < stencil_.size(); ++k)
-        if (row[k] != no_cell)
-          for (std::uint32_t j = cells_.first(row[k]); j != CellList::none; j = cells_.next(j))
-            if (j != i) pair(j, grid_.stencil_image(x_[j] - x_[i], stencil_[k]));
-      return;
-    }
+    if (reach <= side) return for_stencil(i, pair);  // the cell list is up to date for the given spheres
     for_near(i, reach, [&](std::uint32_t j) { pair(j, sep(i, j)); });
   };
   auto scan = [&](std::uint32_t i, bool all) { scan_into(i, all, found); };
@@ -215,9 +213,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ov
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::examine(std::span<const std::uint32_t> spheres,
                                                                                       double most) {
-  const double contact2 = 4.0 * radius_ * radius_;
-  const double apart = (2.0 * radius_ + 2.0 * longest_flight_) * (1.0 + 1e-9);
-  const Contact touched{flown_, contact2, apart * apart, true};
+  const Contact touched = contact_test(flown_, radius_, longest_flight_, true);
   const double side = narrowest(), margin = contact_margin(), far_gap = side - margin;
   // A neighbour not examined itself gets the distance as a bound (near_key_), applied after the pass.
   using Near = std::pair<std::uint32_t, double>;
@@ -225,22 +221,16 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::ex
     const std::uint32_t ci = members_.cluster_of(i);
     const double rate = speed_[ci] + most;
     double soon = far_time(far_gap, rate), close = std::numeric_limits<double>::infinity();
-    const std::uint32_t* row = &neighbours_[cells_.cell_of(i) * stencil_.size()];
-    for (std::size_t k = 0; k < stencil_.size(); ++k) {
-      if (row[k] == no_cell) continue;
-      const CellCoords& o = stencil_[k];
-      for (std::uint32_t j = cells_.first(row[k]); j != CellList::none; j = cells_.next(j)) {
-        const std::uint32_t cj = members_.cluster_of(j);
-        if (cj == ci) continue;
-        // The offset of j's cell from i's: the image the half-stencil pass takes, mirrored.
-        const Vector3 d = grid_.stencil_image(x_[j] - x_[i], o);
-        if (touched(d, i, j)) out.emplace_back(std::min(i, j), std::max(i, j));
-        const double distance = std::sqrt(dot(d, d));
-        close = std::min(close, distance);
-        soon = std::min(soon, closing_time(distance, margin, speed_[ci] + speed_[cj]));
-        if (!stale_[j]) near.emplace_back(j, distance);
-      }
-    }
+    // The image of each pair is the half-stencil pass's, mirrored: the same answers from either sphere.
+    for_stencil(i, [&](std::uint32_t j, const Vector3& d) {
+      const std::uint32_t cj = members_.cluster_of(j);
+      if (cj == ci) return;
+      if (touched(d, i, j)) out.emplace_back(std::min(i, j), std::max(i, j));
+      const double distance = std::sqrt(dot(d, d));
+      close = std::min(close, distance);
+      soon = std::min(soon, closing_time(distance, margin, speed_[ci] + speed_[cj]));
+      if (!stale_[j]) near.emplace_back(j, distance);
+    });
     rate_[i] = rate;
     expires_[i] = clock_ + soon * (1.0 - 1e-9);
     near_key_[i] = std::min(close, side) + rate * clock_;

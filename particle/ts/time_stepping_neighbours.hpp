@@ -30,6 +30,15 @@ void TimeSteppingAggregation::for_near(std::uint32_t i, double reach, F&& f) con
 }
 
 template <class F>
+void TimeSteppingAggregation::for_stencil(std::uint32_t i, F&& f) const {
+  const std::uint32_t* row = &neighbours_[cells_.cell_of(i) * stencil_.size()];
+  for (std::size_t k = 0; k < stencil_.size(); ++k)
+    if (row[k] != no_cell)
+      for (std::uint32_t j = cells_.first(row[k]); j != CellList::none; j = cells_.next(j))
+        if (j != i) f(j, grid_.stencil_image(x_[j] - x_[i], stencil_[k]));
+}
+
+template <class F>
 void TimeSteppingAggregation::for_ranges(std::size_t n, F&& f) const {
   const std::size_t workers = n >= parallel_cells ? thread_count() : 1;
   if (workers <= 1) return f(std::size_t(0), n, std::size_t(0));

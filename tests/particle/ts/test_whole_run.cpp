@@ -40,6 +40,23 @@ TimeSteppingAggregation make_run(int dimension, std::size_t count, double nu, Bo
                                  initial_velocities(dimension, count, VelocityLaw::fixed_speed, 1.0, 7), settings);
 }
 
+// Steps `run` and `reference` together until the reference holds one cluster (at most 20 000 steps).
+void step_together(TimeSteppingAggregation& run, TimeSteppingAggregation& reference) {
+  while (reference.clusters() > 1 && reference.counters().steps < 20000) {
+    run.step();
+    reference.step();
+  }
+}
+
+// The same run to the bit: steps, merges, minimisation iterations, positions and wall impulse.
+void check_same_run(const TimeSteppingAggregation& run, const TimeSteppingAggregation& reference) {
+  CHECK(run.counters().steps == reference.counters().steps);
+  CHECK(run.counters().merges == reference.counters().merges);
+  CHECK(run.counters().minimisation_iterations == reference.counters().minimisation_iterations);
+  CHECK(run.positions() == reference.positions());
+  CHECK(run.wall_impulse() == reference.wall_impulse());
+}
+
 void check_whole_run(TimeSteppingAggregation ts) {
   const Vector3 p0 = ts.momentum() + ts.wall_impulse();
   double scale = 0;
@@ -136,18 +153,11 @@ TEST_CASE("ts: quiet flights (detection skipped within a safe time) give the sam
                        Case{3, 216, 0.2, Boundary::reflecting}, Case{3, 125, 0.1, Boundary::periodic}}) {
     auto quiet = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01);
     auto every = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01, 1, true, false, true, false);
-    while (every.clusters() > 1 && every.counters().steps < 20000) {
-      quiet.step();
-      every.step();
-    }
+    step_together(quiet, every);
     INFO("dimension " << k.dimension << ", N " << k.count);
     CHECK(every.counters().quiet_flights == 0);
     CHECK(quiet.counters().quiet_flights > 0);  // the skipping path is taken
-    CHECK(quiet.counters().steps == every.counters().steps);
-    CHECK(quiet.counters().merges == every.counters().merges);
-    CHECK(quiet.counters().minimisation_iterations == every.counters().minimisation_iterations);
-    CHECK(quiet.positions() == every.positions());
-    CHECK(quiet.wall_impulse() == every.wall_impulse());
+    check_same_run(quiet, every);
   }
 }
 
@@ -161,20 +171,13 @@ TEST_CASE("ts: re-checking only the spheres that can meet another cluster after 
                        Case{3, 343, 0.2, Boundary::reflecting}, Case{3, 216, 0.1, Boundary::periodic}}) {
     auto near = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01);
     auto all = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01, 1, true, true, false);
-    while (all.clusters() > 1 && all.counters().steps < 20000) {
-      near.step();
-      all.step();
-    }
+    step_together(near, all);
     INFO("dimension " << k.dimension << ", N " << k.count);
     CHECK(all.clusters() == 1);
     CHECK(near.counters().contact_time_merges > 0);
     // The filter leaves spheres out (else the test shows nothing).
     CHECK(near.counters().rechecked_spheres < all.counters().rechecked_spheres / 2);
-    CHECK(near.counters().steps == all.counters().steps);
-    CHECK(near.counters().merges == all.counters().merges);
-    CHECK(near.counters().minimisation_iterations == all.counters().minimisation_iterations);
-    CHECK(near.positions() == all.positions());
-    CHECK(near.wall_impulse() == all.wall_impulse());
+    check_same_run(near, all);
   }
   auto near = make_run(2, 20000, 0.3, Boundary::reflecting, 0.002, 2);
   auto all = make_run(2, 20000, 0.3, Boundary::reflecting, 0.002, 2, true, true, false);
@@ -196,21 +199,14 @@ TEST_CASE("ts: local detection (only the spheres whose safe time ran out examine
                        Case{3, 343, 0.2, Boundary::reflecting}, Case{3, 216, 0.1, Boundary::periodic}}) {
     auto local = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01);
     auto full = make_run(k.dimension, k.count, k.nu, k.boundary, 0.01, 1, true, true, true, false);
-    while (full.clusters() > 1 && full.counters().steps < 20000) {
-      local.step();
-      full.step();
-    }
+    step_together(local, full);
     INFO("dimension " << k.dimension << ", N " << k.count);
     CHECK(full.clusters() == 1);
     CHECK(full.counters().local_passes == 0);
     // The local path is taken and examines fewer spheres (else the test shows nothing).
     CHECK(local.counters().local_passes > 10);
     CHECK(local.counters().examined_spheres < full.counters().examined_spheres * 3 / 4);
-    CHECK(local.counters().steps == full.counters().steps);
-    CHECK(local.counters().merges == full.counters().merges);
-    CHECK(local.counters().minimisation_iterations == full.counters().minimisation_iterations);
-    CHECK(local.positions() == full.positions());
-    CHECK(local.wall_impulse() == full.wall_impulse());
+    check_same_run(local, full);
   }
   auto local = make_run(2, 20000, 0.3, Boundary::reflecting, 0.002, 2);
   auto full = make_run(2, 20000, 0.3, Boundary::reflecting, 0.002, 2, true, true, true, false);
