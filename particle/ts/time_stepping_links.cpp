@@ -220,20 +220,25 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   for (std::size_t k = 0; k < merged; ++k)
     if (!inside[k]) reflect(survivor[k]);
   each(relocate);
-  std::vector<std::uint32_t> moved;
-  moved.reserve(spheres);
   double farthest = 0;
-  for (std::size_t k = 0; k < merged; ++k) {
-    for (const auto& [p, cell] : changed[k]) cells_.move(p, cell);
-    for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p)) moved.push_back(p);
-    farthest = std::max(farthest, farthest_of[k]);
-  }
+  for (std::size_t k = 0; k < merged; ++k) farthest = std::max(farthest, farthest_of[k]);
   // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
   // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
-  // same-cluster tolerance, which a full re-check of the moved spheres would link again).
-  if (settings_.near_recheck && bounds_ && counters_.round_cap_hits == 0) {
-    const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
-    std::erase_if(moved, [&](std::uint32_t p) { return near_key_[p] - rate_[p] * clock_ >= reach + norm(before_[p]); });
+  // same-cluster tolerance, which a full re-check of the moved spheres would link again). Per merged
+  // cluster, on the workers; gathered in merge order.
+  const bool near = settings_.near_recheck && bounds_ && counters_.round_cap_hits == 0;
+  const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
+  std::vector<std::vector<std::uint32_t>> recheck(merged);
+  each([&](std::size_t k) {
+    std::vector<std::uint32_t> mine;  // a local: the slots of recheck share cache lines
+    for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p))
+      if (!near || !(near_key_[p] - rate_[p] * clock_ >= reach + norm(before_[p]))) mine.push_back(p);
+    recheck[k] = std::move(mine);
+  });
+  std::vector<std::uint32_t> moved;
+  for (std::size_t k = 0; k < merged; ++k) {
+    for (const auto& [p, cell] : changed[k]) cells_.move(p, cell);
+    moved.insert(moved.end(), recheck[k].begin(), recheck[k].end());
   }
   counters_.rechecked_spheres += moved.size();
   // What the merged clusters now overlap is left to the minimisation, with the other contacts.
