@@ -74,6 +74,12 @@ int main(int argc, char** argv) {
   const auto started = std::chrono::steady_clock::now();
   const std::clock_t cpu_started = std::clock();
   const aggkit::bench::Figures figures("lambda_crit_curve", argc, argv);
+  // Graded grids are other cases than the uniform one (bench/check compares a case with its standing row).
+  std::string grid_case;
+  if (!grid.uniform()) {
+    grid_case = " K=" + std::to_string(grid.resolved) + " r=" + aggkit::bench::Figures::text(grid.ratio);
+    if (grid.scheme != GridScheme::three_moment) grid_case += std::string(" ") + scheme_name(grid.scheme);
+  }
   hopf_curve(base, as, guess, size, options, [&](const ConvergedHopfPoint& p) {
     std::printf("| %.2f | %.6g | %zu | %zu | %.6g | %.2e | %.2e | %.2e | %.1e | %.5g | %.4g | %d | %.1f | %.1f | %s%s |\n", p.a,
                 p.lambda_crit, p.size, p.unknowns, p.lambda_crit_half, p.change, p.change_K, p.change_ratio, p.bracket,
@@ -84,7 +90,7 @@ int main(int argc, char** argv) {
                   p.by_size[i].found ? aggkit::bench::Figures::text(p.by_size[i].lambda_crit).c_str() : "not found",
                   p.by_size[i].evaluations, p.by_size[i].cpu_seconds, p.by_size[i].note.c_str());
     std::fflush(stdout);
-    const std::string case_name = "a=" + aggkit::bench::Figures::text(p.a);
+    const std::string case_name = "a=" + aggkit::bench::Figures::text(p.a) + grid_case;
     figures.add(case_name, "lambda_crit", p.converged ? p.lambda_crit : NAN, "1");
     figures.add(case_name, "change_2N", p.converged ? p.change : NAN, "1");
     figures.add(case_name, "N", double(p.size), "1");
@@ -97,7 +103,7 @@ int main(int argc, char** argv) {
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const double cpu = double(std::clock() - cpu_started) / CLOCKS_PER_SEC;
   std::printf("total %.1f s wall, %.1f s CPU; load average at end %s\n", total, cpu, load_average().c_str());
-  const std::string curve_case = std::to_string(as.size()) + " a";
+  const std::string curve_case = std::to_string(as.size()) + " a" + grid_case;
   figures.add(curve_case, "wall_seconds", total, "s");
   figures.add(curve_case, "cpu_seconds", cpu, "s");
 }
