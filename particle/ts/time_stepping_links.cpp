@@ -232,7 +232,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   each([&](std::size_t k) {
     std::vector<std::uint32_t> mine;  // a local: the slots of recheck share cache lines
     for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p))
-      if (!near || !(near_key_[p] - rate_[p] * clock_ >= reach + norm(before_[p]))) mine.push_back(p);
+      if (!near || near_key_[p] - rate_[p] * clock_ < reach + norm(before_[p])) mine.push_back(p);
     recheck[k] = std::move(mine);
   });
   std::vector<std::uint32_t> moved;
