@@ -125,9 +125,8 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     if (n.ndim() != 1 || std::size_t(n.shape(0)) > scene.model.size)
       throw InputError("initial", std::to_string(n.size()) + " entries",
                        "a 1-D array of at most size = " + std::to_string(scene.model.size) + " densities");
-    // Padded with zeros to N on the uniform grid; a graded grid's N may be far too large for that (a
-    // shorter table means zeros beyond, solvers/model.hpp).
-    scene.model.initial.assign(scene.model.grid.uniform() ? scene.model.size : std::size_t(n.shape(0)), 0.0);
+    // Zeros beyond the table (solvers/model.hpp): a graded grid's N may be far too large to pad to.
+    scene.model.initial.assign(std::size_t(n.shape(0)), 0.0);
     std::copy(n.data(), n.data() + n.shape(0), scene.model.initial.begin());
     scene.model.validate(scene.time.end);  // keys as the Python arguments name them ("initial.n[3]")
   }

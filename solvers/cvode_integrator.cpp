@@ -20,6 +20,7 @@
 #include <string>
 
 #include "analysis/input_error.hpp"
+#include "solvers/discretisation.hpp"
 
 namespace aggkit {
 
@@ -60,7 +61,7 @@ namespace {
 
 // Everything the C callbacks need; exceptions are parked here and rethrown after CVODE returns.
 struct Problem {
-  const AggregationModel* model = nullptr;
+  const Discretisation* grid = nullptr;
   Rates* rates = nullptr;
   std::size_t N = 0;
   std::vector<double> sizes;              // the classes' sizes (pivots; 1..N on the uniform grid)
@@ -151,12 +152,12 @@ int dense_jacobian_callback(sunrealtype t, N_Vector y, N_Vector, SUNMatrix J, vo
   return guarded(p, [&] {
     const std::size_t N = p->N;
     p->dense.resize(N * N);
-    if (!p->rates->dense_jacobian(t, view(y, N), p->dense)) dense_jacobian(*p->model, t, view(y, N), p->dense);
+    p->grid->dense_jacobian(t, view(y, N), p->dense);
     SUNMatZero(J);
     for (std::size_t i = 0; i < N; ++i)
       for (std::size_t j = 0; j < N; ++j) SM_ELEMENT_D(J, sunindextype(i), sunindextype(j)) = p->dense[i * N + j];
     p->dense.resize(N);
-    if (!p->rates->leak_gradient(view(y, N), p->dense)) leak_gradient(*p->model, t, view(y, N), p->dense);
+    p->grid->leak_gradient(t, view(y, N), p->dense);
     for (std::size_t j = 0; j < N; ++j) SM_ELEMENT_D(J, sunindextype(N), sunindextype(j)) = p->dense[j];
   });
 }
@@ -274,19 +275,20 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
     if (!std::isfinite(output_times[i]) || output_times[i] < 0.0 || (i > 0 && !(output_times[i] > output_times[i - 1])))
       throw InputError("output_times[" + std::to_string(i) + "]", format_value(output_times[i]),
                        "output times must be finite, >= 0 and strictly increasing");
-  const std::size_t N = model.unknowns();  // N on the uniform grid, the graded grid's classes otherwise
+  const std::unique_ptr<Discretisation> grid = make_discretisation(model);
+  const std::size_t N = grid->unknowns();  // N on the uniform grid, the graded grid's classes otherwise
   if (options.method == IntegratorMethod::bdf_dense && N > options.dense_limit)
     throw InputError("method", "\"bdf-dense\"",
                      "a dense Jacobian is limited to N <= " + std::to_string(options.dense_limit) +
                          " (N = " + std::to_string(N) + "); use bdf-gmres");
 
   const auto started = std::chrono::steady_clock::now();
-  auto rates = make_rates(model, options.rates, options.effective_lowrank_tolerance(), options.jacobian_tolerance);
+  auto rates = grid->rates(options.rates, options.effective_lowrank_tolerance(), options.jacobian_tolerance);
   Problem problem;
-  problem.model = &model;
+  problem.grid = grid.get();
   problem.rates = rates.get();
   problem.N = N;
-  problem.sizes = model.pivots();
+  problem.sizes = grid->sizes();
 
   Session s;
   if (SUNContext_Create(nullptr, &s.context) != 0) throw std::runtime_error("SUNContext_Create failed");
@@ -295,7 +297,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
   double* y = N_VGetArrayPointer(s.y);
   double* abstol = N_VGetArrayPointer(s.abstol);
   double density_scale = 0.0;
-  const std::vector<double> initial = model.initial_state();
+  const std::vector<double> initial = grid->initial_state();
   for (std::size_t k = 0; k < N; ++k) {
     y[k] = initial[k];
     density_scale = std::max(density_scale, y[k]);

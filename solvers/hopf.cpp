@@ -14,6 +14,7 @@
 #include <string>
 
 #include "analysis/input_error.hpp"
+#include "solvers/discretisation.hpp"
 #include "solvers/stability.hpp"
 
 namespace aggkit {
@@ -54,13 +55,7 @@ class GrowthRate {
     } else if (!options_.start.empty()) {
       // The caller's state at a nearby (a, λ), cut or extended to this N (carried onto this grid's classes
       // when either is graded).
-      const std::size_t N = model.size;
-      std::vector<double> guess;
-      if (model.grid.uniform() && options_.start_sizes.empty())
-        guess = options_.start.size() >= N ? std::vector<double>(options_.start.begin(), options_.start.begin() + std::ptrdiff_t(N))
-                                           : extend_steady_state(options_.start, N);
-      else
-        guess = regrid(start_sizes(), options_.start, model.pivots());
+      std::vector<double> guess = make_discretisation(model)->carry(options_.start_sizes, options_.start);
       steady = branch_start()
                    ? follow_branch(model, std::move(guess), options_.start_a, std::log(options_.start_lambda), x)
                    : solve_steady_state(model, options_.steady, guess);
@@ -77,7 +72,8 @@ class GrowthRate {
     // only a stable pair there, on the branch whose pair has Re μ = +3.4e-11. On the graded grid the
     // shift-invert solves are one dense LU, so 16 cost little more.
     StabilityOptions stability = options_.stability;
-    if (!model.grid.uniform()) stability.krylov_eigenvalues = std::max(stability.krylov_eigenvalues, 16);
+    if (make_discretisation(model)->dense_solves())
+      stability.krylov_eigenvalues = std::max(stability.krylov_eigenvalues, 16);
     const StabilityResult spectrum = analyse_stability(model, steady.n, 6, stability);
     Sample s;
     s.x = x;
@@ -122,13 +118,6 @@ class GrowthRate {
 
   AggregationModel base_;
   double a_;
-  std::vector<double> start_sizes() const {
-    if (!options_.start_sizes.empty()) return options_.start_sizes;
-    std::vector<double> x(options_.start.size());
-    for (std::size_t k = 0; k < x.size(); ++k) x[k] = double(k + 1);
-    return x;
-  }
-
   HopfOptions options_;
   std::vector<Sample> samples_;
 };
@@ -296,7 +285,7 @@ HopfPoint locate_hopf(const AggregationModel& base, double a, double lambda_lo, 
   point.omega = lower.omega + t * (upper.omega - lower.omega);
   point.steady_state = upper.n;
   point.steady_lambda = std::exp(upper.x);
-  if (!base.grid.uniform()) point.steady_sizes = base.pivots();
+  point.steady_sizes = make_discretisation(base)->output_sizes();
   if (upper.x - lower.x > width) point.note += "bracket not narrowed to the tolerance in 60 steps; ";
   return finish();
 }

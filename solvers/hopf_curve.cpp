@@ -84,9 +84,7 @@ void refine_grid(const AggregationModel& base, double a, const HopfCurveOptions&
   SizeGrid twice = base.grid;
   twice.resolved *= 2;
   refined(twice, "K doubled", result.lambda_crit_2K, result.change_K);
-  SizeGrid finer = base.grid;
-  finer.ratio = 1.0 + 0.5 * (base.grid.ratio - 1.0);
-  refined(finer, "r - 1 halved", result.lambda_crit_fine_ratio, result.change_ratio);
+  refined(base.grid.refined(), "r - 1 halved", result.lambda_crit_fine_ratio, result.change_ratio);
   result.converged = result.converged && converged_in_N;
 }
 

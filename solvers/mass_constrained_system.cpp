@@ -20,9 +20,8 @@ double total_mass(std::span<const double> n, std::span<const double> sizes) {
 }
 
 MassConstrainedSystem::MassConstrainedSystem(const AggregationModel& model, RatesPath path, double lowrank_tolerance)
-    : model_(model), N_(model.unknowns()), mass_row_(N_ - 1), cutoff_(model.truncation == Truncation::cutoff),
-      sizes_(model.pivots()) {
-  model.validate(0.0);
+    : grid_((model.validate(0.0), make_discretisation(model))), N_(grid_->unknowns()), mass_row_(N_ - 1),
+      cutoff_(model.truncation == Truncation::cutoff), sizes_(grid_->sizes()) {
   if (!model.lambda.is_constant())
     throw InputError("lambda", model.lambda.describe(), "a constant shattering rate for a steady state");
   lambda_ = model.lambda(0.0);
@@ -30,12 +29,12 @@ MassConstrainedSystem::MassConstrainedSystem(const AggregationModel& model, Rate
     if (N_ < 3) throw InputError("size", std::to_string(N_), "at least 3 for a cutoff steady state");
     mass_row_ = N_ - 2;
   }
-  const std::vector<double> initial = model.initial_state();
+  const std::vector<double> initial = grid_->initial_state();
   mass_ = total_mass(std::span<const double>(initial).first(mass_row_ + 1), sizes_);
   if (!(mass_ > 0.0))
     throw InputError("initial", "no mass below the absorbing size N",
                      "a cutoff steady state needs mass in sizes < N");
-  rates_ = make_rates(model, path, lowrank_tolerance, 0.0);
+  rates_ = grid_->rates(path, lowrank_tolerance, 0.0);
   state_.assign(N_, 0.0);
   dndt_.assign(N_, 0.0);
   std::vector<double> F(N_);
@@ -67,7 +66,7 @@ double MassConstrainedSystem::leak_rate(std::span<const double> n) {
 
 void MassConstrainedSystem::dense_jacobian(std::span<const double> n, std::span<double> J) {
   const std::size_t N = N_;
-  if (!rates_->dense_jacobian(0.0, n, J)) aggkit::dense_jacobian(model_, 0.0, n, J);
+  grid_->dense_jacobian(0.0, n, J);
   for (std::size_t k = 0; k < N; ++k) J[mass_row_ * N + k] = k <= mass_row_ ? sizes_[k] : 0.0;
   for (std::size_t r = mass_row_ + 1; r < N; ++r)
     for (std::size_t k = 0; k < N; ++k) J[r * N + k] = r == k ? 1.0 : 0.0;

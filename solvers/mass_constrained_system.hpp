@@ -22,8 +22,7 @@
 #include <span>
 #include <vector>
 
-#include "solvers/model.hpp"
-#include "solvers/rates.hpp"
+#include "solvers/discretisation.hpp"
 
 namespace aggkit {
 
@@ -35,9 +34,10 @@ class MassConstrainedSystem {
 
   std::size_t size() const { return N_; }  // unknowns: N, or the graded grid's classes
   const std::vector<double>& sizes() const { return sizes_; }  // the classes' sizes (1..N uniform)
-  // Graded grids use Newton and shift-invert with a dense LU of J_F (a few hundred to a few thousand
-  // unknowns); the uniform grid keeps the matrix-free path.
-  bool dense() const { return !model_.grid.uniform(); }
+  const Discretisation& discretisation() const { return *grid_; }
+  // Newton and shift-invert with a dense LU of J_F where the discretisation asks for it (a graded grid: a
+  // few hundred to a few thousand unknowns); else the matrix-free path.
+  bool dense() const { return grid_->dense_solves(); }
   // Index (0-based) of the mass row; rows after it are pinned (n_k = 0).
   std::size_t mass_row() const { return mass_row_; }
   double mass() const { return mass_; }
@@ -71,7 +71,7 @@ class MassConstrainedSystem {
   void precondition(std::span<const double> r, std::span<double> z, double shift = 0.0) const;
 
  private:
-  AggregationModel model_;
+  std::unique_ptr<Discretisation> grid_;
   std::size_t N_, mass_row_;
   bool cutoff_;
   std::vector<double> sizes_;

@@ -31,15 +31,6 @@ void AggregationModel::validate(double t_end) const {
   grid.validate();
 }
 
-std::vector<double> AggregationModel::initial_state() const {
-  if (grid.uniform()) {
-    std::vector<double> n(initial);
-    n.resize(size, 0.0);
-    return n;
-  }
-  return to_grid(pivots(), initial);
-}
-
 std::vector<double> monodisperse(std::size_t N, double density) {
   std::vector<double> n(N, 0.0);
   if (N > 0) n[0] = density;

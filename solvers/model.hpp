@@ -32,9 +32,9 @@ struct AggregationModel {
   SizeGrid grid;                    // the size classes solved for (default: every size 1..N)
 
   std::vector<double> pivots() const { return grid_pivots(grid, size); }  // sizes of the classes
-  std::size_t unknowns() const { return grid.uniform() ? size : pivots().size(); }
-  // n(0) on the classes (the initial table mapped by to_grid; on the uniform grid padded to N).
-  std::vector<double> initial_state() const;
+  std::size_t unknowns() const { return pivots().size(); }
+  // n(0) on the classes: the initial table mapped by to_grid (on the uniform grid padded to N).
+  std::vector<double> initial_state() const { return to_grid(pivots(), initial); }
 
   // Throws InputError for N < 2, an initial table longer than N or with negative/non-finite entries.
   void validate(double t_end) const;

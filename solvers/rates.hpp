@@ -49,17 +49,6 @@ class Rates {
   };
   virtual ActiveRangeStatistics active_range_statistics() const { return {size_, double(size_), 1.0, 0}; }
 
-  // The dense row-major Jacobian and the leak gradient (as dense_jacobian and leak_gradient below) where
-  // the rates hold what they need (the graded grid's pair table); false: use the free functions.
-  virtual bool dense_jacobian(double t, std::span<const double> n, std::span<double> jacobian) {
-    (void)t, (void)n, (void)jacobian;
-    return false;
-  }
-  virtual bool leak_gradient(std::span<const double> n, std::span<double> gradient) {
-    (void)n, (void)gradient;
-    return false;
-  }
-
  protected:
   explicit Rates(std::size_t N) : size_(N) {}
   std::size_t size_;
@@ -76,19 +65,9 @@ std::unique_ptr<Rates> make_direct_rates(const AggregationModel& model);
 // cheaper lower-rank form used for J·v, which only steers Newton's method.
 std::unique_ptr<Rates> make_fast_rates(const AggregationModel& model, double lowrank_tolerance = 1e-12,
                                        double jacobian_tolerance = 0.0);
-// The fixed-pivot sections of a graded grid (solvers/rates_sectional.cpp), O(M^2) in the M classes.
-std::unique_ptr<Rates> make_sectional_rates(const AggregationModel& model);
-// Any grid: the sectional rates on a graded grid (whatever the path), else the path's rates.
+// The rates on the model's discretisation (solvers/discretisation.hpp): the sectional rates on a graded grid
+// (whatever the path), else the path's. The dense Jacobian and the leak gradient are the discretisation's.
 std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path,
                                   double lowrank_tolerance = 1e-12, double jacobian_tolerance = 0.0);
-
-// Dense Jacobian (row-major M×M over the grid's classes) by the direct formulas; for small M only.
-void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
-                    std::span<double> jacobian);
-// ∂(leak rate)/∂n_l = Σ_{j > N-l} (l+j) K_lj n_j under drop (0 under cutoff); O(N^2).
-void leak_gradient(const AggregationModel& model, double t, std::span<const double> n, std::span<double> gradient);
-void sectional_dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
-                              std::span<double> jacobian);
-void sectional_leak_gradient(const AggregationModel& model, std::span<const double> n, std::span<double> gradient);
 
 }  // namespace aggkit

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "analysis/input_error.hpp"
-#include "solvers/rates.hpp"
+#include "solvers/discretisation.hpp"
 
 namespace aggkit {
 
@@ -105,7 +105,7 @@ class DirectRates final : public Rates {
     out[0] += lambda * x[0] * with_monomer + 0.5 * lambda * between_aggregates;
   }
 
-  const AggregationModel& model_;
+  AggregationModel model_;  // a copy: the rates may outlive the discretisation that made them
   bool cutoff_;
   std::vector<double> matrix_;
 };
@@ -118,53 +118,7 @@ std::unique_ptr<Rates> make_direct_rates(const AggregationModel& model) {
 
 std::unique_ptr<Rates> make_rates(const AggregationModel& model, RatesPath path, double lowrank_tolerance,
                                   double jacobian_tolerance) {
-  if (!model.grid.uniform()) return make_sectional_rates(model);
-  return path == RatesPath::direct ? make_direct_rates(model)
-                                   : make_fast_rates(model, lowrank_tolerance, jacobian_tolerance);
-}
-
-void leak_gradient(const AggregationModel& model, double, std::span<const double> n, std::span<double> gradient) {
-  if (!model.grid.uniform()) return sectional_leak_gradient(model, n, gradient);
-  const std::size_t N = model.size;
-  std::fill(gradient.begin(), gradient.end(), 0.0);
-  if (model.truncation == Truncation::cutoff) return;
-  for (std::size_t l = 1; l <= N; ++l)
-    for (std::size_t j = N - l + 1; j <= N; ++j) gradient[l - 1] += double(l + j) * model.kernel(l, j) * n[j - 1];
-}
-
-void dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
-                    std::span<double> jacobian) {
-  // J_kl = ∂f_k/∂n_l from differentiating the equations of solvers/model.hpp term by term.
-  if (!model.grid.uniform()) return sectional_dense_jacobian(model, t, n, jacobian);
-  const std::size_t N = model.size;
-  const bool cutoff = model.truncation == Truncation::cutoff;
-  const double lambda = model.lambda(t);
-  std::vector<double> rate(N + 1, 0.0);
-  auto K = [&](std::size_t i, std::size_t j) { return cutoff && i + j > N ? 0.0 : model.kernel(i, j); };
-  std::vector<double> matrix(N * N);
-  for (std::size_t i = 1; i <= N; ++i)
-    for (std::size_t j = 1; j <= N; ++j) matrix[(i - 1) * N + j - 1] = K(i, j);
-  auto Km = [&](std::size_t i, std::size_t j) { return matrix[(i - 1) * N + j - 1]; };
-  for (std::size_t k = 1; k <= N; ++k)
-    for (std::size_t j = 1; j <= N; ++j) rate[k] += Km(k, j) * n[j - 1];
-  std::fill(jacobian.begin(), jacobian.end(), 0.0);
-  auto J = [&](std::size_t k, std::size_t l) -> double& { return jacobian[(k - 1) * N + (l - 1)]; };
-  for (std::size_t k = 1; k <= N; ++k) {
-    const double loss_factor = k == 1 ? 1.0 : 1.0 + lambda;
-    for (std::size_t l = 1; l < k; ++l) J(k, l) += Km(l, k - l) * n[k - l - 1];  // gain
-    J(k, k) -= loss_factor * rate[k];
-    for (std::size_t l = 1; l <= N; ++l) J(k, l) -= loss_factor * n[k - 1] * Km(k, l);
-  }
-  if (lambda == 0.0) return;
-  // Monomer row: λ n_1 Σ_{j≥2} j K_1j n_j + (λ/2) Σ_{i,j≥2} (i+j) K_ij n_i n_j.
-  double with_monomer = 0.0;
-  for (std::size_t j = 2; j <= N; ++j) with_monomer += double(j) * Km(1, j) * n[j - 1];
-  J(1, 1) += lambda * with_monomer;
-  for (std::size_t l = 2; l <= N; ++l) {
-    double d = double(l) * Km(1, l) * n[0];
-    for (std::size_t i = 2; i <= N; ++i) d += double(i + l) * Km(i, l) * n[i - 1];
-    J(1, l) += lambda * d;
-  }
+  return make_discretisation(model)->rates(path, lowrank_tolerance, jacobian_tolerance);
 }
 
 }  // namespace aggkit

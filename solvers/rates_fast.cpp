@@ -254,7 +254,7 @@ class FastRates final : public Rates {
     kernel_.collision_rates(n, active_, cutoff_, rate_n_, size_);  // c_k for every size (J's diagonal)
   }
 
-  const AggregationModel& model_;
+  AggregationModel model_;  // a copy: the rates may outlive the discretisation that made them
   bool cutoff_;
   SeparableKernel kernel_;
   std::unique_ptr<SeparableKernel> newton_kernel_;  // lower-rank form for J·v (approximated kernels)

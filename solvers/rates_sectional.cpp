@@ -34,19 +34,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 
 #include "analysis/input_error.hpp"
-#include "solvers/rates.hpp"
+#include "solvers/discretisation.hpp"
 
 namespace aggkit {
 
 namespace {
 
-class SectionalRates final : public Rates {
+// The pairs (i ≤ j) of the classes with their collision weights and the stencils their aggregates land on:
+// built once per discretisation, shared by its rates objects and its dense Jacobian.
+class PairTable {
  public:
-  explicit SectionalRates(const AggregationModel& model)
-      : Rates(model.unknowns()), lambda_(model.lambda), x_(model.pivots()), cutoff_(model.truncation == Truncation::cutoff),
-        scheme_(model.grid.scheme) {
+  explicit PairTable(const AggregationModel& model, const std::vector<double>& x)
+      : x_(x), cutoff_(model.truncation == Truncation::cutoff) {
     const std::size_t M = x_.size();
     if (M > max_classes)
       throw InputError("grid", model.grid.describe() + " on N = " + std::to_string(model.size) + " (" +
@@ -55,21 +58,7 @@ class SectionalRates final : public Rates {
     pairs_.reserve(M * (M + 1) / 2);
     const double N = x_.back();
     for (std::size_t i = 0; i < M; ++i)
-      for (std::size_t j = i; j < M; ++j) {
-        const double v = x_[i] + x_[j];
-        Pair pair;
-        pair.weight = (i == j ? 0.5 : 1.0) * model.kernel.at(x_[i], x_[j]);
-        if (v > N) {
-          pair.stencil = std::uint32_t(M) << 2;  // leaves the grid (drop) or does not collide (cutoff)
-          if (cutoff_) pair.weight = 0.0;
-        } else {
-          const PivotShare share = pivot_share(x_, v, model.grid.scheme, model.grid.resolved);
-          pair.stencil = std::uint32_t(share.first) << 2 | std::uint32_t(share.count);
-          pair.share[0] = share.weight[0];
-          pair.share[1] = share.weight[1];
-        }
-        pairs_.push_back(pair);
-      }
+      for (std::size_t j = i; j < M; ++j) pairs_.push_back(pair_of(model, i, j, N));
     // Pairs that leave the grid are those with x_i + x_j > N: for each i, the j from leak_start_[i] on.
     leak_start_.assign(M, M);
     row_.assign(M, 0);
@@ -81,12 +70,9 @@ class SectionalRates final : public Rates {
 
   static constexpr std::size_t max_classes = 6000;
 
-  void evaluate(double t, std::span<const double> n, std::span<double> dndt) override {
-    std::fill(dndt.begin(), dndt.end(), 0.0);
-    accumulate(t, n, n, dndt, 0.5);  // ½ Σ w (n_i n_j + n_j n_i) = Σ w n_i n_j
-  }
+  std::size_t size() const { return x_.size(); }
 
-  double leak_rate(double, std::span<const double> n) override {
+  double leak_rate(std::span<const double> n) const {
     if (cutoff_) return 0.0;
     const std::size_t M = x_.size();
     double leak = 0.0;
@@ -96,39 +82,15 @@ class SectionalRates final : public Rates {
     return leak;
   }
 
-  void jacobian_times(double t, std::span<const double> n, std::span<const double> v, std::span<double> Jv) override {
-    std::fill(Jv.begin(), Jv.end(), 0.0);
-    accumulate(t, n, v, Jv, 1.0);
-  }
-
-  void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) override {
-    const std::size_t M = x_.size();
-    for (auto* v : {&J.diagonal, &J.subdiagonal, &J.monomer_column}) v->assign(M, 0.0);
-    for_each_entry(t, n, [&](std::size_t row, std::size_t column, double value) {
-      if (column == 0 && row >= 1) J.monomer_column[row] += value;
-      else if (row == column) J.diagonal[row] += value;
-      else if (row == column + 1) J.subdiagonal[row] += value;
-    });
-  }
-
-  bool dense_jacobian(double t, std::span<const double> n, std::span<double> jacobian) override {
-    dense(t, n, jacobian);
-    return true;
-  }
-  bool leak_gradient(std::span<const double> n, std::span<double> gradient) override {
-    leak_gradient_of(n, gradient);
-    return true;
-  }
-
   // Row-major M×M Jacobian ∂f_k/∂N_l.
-  void dense(double t, std::span<const double> n, std::span<double> jacobian) const {
+  void dense(double lambda, std::span<const double> n, std::span<double> jacobian) const {
     const std::size_t M = x_.size();
     std::fill(jacobian.begin(), jacobian.end(), 0.0);
-    for_each_entry(t, n, [&](std::size_t row, std::size_t column, double value) { jacobian[row * M + column] += value; });
+    for_each_entry(lambda, n, [&](std::size_t row, std::size_t column, double value) { jacobian[row * M + column] += value; });
   }
 
   // ∂(leak rate)/∂N_l (drop; 0 under cutoff).
-  void leak_gradient_of(std::span<const double> n, std::span<double> gradient) const {
+  void leak_gradient(std::span<const double> n, std::span<double> gradient) const {
     std::fill(gradient.begin(), gradient.end(), 0.0);
     if (cutoff_) return;
     const std::size_t M = x_.size();
@@ -142,27 +104,10 @@ class SectionalRates final : public Rates {
         }
   }
 
-  std::string describe() const override { return std::string(scheme_name(scheme_)) + " sections, O(M^2), M = " + std::to_string(x_.size()); }
-
- private:
-  // 32 bytes: the table is streamed twice per Newton-Krylov step (f and J v) and holds M²/2 pairs, ~19 MB at
-  // M = 1100, beyond the caches; the third share is 1 - the other two (Σ w_m = 1 is one of the conditions
-  // that define them), the stencil's first pivot and its size are one word.
-  struct Pair {
-    double weight = 0.0;            // w_ij
-    double share[2] = {1.0, 0.0};   // the parts of the aggregate given to pivots target(), target() + 1
-    std::uint32_t stencil = 1;      // target() << 2 | count()
-    std::size_t target() const { return stencil >> 2; }  // the first pivot of the stencil (M: beyond N)
-    std::uint32_t count() const { return stencil & 3; }  // pivots in the stencil (1 to 3)
-    double share_at(std::uint32_t m) const { return m < 2 ? share[m] : 1.0 - share[0] - share[1]; }
-  };
-  static_assert(sizeof(Pair) == 32);
-
   // out += scale Σ_{i≤j} w_ij (u_i v_j + u_j v_i) V_ij.
-  void accumulate(double t, std::span<const double> u, std::span<const double> v, std::span<double> out,
+  void accumulate(double lambda, std::span<const double> u, std::span<const double> v, std::span<double> out,
                   double scale) const {
     const std::size_t M = x_.size();
-    const double lambda = lambda_(t);
     const Pair* pair = pairs_.data();
     double monomers = 0.0;
     for (std::size_t i = 0; i < M; ++i) {
@@ -189,9 +134,8 @@ class SectionalRates final : public Rates {
 
   // Calls add(row, column, ∂f_row/∂N_column contribution) for every nonzero contribution.
   template <class Add>
-  void for_each_entry(double t, std::span<const double> n, Add&& add) const {
+  void for_each_entry(double lambda, std::span<const double> n, Add&& add) const {
     const std::size_t M = x_.size();
-    const double lambda = lambda_(t);
     const Pair* pair = pairs_.data();
     for (std::size_t i = 0; i < M; ++i)
       for (std::size_t j = i; j < M; ++j, ++pair) {
@@ -211,28 +155,117 @@ class SectionalRates final : public Rates {
       }
   }
 
-  ShatteringRate lambda_;
+ private:
+  // 32 bytes: the table is streamed twice per Newton-Krylov step (f and J v) and holds M²/2 pairs, ~19 MB at
+  // M = 1100, beyond the caches; the third share is 1 - the other two (Σ w_m = 1 is one of the conditions
+  // that define them), the stencil's first pivot and its size are one word.
+  struct Pair {
+    double weight = 0.0;            // w_ij
+    double share[2] = {1.0, 0.0};   // the parts of the aggregate given to pivots target(), target() + 1
+    std::uint32_t stencil = 1;      // target() << 2 | count()
+    std::size_t target() const { return stencil >> 2; }  // the first pivot of the stencil (M: beyond N)
+    std::uint32_t count() const { return stencil & 3; }  // pivots in the stencil (1 to 3)
+    double share_at(std::uint32_t m) const { return m < 2 ? share[m] : 1.0 - share[0] - share[1]; }
+  };
+  static_assert(sizeof(Pair) == 32);
+
+  Pair pair_of(const AggregationModel& model, std::size_t i, std::size_t j, double N) const {
+    const std::size_t M = x_.size();
+    const double v = x_[i] + x_[j];
+    Pair pair;
+    pair.weight = (i == j ? 0.5 : 1.0) * model.kernel.at(x_[i], x_[j]);
+    if (v > N) {
+      pair.stencil = std::uint32_t(M) << 2;  // leaves the grid (drop) or does not collide (cutoff)
+      if (cutoff_) pair.weight = 0.0;
+      return pair;
+    }
+    const PivotShare share = pivot_share(x_, v, model.grid.scheme, model.grid.resolved);
+    pair.stencil = std::uint32_t(share.first) << 2 | std::uint32_t(share.count);
+    pair.share[0] = share.weight[0];
+    pair.share[1] = share.weight[1];
+    return pair;
+  }
+
   std::vector<double> x_;
   bool cutoff_;
-  GridScheme scheme_;
   std::vector<Pair> pairs_;
   std::vector<std::size_t> row_;         // index in pairs_ of (i, i)
   std::vector<std::size_t> leak_start_;  // first j ≥ i whose pair (i, j) leaves the grid (M: none)
 };
 
+class SectionalRates final : public Rates {
+ public:
+  SectionalRates(std::shared_ptr<const PairTable> table, ShatteringRate lambda, GridScheme scheme)
+      : Rates(table->size()), table_(std::move(table)), lambda_(std::move(lambda)), scheme_(scheme) {}
+
+  void evaluate(double t, std::span<const double> n, std::span<double> dndt) override {
+    std::fill(dndt.begin(), dndt.end(), 0.0);
+    table_->accumulate(lambda_(t), n, n, dndt, 0.5);  // ½ Σ w (n_i n_j + n_j n_i) = Σ w n_i n_j
+  }
+
+  double leak_rate(double, std::span<const double> n) override { return table_->leak_rate(n); }
+
+  void jacobian_times(double t, std::span<const double> n, std::span<const double> v, std::span<double> Jv) override {
+    std::fill(Jv.begin(), Jv.end(), 0.0);
+    table_->accumulate(lambda_(t), n, v, Jv, 1.0);
+  }
+
+  void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) override {
+    const std::size_t M = size_;
+    for (auto* v : {&J.diagonal, &J.subdiagonal, &J.monomer_column}) v->assign(M, 0.0);
+    table_->for_each_entry(lambda_(t), n, [&](std::size_t row, std::size_t column, double value) {
+      if (column == 0 && row >= 1) J.monomer_column[row] += value;
+      else if (row == column) J.diagonal[row] += value;
+      else if (row == column + 1) J.subdiagonal[row] += value;
+    });
+  }
+
+  std::string describe() const override { return std::string(scheme_name(scheme_)) + " sections, O(M^2), M = " + std::to_string(size_); }
+
+ private:
+  std::shared_ptr<const PairTable> table_;
+  ShatteringRate lambda_;
+  GridScheme scheme_;
+};
+
+// The graded grid as a discretisation: its pair table built on first use and shared from then on.
+class GradedGrid final : public Discretisation {
+ public:
+  explicit GradedGrid(const AggregationModel& model) : Discretisation(model, grid_pivots(model.grid, model.size)) {
+    if (unknowns() > PairTable::max_classes) table();  // refuse an over-long grid at once, with its message
+  }
+
+  std::unique_ptr<Rates> rates(RatesPath, double, double) const override {
+    return std::make_unique<SectionalRates>(table(), model_.lambda, model_.grid.scheme);
+  }
+  void dense_jacobian(double t, std::span<const double> n, std::span<double> jacobian) const override {
+    table()->dense(model_.lambda(t), n, jacobian);
+  }
+  void leak_gradient(double, std::span<const double> n, std::span<double> gradient) const override {
+    table()->leak_gradient(n, gradient);
+  }
+  bool dense_solves() const override { return true; }
+  std::vector<double> carry(std::span<const double> from, std::span<const double> state) const override {
+    if (!from.empty()) return regrid(from, state, sizes_);
+    std::vector<double> integers(state.size());
+    for (std::size_t k = 0; k < integers.size(); ++k) integers[k] = double(k + 1);
+    return regrid(integers, state, sizes_);
+  }
+  std::vector<double> output_sizes() const override { return sizes_; }
+
+ private:
+  std::shared_ptr<const PairTable> table() const {
+    std::call_once(built_, [&] { table_ = std::make_shared<const PairTable>(model_, sizes_); });
+    return table_;
+  }
+  mutable std::once_flag built_;
+  mutable std::shared_ptr<const PairTable> table_;
+};
+
 }  // namespace
 
-std::unique_ptr<Rates> make_sectional_rates(const AggregationModel& model) {
-  return std::make_unique<SectionalRates>(model);
-}
-
-void sectional_dense_jacobian(const AggregationModel& model, double t, std::span<const double> n,
-                              std::span<double> jacobian) {
-  SectionalRates(model).dense(t, n, jacobian);
-}
-
-void sectional_leak_gradient(const AggregationModel& model, std::span<const double> n, std::span<double> gradient) {
-  SectionalRates(model).leak_gradient_of(n, gradient);
+std::unique_ptr<Discretisation> make_graded_discretisation(const AggregationModel& model) {
+  return std::make_unique<GradedGrid>(model);
 }
 
 }  // namespace aggkit

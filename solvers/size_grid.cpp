@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "analysis/input_error.hpp"
 
@@ -32,6 +33,14 @@ std::string SizeGrid::describe() const {
   if (scheme == GridScheme::three_moment) std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g)", resolved, ratio);
   else std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g, %s)", resolved, ratio, scheme_name(scheme));
   return text;
+}
+
+std::size_t SizeGrid::largest_size() const { return uniform() ? 100'000'000 : std::size_t(1) << 62; }
+
+SizeGrid SizeGrid::refined() const {
+  SizeGrid finer = *this;
+  if (!uniform()) finer.ratio = 1.0 + 0.5 * (ratio - 1.0);
+  return finer;
 }
 
 std::vector<double> grid_pivots(const SizeGrid& grid, std::size_t N) {
@@ -115,49 +124,81 @@ std::vector<double> to_grid(std::span<const double> x, std::span<const double> p
   return n;
 }
 
+namespace {
+
+// ln f = a + b ln(x/s) + c x/s (c clamped to ≤ 0), the unweighted least-squares fit (gsl_multifit_linear) of
+// the rows given, with the sizes scaled by s for a well-conditioned fit: the form of a steady tail, a power
+// law with an exponential cut-off. nullopt where the fit fails or is not finite.
+struct TailFit {
+  double a = 0, b = 0, c = 0, scale = 1;
+  double operator()(double x) const { return std::exp(a + b * std::log(x / scale) + c * x / scale); }
+};
+
+std::optional<TailFit> fit_tail(std::span<const double> x, std::span<const double> f, double scale) {
+  const std::size_t m = x.size();
+  gsl_matrix* X = gsl_matrix_alloc(m, 3);
+  gsl_vector* y = gsl_vector_alloc(m);
+  gsl_vector* c = gsl_vector_alloc(3);
+  gsl_matrix* cov = gsl_matrix_alloc(3, 3);
+  gsl_multifit_linear_workspace* work = gsl_multifit_linear_alloc(m, 3);
+  for (std::size_t r = 0; r < m; ++r) {
+    gsl_matrix_set(X, r, 0, 1.0);
+    gsl_matrix_set(X, r, 1, std::log(x[r] / scale));
+    gsl_matrix_set(X, r, 2, x[r] / scale);
+    gsl_vector_set(y, r, std::log(f[r]));
+  }
+  double chisq = 0;
+  const int status = gsl_multifit_linear(X, y, c, cov, &chisq, work);
+  TailFit fit{gsl_vector_get(c, 0), gsl_vector_get(c, 1), std::min(0.0, gsl_vector_get(c, 2)), scale};
+  gsl_multifit_linear_free(work);
+  gsl_matrix_free(cov);
+  gsl_vector_free(c);
+  gsl_vector_free(y);
+  gsl_matrix_free(X);
+  if (status != 0 || !std::isfinite(fit.a) || !std::isfinite(fit.b) || !std::isfinite(fit.c)) return std::nullopt;
+  return fit;
+}
+
+}  // namespace
+
+std::vector<double> extend_steady_state(std::span<const double> coarse, std::size_t N) {
+  const std::size_t Nc = coarse.size(), keep = std::min(Nc / 2, N), first = Nc / 8 + 1;
+  std::vector<double> n(N, 0.0);
+  std::copy(coarse.begin(), coarse.begin() + std::ptrdiff_t(keep), n.begin());
+  if (keep >= N || keep < first + 3) return n;
+  std::vector<double> k, f;
+  for (std::size_t i = first; i <= keep; ++i) {
+    if (!(coarse[i - 1] > 0.0)) return n;  // no positive tail to fit: zeros beyond
+    k.push_back(double(i));
+    f.push_back(coarse[i - 1]);
+  }
+  const auto fit = fit_tail(k, f, double(keep));
+  if (!fit) return n;
+  for (std::size_t i = keep + 1; i <= N; ++i) n[i - 1] = (*fit)(double(i));  // underflows to 0 far out: fine
+  return n;
+}
+
 std::vector<double> regrid(std::span<const double> from, std::span<const double> state, std::span<const double> to) {
   const std::size_t Ma = from.size();
   const std::vector<double> wa = pivot_widths(from), wb = pivot_widths(to);
   std::vector<double> f(Ma);
   for (std::size_t i = 0; i < Ma; ++i) f[i] = state[i] / wa[i];
   // Tail fit ln f = a + b ln(x/x_h) + c x/x_h over x_M/8 < x ≤ x_M/2 (x_h = x_M/2), as
-  // extend_steady_state does on the uniform grid (solvers/steady_state.hpp).
+  // extend_steady_state does on the uniform grid (above).
   const double xh = 0.5 * from[Ma - 1];
-  double fa = 0, fb = 0, fc = 0;
-  bool fitted = false;
+  std::optional<TailFit> fit;
   {
-    std::vector<std::size_t> rows;
+    std::vector<double> x, g;
     for (std::size_t i = 0; i < Ma; ++i)
-      if (from[i] > xh / 4.0 && from[i] <= xh && f[i] > 0.0) rows.push_back(i);
-    if (rows.size() >= 4) {
-      gsl_matrix* X = gsl_matrix_alloc(rows.size(), 3);
-      gsl_vector* y = gsl_vector_alloc(rows.size());
-      gsl_vector* c = gsl_vector_alloc(3);
-      gsl_matrix* cov = gsl_matrix_alloc(3, 3);
-      gsl_multifit_linear_workspace* work = gsl_multifit_linear_alloc(rows.size(), 3);
-      for (std::size_t r = 0; r < rows.size(); ++r) {
-        gsl_matrix_set(X, r, 0, 1.0);
-        gsl_matrix_set(X, r, 1, std::log(from[rows[r]] / xh));
-        gsl_matrix_set(X, r, 2, from[rows[r]] / xh);
-        gsl_vector_set(y, r, std::log(f[rows[r]]));
-      }
-      double chisq = 0;
-      fitted = gsl_multifit_linear(X, y, c, cov, &chisq, work) == 0;
-      fa = gsl_vector_get(c, 0), fb = gsl_vector_get(c, 1), fc = std::min(0.0, gsl_vector_get(c, 2));
-      fitted = fitted && std::isfinite(fa) && std::isfinite(fb) && std::isfinite(fc);
-      gsl_multifit_linear_free(work);
-      gsl_matrix_free(cov);
-      gsl_vector_free(c);
-      gsl_vector_free(y);
-      gsl_matrix_free(X);
-    }
+      if (from[i] > xh / 4.0 && from[i] <= xh && f[i] > 0.0) x.push_back(from[i]), g.push_back(f[i]);
+    if (x.size() >= 4) fit = fit_tail(x, g, xh);
   }
   std::vector<double> out(to.size(), 0.0);
   for (std::size_t j = 0; j < to.size(); ++j) {
     const double x = to[j];
     double density = 0.0;
-    if (x > xh && fitted) {
-      density = std::exp(fa + fb * std::log(x / xh) + fc * x / xh);
+    if (x > xh && fit) {
+      density = (*fit)(x);
     } else if (x <= from[Ma - 1]) {
       const std::size_t i = std::size_t(std::upper_bound(from.begin(), from.end(), x) - from.begin());
       if (i == 0) {

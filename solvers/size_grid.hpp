@@ -40,6 +40,11 @@ struct SizeGrid {
   // Throws InputError (keys grid.resolved, grid.ratio) unless K ≥ 2 and 1 ≤ r ≤ 4 on a graded grid.
   void validate() const;
   std::string describe() const;  // "uniform", "graded(K=64, r=1.02)" or "graded(K=64, r=1.02, fixed-pivot)"
+  // The largest N a model may have on this grid: 10^8 on the uniform grid (N unknowns to store), 2^62 on a
+  // graded one (ln N / ln r classes; pivots that stay ordered in double precision and within size_t).
+  std::size_t largest_size() const;
+  // The grid with r - 1 halved (a graded grid's refinement in r at fixed K; the uniform grid is its own).
+  SizeGrid refined() const;
 };
 
 // The pivots x_1 < ... < x_M = N of `grid` on sizes 1..N (x_i = i on the uniform grid).
@@ -75,5 +80,12 @@ std::vector<double> to_grid(std::span<const double> pivots, std::span<const doub
 // range continued by the least-squares fit ln f = a + b ln x + c x over x_M/8 < x ≤ x_M/2 (the tail's
 // form, c ≤ 0; the edge near x_M is distorted by the truncation and left out).
 std::vector<double> regrid(std::span<const double> from, std::span<const double> state, std::span<const double> to);
+
+// The coarse-to-fine start's extension of a steady state `coarse` (sizes 1..Nc) to sizes 1..N: n_k for
+// k ≤ Nc / 2, beyond that exp(a + b ln k + c k) with a, b, c the least-squares fit of ln n_k over
+// Nc / 8 < k ≤ Nc / 2 (the form of a power law with an exponential cut-off; c clamped to ≤ 0; the edge
+// region beyond Nc / 2, distorted by the truncation, is not used). Where the fitted region holds
+// non-positive densities the extension is zero.
+std::vector<double> extend_steady_state(std::span<const double> coarse, std::size_t N);
 
 }  // namespace aggkit

@@ -40,14 +40,13 @@ void sort_rightmost(std::vector<Complex>& values) {
   });
 }
 
-// A = J_{<m,<m} + J_{<m,m} t^T (the Jacobian on the mass shell, t_k = -x_k/x_m) from the direct dense
-// Jacobian; the rates' own where they hold it (the graded grid's pair table, built once per analysis).
-Eigen::MatrixXd mass_shell_jacobian(const AggregationModel& model, Rates& rates, std::span<const double> n,
-                                    std::size_t m) {
-  const std::size_t N = model.unknowns();
-  const std::vector<double> x = model.pivots();
+// A = J_{<m,<m} + J_{<m,m} t^T (the Jacobian on the mass shell, t_k = -x_k/x_m) from the discretisation's
+// dense Jacobian (on a graded grid from its pair table, built once per analysis).
+Eigen::MatrixXd mass_shell_jacobian(const Discretisation& grid, std::span<const double> n, std::size_t m) {
+  const std::size_t N = grid.unknowns();
+  const std::vector<double>& x = grid.sizes();
   std::vector<double> jacobian(N * N);
-  if (!rates.dense_jacobian(0.0, n, jacobian)) dense_jacobian(model, 0.0, n, jacobian);
+  grid.dense_jacobian(0.0, n, jacobian);
   Eigen::MatrixXd A(m, m);
   for (std::size_t i = 0; i < m; ++i)
     for (std::size_t k = 0; k < m; ++k) A(i, k) = jacobian[i * N + k] - jacobian[i * N + m] * x[k] / x[m];
@@ -55,9 +54,9 @@ Eigen::MatrixXd mass_shell_jacobian(const AggregationModel& model, Rates& rates,
 }
 
 // All eigenvalues of A.
-std::vector<Complex> dense_spectrum(const AggregationModel& model, Rates& rates, std::span<const double> n,
+std::vector<Complex> dense_spectrum(const Discretisation& grid, std::span<const double> n,
                                     std::size_t m) {
-  const Eigen::MatrixXd A = mass_shell_jacobian(model, rates, n, m);
+  const Eigen::MatrixXd A = mass_shell_jacobian(grid, n, m);
   Eigen::EigenSolver<Eigen::MatrixXd> solver(A, false);
   if (solver.info() != Eigen::Success) throw std::runtime_error("dense eigenvalue solver failed (Eigen QR)");
   std::vector<Complex> values(solver.eigenvalues().begin(), solver.eigenvalues().end());
@@ -144,10 +143,10 @@ class ShiftInvertOperator {
 // (Spectra's DenseGenRealShiftSolve, Eigen's partial-pivoting LU): O(m^3/3) once, then O(m^2) per
 // application. For the graded grid's few hundred to few thousand unknowns this replaces both the full
 // dense QR (O(10 m^3)) and the matrix-free GMRES solves (hundreds of iterations each).
-std::vector<Complex> dense_shift_invert_spectrum(const AggregationModel& model, Rates& rates, std::span<const double> n,
+std::vector<Complex> dense_shift_invert_spectrum(const Discretisation& grid, std::span<const double> n,
                                                  std::size_t m,
                                                  const StabilityOptions& options, int wanted, StabilityResult& result) {
-  const Eigen::MatrixXd A = mass_shell_jacobian(model, rates, n, m);
+  const Eigen::MatrixXd A = mass_shell_jacobian(grid, n, m);
   Spectra::DenseGenRealShiftSolve<double> op(A);
   const Eigen::Index size = Eigen::Index(m);
   const Eigen::Index nev = std::min<Eigen::Index>(std::max(wanted, options.krylov_eigenvalues), size - 2);
@@ -213,16 +212,16 @@ StabilityResult analyse_stability(const AggregationModel& model, std::span<const
   if (!std::isfinite(options.shift)) throw InputError("shift", format_value(options.shift), "a finite shift");
   MassConstrainedSystem system(model, RatesPath::fast, options.lowrank_tolerance);
   const std::size_t m = system.mass_row();
-  const bool graded = !model.grid.uniform();
+  const bool factored = system.dense();
   const bool dense = options.method == SpectrumMethod::dense ||
-                     (options.method == SpectrumMethod::automatic && unknowns <= (graded ? 200 : options.dense_limit)) ||
+                     (options.method == SpectrumMethod::automatic && unknowns <= (factored ? 200 : options.dense_limit)) ||
                      m < 8;
-  // A graded grid's Krylov path is the dense shift-invert one (its unknowns always fit a dense LU).
+  // Where the discretisation solves densely (a graded grid) the Krylov path is the dense shift-invert one.
   StabilityResult result;
-  result.method = dense ? "dense" : graded ? "dense-shift-invert" : "krylov";
-  std::vector<Complex> values = dense    ? dense_spectrum(model, system.rates(), steady_state, m)
-                                : graded ? dense_shift_invert_spectrum(model, system.rates(), steady_state, m, options, count, result)
-                                         : krylov_spectrum(system, steady_state, options, count, result);
+  result.method = dense ? "dense" : factored ? "dense-shift-invert" : "krylov";
+  std::vector<Complex> values = dense      ? dense_spectrum(system.discretisation(), steady_state, m)
+                                : factored ? dense_shift_invert_spectrum(system.discretisation(), steady_state, m, options, count, result)
+                                           : krylov_spectrum(system, steady_state, options, count, result);
   sort_rightmost(values);
   if (values.size() > std::size_t(count)) {
     // Keep a conjugate pair together.

@@ -8,7 +8,6 @@
 #include <functional>
 #include <optional>
 
-#include <gsl/gsl_multifit.h>
 
 #include "analysis/input_error.hpp"
 #include "solvers/cvode_integrator.hpp"
@@ -34,44 +33,6 @@ void SteadyStateOptions::validate() const {
   if (max_krylov_iterations < 1)
     throw InputError("max_krylov_iterations", std::to_string(max_krylov_iterations), "an integer >= 1");
   if (start_retries < 0) throw InputError("start_retries", std::to_string(start_retries), "an integer >= 0");
-}
-
-std::vector<double> extend_steady_state(std::span<const double> coarse, std::size_t N) {
-  const std::size_t Nc = coarse.size(), keep = std::min(Nc / 2, N), first = Nc / 8 + 1;
-  std::vector<double> n(N, 0.0);
-  std::copy(coarse.begin(), coarse.begin() + std::ptrdiff_t(keep), n.begin());
-  if (keep >= N || keep < first + 3) return n;
-  for (std::size_t k = first; k <= keep; ++k)
-    if (!(coarse[k - 1] > 0.0)) return n;  // no positive tail to fit: zeros beyond
-  // ln n_k = a + b ln k + c k, unweighted least squares (gsl_multifit_linear) over first ≤ k ≤ keep.
-  const std::size_t m = keep - first + 1;
-  gsl_matrix* X = gsl_matrix_alloc(m, 3);
-  gsl_vector* y = gsl_vector_alloc(m);
-  gsl_vector* c = gsl_vector_alloc(3);
-  gsl_matrix* cov = gsl_matrix_alloc(3, 3);
-  gsl_multifit_linear_workspace* work = gsl_multifit_linear_alloc(m, 3);
-  // Columns scaled to O(1) (k / keep) for a well-conditioned fit.
-  for (std::size_t i = 0; i < m; ++i) {
-    const double k = double(first + i);
-    gsl_matrix_set(X, i, 0, 1.0);
-    gsl_matrix_set(X, i, 1, std::log(k / double(keep)));
-    gsl_matrix_set(X, i, 2, k / double(keep));
-    gsl_vector_set(y, i, std::log(coarse[first + i - 1]));
-  }
-  double chisq = 0.0;
-  const int status = gsl_multifit_linear(X, y, c, cov, &chisq, work);
-  const double a = gsl_vector_get(c, 0), b = gsl_vector_get(c, 1), slope = std::min(0.0, gsl_vector_get(c, 2));
-  gsl_multifit_linear_free(work);
-  gsl_matrix_free(cov);
-  gsl_vector_free(c);
-  gsl_vector_free(y);
-  gsl_matrix_free(X);
-  if (status != 0 || !std::isfinite(a) || !std::isfinite(b) || !std::isfinite(slope)) return n;
-  for (std::size_t k = keep + 1; k <= N; ++k) {
-    const double x = double(k) / double(keep);
-    n[k - 1] = std::exp(a + b * std::log(x) + slope * x);  // underflows to 0 far out: fine
-  }
-  return n;
 }
 
 namespace {
@@ -307,10 +268,12 @@ double seconds_since(std::chrono::steady_clock::time_point since) {
 }
 
 // The converged steady state at N / 4 for the coarse-to-fine start, or nullopt where it does not apply or
-// did not converge to a density.
-std::optional<std::vector<double>> coarse_start(const AggregationModel& model, const SteadyStateOptions& options) {
+// did not converge to a density. It serves the matrix-free path; a discretisation that solves densely (a
+// graded grid, a few thousand unknowns at most) does without.
+std::optional<std::vector<double>> coarse_start(const AggregationModel& model, const SteadyStateOptions& options,
+                                                bool dense_solves) {
   const std::size_t N = model.size, Nc = N / 4;
-  if (options.coarse_start_above == 0 || N <= options.coarse_start_above || !model.grid.uniform()) return std::nullopt;
+  if (options.coarse_start_above == 0 || N <= options.coarse_start_above || dense_solves) return std::nullopt;
   for (std::size_t k = Nc; k < model.initial.size(); ++k)
     if (model.initial[k] != 0.0) return std::nullopt;  // the initial state (its mass) must fit the coarse sizes
   AggregationModel coarse = model;
@@ -349,13 +312,13 @@ SteadyStateResult solve_steady_state(const AggregationModel& model, const Steady
   std::vector<double> guess(initial_guess.begin(), initial_guess.end());
   if (guess.empty()) {
     const auto coarse_started = std::chrono::steady_clock::now();
-    if (auto coarse = coarse_start(model, options)) {
+    if (auto coarse = coarse_start(model, options, system.dense())) {
       result.coarse_size = coarse->size();
-      guess = extend_steady_state(*coarse, system.size());
+      guess = system.discretisation().carry({}, *coarse);
     }
     result.start_seconds = seconds_since(coarse_started);
   }
-  const std::vector<double> sizes = model.pivots();
+  const std::vector<double>& sizes = system.sizes();
   double start_time = options.start_time;
   const int attempts = 1 + options.start_retries + (result.coarse_size > 0 ? 1 : 0);
   for (int attempt = 0; attempt < attempts; ++attempt) {

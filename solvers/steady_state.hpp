@@ -93,13 +93,6 @@ SteadyStateResult solve_steady_state(const AggregationModel& model, const Steady
 // dynamics.
 double negative_mass_fraction(std::span<const double> n, std::span<const double> sizes);
 
-// The coarse-to-fine start's extension of a steady state `coarse` (sizes 1..Nc) to sizes 1..N: n_k for
-// k ≤ Nc / 2, beyond that exp(a + b ln k + c k) with a, b, c the least-squares fit of ln n_k over
-// Nc / 8 < k ≤ Nc / 2 (the form of a power law with an exponential cut-off; c clamped to ≤ 0; the edge
-// region beyond Nc / 2, distorted by the truncation, is not used). Where the fitted region holds
-// non-positive densities the extension is zero.
-std::vector<double> extend_steady_state(std::span<const double> coarse, std::size_t N);
-
 // Natural-parameter continuation: the steady states of `base` with λ = lambdas[i] (in the given order),
 // each started from the secant extrapolation of the previous two solutions (the first from CVODE).
 std::vector<SteadyStateResult> continue_in_lambda(const AggregationModel& base, std::span<const double> lambdas,

@@ -4,6 +4,7 @@
 
 #include "particle/common/checkpoint.hpp"
 #include "solvers/cvode_integrator.hpp"
+#include "solvers/discretisation.hpp"
 #include "validation/engines/engine.hpp"
 #include "analysis/input_error.hpp"
 #include "validation/io/machine.hpp"
@@ -41,7 +42,7 @@ class CvodeEngine final : public Engine {
   EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     IntegratorOptions options = options_;
     options.progress = observer.progress;
-    const std::vector<double> sizes = scene.model.grid.uniform() ? std::vector<double>{} : scene.model.pivots();
+    const std::vector<double> sizes = make_discretisation(scene.model)->output_sizes();
     // Checkpoints: after output k, the number of outputs done, the time, the densities and the leaked mass.
     // A resume continues from them with the scene's settings (restart in cvode_integrator.hpp: within the
     // integration tolerance of the uninterrupted run).

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "analysis/input_error.hpp"
+#include "solvers/discretisation.hpp"
 #include "solvers/petsc_options.hpp"
 #include "solvers/steady_state_options.hpp"
 #include "validation/engines/engine.hpp"
@@ -48,12 +49,14 @@ class SnesEngine final : public Engine {
     std::ostringstream csv;
     csv.precision(17);
     csv << "k,n\n";
-    const std::vector<double> sizes = scene.model.grid.uniform() ? std::vector<double>{} : scene.model.pivots();
-    if (sizes.empty()) {
-      for (std::size_t k = 0; k < r.n.size(); ++k) csv << k + 1 << ',' << r.n[k] << '\n';
-    } else {  // a graded grid: each pivot's size and its density per unit size (solvers/size_grid.hpp)
-      const std::vector<double> width = pivot_widths(sizes);
-      for (std::size_t i = 0; i < r.n.size(); ++i) csv << sizes[i] << ',' << r.n[i] / width[i] << '\n';
+    // Each class's size and its density per unit size (the n_k themselves on the uniform grid, whose rows
+    // are the integers k; a graded grid's pivots, solvers/size_grid.hpp).
+    const std::unique_ptr<Discretisation> grid = make_discretisation(scene.model);
+    const std::vector<double> sizes = grid->output_sizes(), density = grid->densities(r.n);
+    for (std::size_t i = 0; i < r.n.size(); ++i) {
+      if (sizes.empty()) csv << i + 1;
+      else csv << sizes[i];
+      csv << ',' << density[i] << '\n';
     }
     write_file_atomically(observer.folder / "distribution.csv", csv.str());
     const DensityState state(r.n, 0.0, sizes);

@@ -8,11 +8,6 @@ namespace aggkit {
 
 namespace {
 
-constexpr std::size_t max_size = 100'000'000;  // N beyond this cannot be stored; surely a typo
-// On a graded grid N costs ln N / ln r classes, not N: sizes up to 2^62 (within size_t, with pivots that
-// stay ordered in double precision).
-constexpr std::size_t max_graded_size = std::size_t(1) << 62;
-
 // grid = { resolved = K, ratio = r, scheme = "three-moment" | "fixed-pivot" } (solvers/size_grid.hpp);
 // absent: the uniform grid.
 SizeGrid read_grid(const SceneTable& model) {
@@ -61,17 +56,17 @@ ShatteringRate read_shattering_rate(const SceneTable& model) {
   return under_key(model_key, [&] { return ShatteringRate::table(times, values); });
 }
 
-std::vector<double> read_initial(const SceneTable& model, std::size_t N, InitialCondition& initial, bool graded) {
+std::vector<double> read_initial(const SceneTable& model, InitialCondition& initial) {
   const std::optional<SceneTable> table = model.optional_table("initial");
-  // A graded grid's N may be far beyond what a per-size table can hold: there the monodisperse start is
-  // the one-entry table (shorter tables are zeros beyond, solvers/model.hpp).
-  if (!table) return monodisperse(graded ? 1 : N);
+  // The monodisperse start is the one-entry table (shorter tables are zeros beyond, solvers/model.hpp): a
+  // graded grid's N may be far beyond what a per-size table can hold.
+  if (!table) return monodisperse(1);
   const std::string kind = table->string("kind");
   if (kind == "monodisperse") {
     table->allow_only({"kind", "density"});
     initial.kind = InitialCondition::Kind::monodisperse;
     initial.density = table->optional_number("density", Bound::positive).value_or(1.0);
-    return monodisperse(graded ? 1 : N, initial.density);
+    return monodisperse(1, initial.density);
   }
   if (kind == "table") {
     table->allow_only({"kind", "n"});
@@ -92,12 +87,11 @@ void read_model(const SceneTable& model, Scene& scene) {
   m.lambda = read_shattering_rate(model);
   m.grid = read_grid(model);
   m.size = model.count("size", 2);
-  if (m.grid.uniform() && m.size > max_size) model.fail("size", "2 <= N <= " + std::to_string(max_size));
-  if (!m.grid.uniform() && m.size > max_graded_size)
-    model.fail("size", "2 <= N <= 2^62 = " + std::to_string(max_graded_size) + " on a graded grid");
+  if (m.size > m.grid.largest_size())
+    model.fail("size", "2 <= N <= " + std::to_string(m.grid.largest_size()) + " on the grid " + m.grid.describe());
   if (const auto truncation = model.optional_string("truncation"))
     m.truncation = under_key(model_key, [&] { return truncation_from_name(*truncation); });
-  m.initial = read_initial(model, m.size, scene.initial, !m.grid.uniform());
+  m.initial = read_initial(model, scene.initial);
   // λ(t) >= 0 on [0, end], initial densities finite and >= 0 with mass > 0
   under_key(model_key, [&] { m.validate(scene.time.end); });
 }
