@@ -286,6 +286,24 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
   CHECK(sustained.at("regime_refined").empty());
   CHECK(!fs::exists(folder / "out" / "points" / "a0.9_lambda0.001_N2097152_refined.csv"));
 
+  // Every point has a steady state reached by continuation from λ = 0.1 and a converged spectrum; the verdict
+  // comes from the spectrum, the run confirming: (0.9, 0.001) unstable and oscillating in the run: sustained;
+  // (0.85, 0.001) unstable but the run shows no cycle: unstable; (0.9, 0.012) a stable focus: damped (the run
+  // agrees); (0.9, 0.004) stable on the coarse grid but unstable on the refined one: unresolved, said so.
+  CHECK_THAT(aggkit::testing::first_line(csv), Contains(",steady_how,spectrum_converged,verdict"));
+  for (const auto& row : aggkit::testing::read_csv(csv)) {
+    INFO(row.at("a") << ", " << row.at("lambda"));
+    CHECK(row.at("spectrum_converged") == "yes");
+    CHECK_THAT(row.at("steady_how"), Contains("continuation from lambda = 0.1 in "));
+    CHECK(!row.at("verdict").empty());
+  }
+  CHECK(sustained.at("verdict") == "sustained");
+  CHECK(scan_row(csv, 0.85, 0.001).at("verdict") == "unstable");
+  CHECK(high.at("verdict") == "damped");
+  CHECK(high.at("agree") == "yes");
+  CHECK(low.at("verdict") == "unresolved");
+  CHECK_THAT(low.at("note"), Contains("the spectrum's verdict damped is not kept: the refined grid's steady state is unstable"));
+
   // Without refinement the coarse grid's verdict stands, from the same grid runs (refine is not part of
   // the fingerprint: nothing is recomputed).
   std::string plain = coarse_scan;

@@ -8,6 +8,7 @@ import math
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.colors  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
 STYLE = {
@@ -17,7 +18,11 @@ STYLE = {
     "irregular": dict(color="tab:gray", marker="x", label="irregular"),
     # Relaxing in the run, but its grid or run length does not resolve it (linear stability says unstable,
     # or the decay did not converge): neither damped nor sustained.
-    "unresolved": dict(color="tab:orange", marker="D", label="unresolved (run or grid too short)"),
+    "unresolved": dict(color="tab:orange", marker="D", label="unresolved"),
+    # Verdicts from the steady state's spectrum (the `verdict` column): an unstable steady state whose cycle the
+    # run did not show, and points below where the continuation's roots stay positive.
+    "unstable": dict(color="tab:purple", marker="v", label="unstable steady state (cycle not seen in the run)"),
+    "no-positive-steady-state": dict(color="black", marker="x", label="no positive steady state on the grid"),
 }
 
 
@@ -42,17 +47,34 @@ def main():
     with open(args.lambda_crit, newline="") as f:
         crit = list(csv.DictReader(f))
 
-    fig, ax = plt.subplots(figsize=(9, 5))
+    fig, ax = plt.subplots(figsize=(10, 5))
+    # The verdict from the spectrum where the scan has one (marker filled where the time series confirms it,
+    # hollow where it does not or says nothing); else the time series' regime (hollow: not converged).
+    by_verdict = bool(points) and "verdict" in points[0]
+    key = "verdict" if by_verdict else "regime"
+    periods = [number(p["period"]) for p in points if p[key] == "sustained" and number(p["period"]) > 0]
+    norm = matplotlib.colors.LogNorm(min(periods), max(periods)) if len(periods) >= 2 and min(periods) < max(periods) else None
     for regime, style in STYLE.items():
-        for converged in (True, False):
-            # Tentative verdicts (the classifier's convergence check failed) are drawn hollow.
-            chosen = [p for p in points if p["regime"] == regime and (p["converged"] == "yes") == converged]
+        for confirmed in (True, False):
+            chosen = [p for p in points if p[key] == regime and
+                      ((p["agree"] == "yes") if by_verdict else (p["converged"] == "yes")) == confirmed]
             if not chosen:
                 continue
-            label = style["label"] if converged else style["label"] + " (not converged)"
-            ax.scatter([number(p["a"]) for p in chosen], [number(p["lambda"]) for p in chosen], s=28,
-                       marker=style["marker"], label=label, edgecolors=style["color"],
-                       facecolors=style["color"] if converged else "none")
+            label = style["label"] + ("" if confirmed else " (not confirmed by the run)" if by_verdict else " (not converged)")
+            x = [number(p["a"]) for p in chosen]
+            y = [number(p["lambda"]) for p in chosen]
+            if regime == "sustained" and norm is not None:
+                # Sustained points coloured by their period (log scale).
+                colours = [plt.cm.viridis(norm(number(p["period"]))) if number(p["period"]) > 0 else "tab:red"
+                           for p in chosen]
+                ax.scatter(x, y, s=34, marker=style["marker"], label=label, edgecolors="tab:red", linewidths=1.2,
+                           facecolors=colours if confirmed else "none")
+            else:
+                ax.scatter(x, y, s=28, marker=style["marker"], label=label, edgecolors=style["color"],
+                           facecolors=style["color"] if confirmed else "none")
+    if norm is not None:
+        bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, pad=0.01, fraction=0.04)
+        bar.set_label("period of sustained points")
     rows = [r for r in crit if not math.isnan(number(r["lambda_crit"]))]
     if rows:
         a = [number(r["a"]) for r in rows]

@@ -392,6 +392,27 @@ void read_converged_lambda_crit(const ScanPlan& plan, const std::filesystem::pat
   }
 }
 
+// A relaxing verdict stands only if its refined repeat relaxes too, towards a steady state that linear
+// stability finds stable on the refined grid; and a spectrum's verdict only if the refined grid's spectrum
+// agrees on stability (else the grid does not resolve the point: unresolved, with both said in the note).
+void judge_by_refined(const ScanRecord& fine, const std::string& fine_grid, ScanRecord& r) {
+  r.regime_refined = fine.regime;
+  const bool unstable = fine.regime_stability == "sustained";
+  if (!is_relaxing(fine) || unstable) {
+    r.note = "was " + r.regime + " in the run; on the refined grid (N = " + std::to_string(fine.size) + ", " +
+             fine_grid + ") it is " + fine.regime +
+             (unstable ? " with an unstable steady state (Re mu = " + shortest_text(fine.rightmost_real) + ")" : "") +
+             (fine.note.empty() ? "" : " (" + fine.note + ")") + (r.note.empty() ? "" : "; " + r.note);
+    r.regime = "unresolved";
+    r.agree = "";
+  }
+  const bool stable = r.regime_stability == "damped" || r.regime_stability == "steady";
+  if (stable && unstable && (r.verdict == "damped" || r.verdict == "steady")) {
+    r.note = "the spectrum's verdict " + r.verdict + " is not kept: the refined grid's steady state is unstable; " + r.note;
+    r.verdict = "unresolved";
+  }
+}
+
 }  // namespace
 
 ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
@@ -435,17 +456,7 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
     if (plan.refine && is_relaxing(*r)) {
       const std::optional<ScanRecord> fine = cache.finished(Run{p.a, p.lambda, N}.refinement());
       if (!fine) continue;  // its repeat failed (counted and reported): the point is not finished
-      r->regime_refined = fine->regime;
-      const bool unstable = fine->regime_stability == "sustained";
-      if (!is_relaxing(*fine) || unstable) {
-        r->note = "was " + r->regime + " in the run; on the refined grid (N = " + std::to_string(fine->size) + ", " +
-                  fine_grid + ") it is " + fine->regime +
-                  (unstable ? " with an unstable steady state (Re mu = " + shortest_text(fine->rightmost_real) + ")"
-                            : "") +
-                  (fine->note.empty() ? "" : " (" + fine->note + ")") + (r->note.empty() ? "" : "; " + r->note);
-        r->regime = "unresolved";
-        r->agree = "";
-      }
+      judge_by_refined(*fine, fine_grid, *r);
     }
     records.push_back(*r);
     by_a[p.a].push_back(*r);

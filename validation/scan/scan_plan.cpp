@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "validation/scan/scan_point.hpp"
 #include "validation/scene/scene_table.hpp"
 #include "validation/scene/value_range.hpp"
 
@@ -181,6 +182,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   for (const char* key : {"a", "lambda", "truncation_check", "refine"}) scan_settings.erase(key);
   fingerprint.insert("scan", scan_settings);
   plan.fingerprint = toml_text(fingerprint);
+  plan.branches = make_steady_branches();
   return plan;
 }
 
@@ -192,8 +194,7 @@ ScanPlan load_scan_plan(const std::filesystem::path& path) {
 
 ScanPlan refined_plan(const ScanPlan& plan) {
   ScanPlan fine = plan;
-  SizeGrid& grid = fine.scene.model.grid;
-  if (!grid.uniform()) grid.ratio = 1 + (grid.ratio - 1) / 2;
+  fine.scene.model.grid = plan.scene.model.grid.refined();
   return fine;
 }
 

@@ -49,6 +49,8 @@ struct ScanPoint {
   double a = 0, lambda = 0;
 };
 
+class SteadyBranches;  // validation/scan/scan_point.cpp
+
 struct ScanPlan {
   Scene scene;                        // model (brownian), time grid and exactly one cvode engine
   std::shared_ptr<const Engine> engine;  // that engine, built
@@ -66,6 +68,10 @@ struct ScanPlan {
   // Everything a finished point's result depends on except (a, λ): a resumed scan reuses the points only
   // if this is unchanged.
   std::string fingerprint;
+  // The steady-state branches walked so far in this process, one per (a, N, grid), shared by the plan's
+  // copies (refined_plan): each point's steady state comes by continuation in λ from the scan's largest λ
+  // (solvers/steady_branch.hpp), and a row of λ values costs one walk.
+  std::shared_ptr<SteadyBranches> branches;
 
   std::size_t point_count() const { return a.size() * lambda.size(); }
   ScanPoint point(std::size_t index) const { return {index, a[index / lambda.size()], lambda[index % lambda.size()]}; }

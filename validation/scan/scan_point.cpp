@@ -3,6 +3,11 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -11,42 +16,106 @@
 
 #include "solvers/mass_constrained_system.hpp"
 #include "solvers/stability.hpp"
+#include "solvers/steady_branch.hpp"
 #include "solvers/steady_state.hpp"
 
 namespace aggkit {
 
 bool scan_stability_available() { return true; }
 
+// The branches of one scan (scan_plan.hpp), keyed by a, N and the grid.
+class SteadyBranches {
+ public:
+  SteadyBranch& of(const AggregationModel& model, double a, double anchor) {
+    const std::string key = shortest_text(a) + " " + std::to_string(model.size) + " " + model.grid.describe();
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto found = branches_.find(key);
+    if (found == branches_.end()) found = branches_.emplace(key, std::make_unique<SteadyBranch>(model, anchor)).first;
+    return *found->second;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<SteadyBranch>> branches_;
+};
+
+std::shared_ptr<SteadyBranches> make_steady_branches() { return std::make_shared<SteadyBranches>(); }
+
 namespace {
+
+void add_note(ScanRecord& r, const std::string& text) { r.note += (r.note.empty() ? "" : "; ") + text; }
+
+// The point's steady state by continuation (solvers/steady_branch.hpp); records how it was reached, or where
+// the walk stopped. nullopt: none reached.
+std::optional<SteadyStateResult> branch_steady_state(const ScanPlan& plan, const AggregationModel& model, double a,
+                                                     double lambda, ScanRecord& r) {
+  // A fixed anchor, not the scan's largest λ: a point's result then does not depend on the other points
+  // (a resumed scan with a changed λ list reuses it). At λ = 0.1 the relaxation takes ~10 time units and the
+  // solver's own start converges for every a of the brownian kernel.
+  constexpr double anchor = 0.1;
+  std::shared_ptr<SteadyBranches> branches = plan.branches ? plan.branches : make_steady_branches();
+  const BranchSteadyState found = branches->of(model, a, anchor).at(lambda);
+  if (found.steady.converged) {
+    r.steady_how = found.how;
+    return found.steady;
+  }
+  if (found.negative_root && std::isfinite(found.stopped_lambda)) {
+    r.steady_how = "no positive steady state on this grid: the continuation from lambda = " + shortest_text(anchor) +
+                   " stopped at lambda = " + shortest_text(found.stopped_lambda) + " (the next root has negative densities)";
+    r.verdict = "no-positive-steady-state";
+  } else {
+    r.steady_how = std::isfinite(found.stopped_lambda)
+                       ? "not reached: the continuation stopped at lambda = " + shortest_text(found.stopped_lambda)
+                       : "not reached: no steady state at the anchor lambda = " + shortest_text(anchor);
+    r.verdict = "unresolved";
+  }
+  add_note(r, "steady state not reached (" + found.note + ")");
+  return std::nullopt;
+}
+
+// The verdict from the spectrum, the time series confirming: a stable steady state is damped (a complex
+// rightmost pair: a stable focus) or steady (a real one: a stable node); an unstable one is sustained where the
+// run oscillates without decay, else only "unstable" (the cycle was not seen, and no periodic orbit is computed).
+std::string verdict_of(const ScanRecord& r, bool stable, bool complex_pair) {
+  if (stable) return complex_pair ? "damped" : "steady";
+  return r.regime == "sustained" ? "sustained" : "unstable";
+}
 
 // Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
 // oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
-void classify_by_stability(const AggregationModel& model, double series_order, ScanRecord& r) {
-  const SteadyStateResult steady = solve_steady_state(model);
-  if (!steady.converged) {
-    r.note += std::string(r.note.empty() ? "" : "; ") + "steady state not converged (residual " +
-              shortest_text(steady.relative_residual) + ")";
-    return;
-  }
+void classify_by_stability(const ScanPlan& plan, const AggregationModel& model, double a, double lambda, ScanRecord& r) {
+  const std::optional<SteadyStateResult> steady = branch_steady_state(plan, model, a, lambda, r);
+  if (!steady) return;
   // A root whose mass piles up in the largest class is the truncation's, not the system's: at λN << 1 the
   // steady tail (n_k ∝ k^-a e^{-0.65 λ k}) lies beyond N, and under `drop` Newton then finds a state with all
   // the mass in class N draining at the leak rate (a = 0.95, λ = 1e-6, N = 2048: 99.9 % of the mass there).
   // A resolved tail (λN ≥ 8) puts ~1e-4 / N of the mass in that class.
   const std::vector<double> sizes = model.pivots();
-  const double top = sizes.back() * steady.n.back() / total_mass(steady.n, sizes);
+  const double top = sizes.back() * steady->n.back() / total_mass(steady->n, sizes);
   if (top > 0.01) {
-    r.note += std::string(r.note.empty() ? "" : "; ") + "the steady state piles up at the truncation (" +
-              shortest_text(top) + " of the mass in the largest class): N too short for lambda";
+    add_note(r, "the steady state piles up at the truncation (" + shortest_text(top) +
+                    " of the mass in the largest class): N too short for lambda");
+    r.verdict = "unresolved";
     return;
   }
   r.mean_steady = 0;  // the classified moment Σ n_i x_i^p of the steady state
-  for (std::size_t i = 0; i < sizes.size(); ++i) r.mean_steady += steady.n[i] * std::pow(sizes[i], series_order);
-  const StabilityResult stability = analyse_stability(model, steady.n);
+  for (std::size_t i = 0; i < sizes.size(); ++i) r.mean_steady += steady->n[i] * std::pow(sizes[i], plan.series_order);
+  StabilityResult stability;
+  try {
+    stability = analyse_stability(model, steady->n);
+  } catch (const std::runtime_error& e) {
+    r.spectrum_converged = "no";
+    r.verdict = "unresolved";
+    add_note(r, std::string("spectrum: ") + e.what());
+    return;
+  }
   if (stability.rightmost.empty()) return;
+  r.spectrum_converged = "yes";
   const std::complex<double> mu = stability.rightmost.front();
   r.rightmost_real = mu.real();
   r.rightmost_imag = std::abs(mu.imag());
   r.regime_stability = !stability.stable ? "sustained" : mu.imag() != 0 ? "damped" : "steady";
+  r.verdict = verdict_of(r, stability.stable, mu.imag() != 0);
   const bool known = r.regime == "sustained" || r.regime == "damped" || r.regime == "steady";
   if (known) r.agree = (r.regime == "sustained") == (r.regime_stability == "sustained") ? "yes" : "no";
 }
@@ -92,7 +161,7 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   r.cycles = c.cycles;
   r.converged = c.converged;
   r.note = c.note;
-  if (plan.stability) classify_by_stability(run.model, plan.series_order, r);
+  if (plan.stability) classify_by_stability(plan, run.model, point.a, point.lambda, r);
   // A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability
   // finds unstable (Re μ > 0) cannot relax, so a damped or steady time series there means the run is too
   // short for the period (or the truncation too short for the tail); and a damped verdict whose own

@@ -4,6 +4,7 @@
 // and its linear stability.
 #include <cstddef>
 #include <functional>
+#include <memory>
 
 #include "validation/scan/scan_plan.hpp"
 #include "validation/scan/scan_record.hpp"
@@ -12,6 +13,9 @@ namespace aggkit {
 
 // Whether the steady-state/stability classification is part of this build (regime_stability columns).
 bool scan_stability_available();
+
+// A fresh store of steady-state branches for a plan (ScanPlan::branches).
+std::shared_ptr<SteadyBranches> make_steady_branches();
 
 // `size` is the truncation N of this run (the scene's, or 2N for the truncation check); `progress` receives
 // the time reached (may be empty). A damped or steady verdict that the run or the steady state does not

@@ -14,7 +14,8 @@ namespace {
 
 const char* const columns =
     "a,lambda,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,"
-    "regime_stability,rightmost_real,rightmost_imag,agree,N,index,note,mean_steady,regime_refined";
+    "regime_stability,rightmost_real,rightmost_imag,agree,N,index,note,mean_steady,regime_refined,"
+    "steady_how,spectrum_converged,verdict";
 const char* const point_columns = ",seconds,rank";
 
 std::string clean(std::string text) {
@@ -58,7 +59,8 @@ std::string scan_csv_row(const ScanRecord& r) {
          "," + number(r.mean) + "," + number(r.decay_rate) + "," + number(r.decay_rate_error) + "," +
          std::to_string(r.cycles) + "," + (r.converged ? "yes" : "no") + "," + r.regime_stability + "," +
          number(r.rightmost_real) + "," + number(r.rightmost_imag) + "," + r.agree + "," + std::to_string(r.size) +
-         "," + std::to_string(r.index) + "," + clean(r.note) + "," + number(r.mean_steady) + "," + r.regime_refined;
+         "," + std::to_string(r.index) + "," + clean(r.note) + "," + number(r.mean_steady) + "," + r.regime_refined +
+         "," + clean(r.steady_how) + "," + r.spectrum_converged + "," + r.verdict;
 }
 
 std::string point_file_text(const ScanRecord& r) {
@@ -72,7 +74,7 @@ std::optional<ScanRecord> parse_point_file(const std::string& text) {
   if (!std::getline(in, header) || header != scan_csv_header() + point_columns) return std::nullopt;
   if (!std::getline(in, row) || std::getline(in, rest)) return std::nullopt;
   const std::vector<std::string> f = split(row);
-  if (f.size() != 21) return std::nullopt;
+  if (f.size() != 24) return std::nullopt;
   try {
     ScanRecord r;
     r.a = std::stod(f[0]);
@@ -94,8 +96,11 @@ std::optional<ScanRecord> parse_point_file(const std::string& text) {
     r.note = f[16];
     r.mean_steady = std::stod(f[17]);
     r.regime_refined = f[18];
-    r.seconds = std::stod(f[19]);
-    r.rank = std::stoi(f[20]);
+    r.steady_how = f[19];
+    r.spectrum_converged = f[20];
+    r.verdict = f[21];
+    r.seconds = std::stod(f[22]);
+    r.rank = std::stoi(f[23]);
     if (r.regime.empty()) return std::nullopt;
     return r;
   } catch (const std::exception&) {

@@ -29,6 +29,18 @@ struct ScanRecord {
   // The verdict of the same point on the refined grid over twice the run ([scan] refine; "" where not
   // repeated): a damped or steady verdict stands only if the repeat relaxes too.
   std::string regime_refined;
+  // How the point's steady state was reached (solvers/steady_branch.hpp): "newton from a CVODE start",
+  // "continuation from lambda = ... in K Newton solves", or where and why the continuation stopped.
+  std::string steady_how;
+  // yes: the rightmost eigenvalues (rightmost_real, rightmost_imag) converged; no: the eigensolver failed
+  // (the note says how); "": no steady state to analyse.
+  std::string spectrum_converged;
+  // The verdict from the evidence of the steady state and its spectrum, with the time series (regime) as the
+  // confirmation: damped (stable focus), steady (stable node), sustained (unstable steady state and a
+  // sustained time series), unstable (unstable steady state; the run did not show the cycle: no periodic
+  // orbit computed), no-positive-steady-state (the continuation's roots went negative above this λ: see
+  // steady_how), unresolved (no steady state reached, or no converged spectrum).
+  std::string verdict;
   // Not in scan.csv (so that it is reproducible): where and how long.
   double seconds = 0;
   int rank = 0;
