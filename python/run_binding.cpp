@@ -20,6 +20,7 @@
 
 #include "analysis/input_error.hpp"
 #include "particle/common/checkpoint.hpp"
+#include "solvers/limit_cycle.hpp"
 #include "solvers/stability.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/harness/engine_record.hpp"
@@ -294,6 +295,78 @@ py::array_t<std::complex<double>> rightmost_eigenvalues(const std::string& scene
   return py::array_t<std::complex<double>>(py::ssize_t(result.rightmost.size()), result.rightmost.data());
 }
 
+// LimitCycleOptions from a dict of keywords; an unknown key is refused by name.
+LimitCycleOptions cycle_options(const py::dict& given) {
+  LimitCycleOptions o;
+  for (const auto& [key, value] : given) {
+    const std::string name = py::str(key);
+    if (name == "rtol") o.rtol = value.cast<double>();
+    else if (name == "tolerance") o.tolerance = value.cast<double>();
+    else if (name == "max_newton_iterations") o.max_newton_iterations = value.cast<int>();
+    else if (name == "linear_tolerance") o.linear_tolerance = value.cast<double>();
+    else if (name == "max_krylov_iterations") o.max_krylov_iterations = value.cast<int>();
+    else if (name == "floquet_count") o.floquet_count = value.cast<int>();
+    else if (name == "orbit_samples") o.orbit_samples = value.cast<std::size_t>();
+    else
+      throw InputError(name, py::str(value), "one of rtol, tolerance, max_newton_iterations, linear_tolerance, "
+                                             "max_krylov_iterations, floquet_count, orbit_samples");
+  }
+  o.validate();
+  return o;
+}
+
+py::dict cycle_dict(const LimitCycle& c) {
+  py::dict d;
+  d["converged"] = c.converged, d["period"] = c.period, d["m0_min"] = c.m0_min, d["m0_max"] = c.m0_max;
+  d["state"] = py::array_t<double>(py::ssize_t(c.state.size()), c.state.data());
+  d["sizes"] = py::array_t<double>(py::ssize_t(c.sizes.size()), c.sizes.data());
+  d["floquet"] = py::array_t<std::complex<double>>(py::ssize_t(c.floquet.size()), c.floquet.data());
+  d["floquet_converged"] = c.floquet_converged, d["stable"] = c.stable;
+  std::vector<double> orbit;
+  for (std::size_t i = 0; i < c.orbit_time.size(); ++i) {
+    orbit.push_back(c.orbit_time[i]);
+    orbit.insert(orbit.end(), c.orbit_moments[i].begin(), c.orbit_moments[i].end());
+  }
+  d["orbit"] = py::array_t<double>({py::ssize_t(c.orbit_time.size()), py::ssize_t(5)}, orbit.data());
+  d["newton_iterations"] = c.newton_iterations, d["krylov_iterations"] = c.krylov_iterations;
+  d["period_maps"] = c.period_maps, d["residual"] = c.residual, d["seconds"] = c.seconds, d["note"] = c.note;
+  return d;
+}
+
+// The periodic orbit from `start` (a state with `period` its period guess) or, without one, from a run of the
+// model to t = settle (solvers/limit_cycle.hpp cycle_start_from_run).
+py::dict limit_cycle(const std::string& scene_text, py::object kernel, py::object start, py::object period, double settle,
+                     const py::dict& options) {
+  const AggregationModel model = model_of(scene_text, kernel);
+  const LimitCycleOptions o = cycle_options(options);
+  std::vector<double> x0;
+  double T = 0.0;
+  if (!start.is_none()) {
+    const auto n = start.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+    if (n.ndim() != 1 || std::size_t(n.shape(0)) != model.unknowns())
+      throw InputError("start", std::to_string(n.size()) + " entries",
+                       "a 1-D array of one density per size class (" + std::to_string(model.unknowns()) + ")");
+    if (period.is_none()) throw InputError("period", "None", "a period guess > 0 with a start");
+    x0.assign(n.data(), n.data() + n.shape(0));
+    T = period.cast<double>();
+  }
+  LimitCycle c;
+  {
+    py::gil_scoped_release release;
+    if (x0.empty()) {
+      const std::optional<CycleStart> found = cycle_start_from_run(model, settle, settle / 4000.0);
+      if (!found) {
+        c.note = "the run to t = " + format_value(settle) + " shows no oscillation (fewer than 3 crossings of M0's mean in its second half)";
+      } else {
+        x0 = found->state;
+        T = period.is_none() ? found->period : period.cast<double>();
+      }
+    }
+    if (!x0.empty()) c = find_limit_cycle(model, x0, T, o);
+  }
+  return cycle_dict(c);
+}
+
 py::dict hopf(const std::string& scene_text, double a, double lambda_lo, double lambda_hi, double tolerance) {
   const AggregationModel model = model_of(scene_text, py::none());
   HopfPoint h;
@@ -347,6 +420,8 @@ void bind_runs(py::module_& m) {
   });
   m.def("rightmost_eigenvalues", &rightmost_eigenvalues, py::arg("scene_text"), py::arg("kernel"), py::arg("state"),
         py::arg("count"));
+  m.def("limit_cycle", &limit_cycle, py::arg("scene_text"), py::arg("kernel"), py::arg("start"), py::arg("period"),
+        py::arg("settle"), py::arg("options"));
   m.def("locate_hopf", &hopf, py::arg("scene_text"), py::arg("a"), py::arg("lambda_lo"), py::arg("lambda_hi"),
         py::arg("tolerance"));
   m.def("engine_names", &engine_names);

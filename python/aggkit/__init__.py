@@ -24,7 +24,7 @@ from . import _scene  # noqa: E402
 from . import analysis  # noqa: E402
 
 __all__ = ["Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
-           "ed", "ts", "dem", "run", "analysis", "engine_options", "rightmost_eigenvalues", "locate_hopf"]
+           "ed", "ts", "dem", "run", "analysis", "engine_options", "rightmost_eigenvalues", "spectrum", "limit_cycle", "locate_hopf"]
 
 
 def engine_options(engine):
@@ -267,6 +267,35 @@ def rightmost_eigenvalues(model, state, count=6):
     shift-invert Arnoldi (Spectra) for large N. A positive real part means the state is unstable."""
     state = np.ascontiguousarray(state.n if isinstance(state, SteadyState) else state, dtype=float)
     return _aggkit.rightmost_eigenvalues(model._text(), model.kernel if callable(model.kernel) else None, state, count)
+
+
+def spectrum(model, state, count=6):
+    """The rightmost eigenvalues at a steady state (as rightmost_eigenvalues) with the verdict they give: a dict
+    with eigenvalues (real part descending), stable (every Re < 0), and kind: "stable node", "stable focus",
+    "unstable focus" or "unstable node" from the rightmost eigenvalue."""
+    values = rightmost_eigenvalues(model, state, count)
+    top = values[0]
+    stable = bool(top.real < 0)
+    kind = ("stable " if stable else "unstable ") + ("focus" if top.imag != 0 else "node")
+    return {"eigenvalues": values, "stable": stable, "kind": kind}
+
+
+def limit_cycle(model, start=None, period=None, settle=2000.0, **options):
+    """A periodic orbit of `model` computed directly: shooting on the period map (CVODE inside) with
+    matrix-free Newton–Krylov, a mass row and a Poincaré phase condition; Floquet multipliers by Arnoldi on the
+    monodromy matrix (solvers/limit_cycle.hpp). `start`: a state near the cycle (one density per size class)
+    with `period` its period guess; without one, the state at the last upward crossing of M0 through its mean
+    in a run of the model to t = settle. Options: rtol (1e-10), tolerance (1e-5), max_newton_iterations (30),
+    linear_tolerance (1e-3), max_krylov_iterations (80), floquet_count (4), orbit_samples (200).
+
+    Returns a dict: converged, period, m0_min, m0_max (the amplitude of M0), state, sizes, floquet (the
+    nontrivial multipliers, |mu| descending), floquet_converged, stable (every nontrivial |mu| < 1), orbit
+    (rows t, M0, M1, M2, M3 over one period), newton_iterations, krylov_iterations, period_maps, residual,
+    seconds, note. Bad input raises ValueError naming the key."""
+    if start is not None:
+        start = np.ascontiguousarray(start.n if isinstance(start, SteadyState) else start, dtype=float)
+    return _aggkit.limit_cycle(model._text(), model.kernel if callable(model.kernel) else None, start, period,
+                               float(settle), dict(options))
 
 
 def locate_hopf(model, a, lambda_lo, lambda_hi, tolerance=1e-3):

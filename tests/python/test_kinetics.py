@@ -110,6 +110,28 @@ def test_stability_at_the_published_regimes():
         aggkit.rightmost_eigenvalues(stable, np.ones(3))
 
 
+def test_spectrum_and_limit_cycle_at_a_sustained_point():
+    # a = 0.95, λ = 0.01 on a graded grid (K = 32, r = 1.1, N = 2^20): an unstable focus, and the attracting
+    # cycle around it found by shooting from a run to t = 3000, its period that of the run (33.83; the C++ tests
+    # check it against a long time series to 1e-3), one period of M0..M3 that closes on itself.
+    model = aggkit.Model("brownian", a=0.95, lam=0.01, size=2**20, grid={"resolved": 32, "ratio": 1.1})
+    s = aggkit.spectrum(model, aggkit.steady_state(model))
+    assert s["kind"] == "unstable focus" and not s["stable"]
+    cycle = aggkit.limit_cycle(model, settle=3000.0)
+    assert cycle["converged"], cycle["note"]
+    assert cycle["period"] == pytest.approx(33.83, rel=1e-3)
+    assert cycle["stable"] and abs(cycle["floquet"][0]) < 1
+    assert cycle["orbit"].shape == (201, 5)
+    assert cycle["orbit"][-1, 1] == pytest.approx(cycle["orbit"][0, 1], rel=1e-6)
+    assert cycle["m0_min"] < cycle["m0_max"]
+    with pytest.raises(ValueError, match="orbit_samples"):
+        aggkit.limit_cycle(model, settle=3000.0, orbit_samples=1)
+    with pytest.raises(ValueError, match="newton"):
+        aggkit.limit_cycle(model, settle=3000.0, newton=3)
+    with pytest.raises(ValueError, match="start"):
+        aggkit.limit_cycle(model, start=np.ones(3), period=30.0)
+
+
 def test_locate_hopf_finds_where_the_rightmost_pair_crosses():
     model = aggkit.Model("brownian", a=0.95, lam=0.01, size=512, truncation="cutoff")
     h = aggkit.locate_hopf(model, a=0.95, lambda_lo=0.005, lambda_hi=0.5)
