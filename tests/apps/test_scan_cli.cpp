@@ -2,6 +2,8 @@
 // interruption without recomputing finished points, the phase diagram, and bad input (exit 2).
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include <algorithm>
 #include <chrono>
 #include <map>
@@ -287,8 +289,9 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
   CHECK(!fs::exists(folder / "out" / "points" / "a0.9_lambda0.001_N2097152_refined.csv"));
 
   // Every point has a steady state reached by continuation from λ = 0.1 and a converged spectrum; the verdict
-  // comes from the spectrum, the run confirming: (0.9, 0.001) unstable and oscillating in the run: sustained;
-  // (0.85, 0.001) unstable but the run shows no cycle: unstable; (0.9, 0.012) a stable focus: damped (the run
+  // comes from the spectrum and the cycle, the run confirming: (0.9, 0.001) unstable, oscillating in the run and
+  // with a stable cycle: sustained; (0.85, 0.001) unstable, the run too short to show a cycle (one period in its
+  // tail) but shooting finds a stable one (period 183): sustained; (0.9, 0.012) a stable focus: damped (the run
   // agrees); (0.9, 0.004) stable on the coarse grid but unstable on the refined one: unresolved, said so.
   CHECK_THAT(aggkit::testing::first_line(csv), Contains(",steady_how,spectrum_converged,verdict"));
   for (const auto& row : aggkit::testing::read_csv(csv)) {
@@ -298,7 +301,14 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
     CHECK(!row.at("verdict").empty());
   }
   CHECK(sustained.at("verdict") == "sustained");
-  CHECK(scan_row(csv, 0.85, 0.001).at("verdict") == "unstable");
+  const auto slow = scan_row(csv, 0.85, 0.001);
+  CHECK(slow.at("regime") == "unresolved");
+  CHECK(slow.at("verdict") == "sustained");
+  CHECK(slow.at("cycle_stable") == "yes");
+  CHECK(std::stod(slow.at("floquet_max")) < 1.0);
+  CHECK(std::stod(slow.at("cycle_m0_min")) < std::stod(slow.at("cycle_m0_max")));
+  CHECK(sustained.at("cycle_stable") == "yes");
+  CHECK(std::isnan(std::stod(high.at("cycle_period"))));  // no cycle around a stable focus
   CHECK(high.at("verdict") == "damped");
   CHECK(high.at("agree") == "yes");
   CHECK(low.at("verdict") == "unresolved");

@@ -21,7 +21,7 @@ STYLE = {
     "unresolved": dict(color="tab:orange", marker="D", label="unresolved"),
     # Verdicts from the steady state's spectrum (the `verdict` column): an unstable steady state whose cycle the
     # run did not show, and points below where the continuation's roots stay positive.
-    "unstable": dict(color="tab:purple", marker="v", label="unstable steady state (cycle not seen in the run)"),
+    "unstable": dict(color="tab:purple", marker="v", label="unstable steady state (no attracting cycle found)"),
     "no-positive-steady-state": dict(color="black", marker="x", label="no positive steady state on the grid"),
 }
 
@@ -52,7 +52,11 @@ def main():
     # hollow where it does not or says nothing); else the time series' regime (hollow: not converged).
     by_verdict = bool(points) and "verdict" in points[0]
     key = "verdict" if by_verdict else "regime"
-    periods = [number(p["period"]) for p in points if p[key] == "sustained" and number(p["period"]) > 0]
+    def period(p):  # the computed cycle's period where there is one, else the run's
+        value = number(p.get("cycle_period", "") or "nan")
+        return value if value > 0 else number(p["period"])
+
+    periods = [period(p) for p in points if p[key] == "sustained" and period(p) > 0]
     norm = matplotlib.colors.LogNorm(min(periods), max(periods)) if len(periods) >= 2 and min(periods) < max(periods) else None
     for regime, style in STYLE.items():
         for confirmed in (True, False):
@@ -65,8 +69,7 @@ def main():
             y = [number(p["lambda"]) for p in chosen]
             if regime == "sustained" and norm is not None:
                 # Sustained points coloured by their period (log scale).
-                colours = [plt.cm.viridis(norm(number(p["period"]))) if number(p["period"]) > 0 else "tab:red"
-                           for p in chosen]
+                colours = [plt.cm.viridis(norm(period(p))) if period(p) > 0 else "tab:red" for p in chosen]
                 ax.scatter(x, y, s=34, marker=style["marker"], label=label, edgecolors="tab:red", linewidths=1.2,
                            facecolors=colours if confirmed else "none")
             else:

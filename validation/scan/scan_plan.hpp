@@ -22,6 +22,9 @@
 //                                         graded: also (r - 1)/2); the verdict stands only if the
 //                                         repeat relaxes too and its steady state is stable, else the
 //                                         point is unresolved (default true)
+//   cycles = true                         the attracting cycle around every unstable steady state by
+//                                         shooting (period, M0 range, Floquet multipliers); a stable one
+//                                         makes the point sustained (default true)
 //   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
 //                                         repeat these points (and λ_crit(a)) at size 2N (optional)
 //   hopf_grid = { resolved = 256, ratio = 1.005 }   the size grid of λ_crit(a) (default: the model's grid).
@@ -62,6 +65,7 @@ struct ScanPlan {
   bool stability = true;
   double steady_match = 0.05;         // largest |tail mean - steady value| / steady value of a relaxing verdict
   bool refine = true;                 // relaxing verdicts repeated on refined_plan()
+  bool cycles = true;                 // the attracting cycle of every unstable point by shooting
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N
   SizeGrid hopf_grid;                                   // the grid of λ_crit(a) (the model's by default)

@@ -1,5 +1,6 @@
 #include "validation/scan/scan_point.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
@@ -14,6 +15,7 @@
 #include "validation/observables/observed_state.hpp"
 #include "validation/io/text.hpp"
 
+#include "solvers/limit_cycle.hpp"
 #include "solvers/mass_constrained_system.hpp"
 #include "solvers/stability.hpp"
 #include "solvers/steady_branch.hpp"
@@ -73,17 +75,50 @@ std::optional<SteadyStateResult> branch_steady_state(const ScanPlan& plan, const
   return std::nullopt;
 }
 
-// The verdict from the spectrum, the time series confirming: a stable steady state is damped (a complex
-// rightmost pair: a stable focus) or steady (a real one: a stable node); an unstable one is sustained where the
-// run oscillates without decay, else only "unstable" (the cycle was not seen, and no periodic orbit is computed).
+// The verdict from the spectrum and the periodic orbit, the time series confirming: a stable steady state is
+// damped (a complex rightmost pair: a stable focus) or steady (a real one: a stable node); an unstable one is
+// sustained where a stable cycle was found (or, failing that, the run oscillates without decay), else only
+// "unstable" (no attracting cycle found).
 std::string verdict_of(const ScanRecord& r, bool stable, bool complex_pair) {
   if (stable) return complex_pair ? "damped" : "steady";
-  return r.regime == "sustained" ? "sustained" : "unstable";
+  return r.cycle_stable == "yes" || r.regime == "sustained" ? "sustained" : "unstable";
+}
+
+// The attracting cycle around an unstable focus μ = re ± i im (solvers/limit_cycle.hpp): started from a run of
+// the point's model whose length comes from the spectrum, at least 16 linear periods 2π/im (8 in the half whose
+// crossings are used) and 12 e-folding times 1/re of the growth away from the steady state (the scene's t_end
+// at least), with outputs 50 per period; then shooting and the Floquet multipliers.
+void find_cycle(const ScanPlan& plan, const AggregationModel& model, double re, double im, ScanRecord& r) {
+  if (!(re > 0.0) || !(im > 0.0)) return;
+  const double period = 2.0 * M_PI / im;
+  const double settle = std::max({plan.scene.time.end, 16.0 * period, 12.0 / re});
+  try {
+    const std::optional<CycleStart> start = cycle_start_from_run(model, settle, period / 50.0);
+    if (!start) {
+      add_note(r, "no cycle: the run to t = " + shortest_text(settle) + " does not oscillate");
+      return;
+    }
+    LimitCycleOptions options;
+    options.tolerance = 1e-4;  // the scaled residual of the shooting equations (periods to ~1e-5)
+    const LimitCycle cycle = find_limit_cycle(model, start->state, start->period, options);
+    if (!cycle.converged) {
+      add_note(r, "no cycle: shooting from the run to t = " + shortest_text(settle) + " did not converge (" + cycle.note + ")");
+      return;
+    }
+    r.cycle_period = cycle.period;
+    r.cycle_m0_min = cycle.m0_min;
+    r.cycle_m0_max = cycle.m0_max;
+    if (cycle.floquet_converged && !cycle.floquet.empty()) r.floquet_max = std::abs(cycle.floquet.front());
+    r.cycle_stable = cycle.stable ? "yes" : "no";
+  } catch (const std::runtime_error& e) {
+    add_note(r, std::string("no cycle: ") + e.what());
+  }
 }
 
 // Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
 // oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
-void classify_by_stability(const ScanPlan& plan, const AggregationModel& model, double a, double lambda, ScanRecord& r) {
+void classify_by_stability(const ScanPlan& plan, const AggregationModel& model, double a, double lambda, bool cycles,
+                           ScanRecord& r) {
   const std::optional<SteadyStateResult> steady = branch_steady_state(plan, model, a, lambda, r);
   if (!steady) return;
   // A root whose mass piles up in the largest class is the truncation's, not the system's: at λN << 1 the
@@ -115,6 +150,7 @@ void classify_by_stability(const ScanPlan& plan, const AggregationModel& model, 
   r.rightmost_real = mu.real();
   r.rightmost_imag = std::abs(mu.imag());
   r.regime_stability = !stability.stable ? "sustained" : mu.imag() != 0 ? "damped" : "steady";
+  if (!stability.stable && cycles) find_cycle(plan, model, mu.real(), std::abs(mu.imag()), r);
   r.verdict = verdict_of(r, stability.stable, mu.imag() != 0);
   const bool known = r.regime == "sustained" || r.regime == "damped" || r.regime == "steady";
   if (known) r.agree = (r.regime == "sustained") == (r.regime_stability == "sustained") ? "yes" : "no";
@@ -161,7 +197,8 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   r.cycles = c.cycles;
   r.converged = c.converged;
   r.note = c.note;
-  if (plan.stability) classify_by_stability(plan, run.model, point.a, point.lambda, r);
+  // The refined repeats (judge_relaxation false) only check a relaxing verdict: no cycles there.
+  if (plan.stability) classify_by_stability(plan, run.model, point.a, point.lambda, plan.cycles && judge_relaxation, r);
   // A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability
   // finds unstable (Re μ > 0) cannot relax, so a damped or steady time series there means the run is too
   // short for the period (or the truncation too short for the tail); and a damped verdict whose own

@@ -15,7 +15,7 @@ namespace {
 const char* const columns =
     "a,lambda,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,"
     "regime_stability,rightmost_real,rightmost_imag,agree,N,index,note,mean_steady,regime_refined,"
-    "steady_how,spectrum_converged,verdict";
+    "steady_how,spectrum_converged,verdict,cycle_period,cycle_m0_min,cycle_m0_max,floquet_max,cycle_stable";
 const char* const point_columns = ",seconds,rank";
 
 std::string clean(std::string text) {
@@ -60,7 +60,8 @@ std::string scan_csv_row(const ScanRecord& r) {
          std::to_string(r.cycles) + "," + (r.converged ? "yes" : "no") + "," + r.regime_stability + "," +
          number(r.rightmost_real) + "," + number(r.rightmost_imag) + "," + r.agree + "," + std::to_string(r.size) +
          "," + std::to_string(r.index) + "," + clean(r.note) + "," + number(r.mean_steady) + "," + r.regime_refined +
-         "," + clean(r.steady_how) + "," + r.spectrum_converged + "," + r.verdict;
+         "," + clean(r.steady_how) + "," + r.spectrum_converged + "," + r.verdict + "," + number(r.cycle_period) + "," +
+         number(r.cycle_m0_min) + "," + number(r.cycle_m0_max) + "," + number(r.floquet_max) + "," + r.cycle_stable;
 }
 
 std::string point_file_text(const ScanRecord& r) {
@@ -74,7 +75,7 @@ std::optional<ScanRecord> parse_point_file(const std::string& text) {
   if (!std::getline(in, header) || header != scan_csv_header() + point_columns) return std::nullopt;
   if (!std::getline(in, row) || std::getline(in, rest)) return std::nullopt;
   const std::vector<std::string> f = split(row);
-  if (f.size() != 24) return std::nullopt;
+  if (f.size() != 29) return std::nullopt;
   try {
     ScanRecord r;
     r.a = std::stod(f[0]);
@@ -99,8 +100,13 @@ std::optional<ScanRecord> parse_point_file(const std::string& text) {
     r.steady_how = f[19];
     r.spectrum_converged = f[20];
     r.verdict = f[21];
-    r.seconds = std::stod(f[22]);
-    r.rank = std::stoi(f[23]);
+    r.cycle_period = std::stod(f[22]);
+    r.cycle_m0_min = std::stod(f[23]);
+    r.cycle_m0_max = std::stod(f[24]);
+    r.floquet_max = std::stod(f[25]);
+    r.cycle_stable = f[26];
+    r.seconds = std::stod(f[27]);
+    r.rank = std::stoi(f[28]);
     if (r.regime.empty()) return std::nullopt;
     return r;
   } catch (const std::exception&) {

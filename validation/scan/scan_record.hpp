@@ -41,6 +41,11 @@ struct ScanRecord {
   // orbit computed), no-positive-steady-state (the continuation's roots went negative above this λ: see
   // steady_how), unresolved (no steady state reached, or no converged spectrum).
   std::string verdict;
+  // The attracting cycle around an unstable steady state, computed by shooting (solvers/limit_cycle.hpp; NaN and
+  // "" where none was computed or found): its period, M0's range over it, the largest nontrivial Floquet
+  // multiplier |μ| and whether the cycle is stable (every nontrivial |μ| < 1).
+  double cycle_period = nan, cycle_m0_min = nan, cycle_m0_max = nan, floquet_max = nan;
+  std::string cycle_stable;
   // Not in scan.csv (so that it is reproducible): where and how long.
   double seconds = 0;
   int rank = 0;
