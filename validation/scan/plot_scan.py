@@ -38,6 +38,7 @@ def main():
     parser.add_argument("--scan", required=True)
     parser.add_argument("--lambda-crit", required=True)
     parser.add_argument("--output", required=True)
+    parser.add_argument("--bifurcation", help="also draw the bifurcation diagram per a to this PNG")
     parser.add_argument("--title", default="scan")
     parser.add_argument("--log-lambda", action="store_true")
     args = parser.parse_args()
@@ -104,6 +105,59 @@ def main():
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(args.output, dpi=120, format="png")
+    if args.bifurcation:
+        bifurcation_diagram(points, crit, args)
+
+
+def bifurcation_diagram(points, crit, args):
+    """Per a: the steady state's M0 against lambda (solid and filled where stable, hollow where unstable), the
+    cycles' M0 range (min and max; filled where the cycle is stable, hollow where not) and the Hopf point."""
+    by_a = {}
+    for p in points:
+        by_a.setdefault(number(p["a"]), []).append(p)
+    hopf = {number(r["a"]): number(r["lambda_crit"]) for r in crit}
+    values = sorted(by_a)
+    columns = min(4, len(values))
+    rows = (len(values) + columns - 1) // columns
+    fig, axes = plt.subplots(rows, columns, figsize=(3.2 * columns, 2.6 * rows), squeeze=False)
+    for ax, a in zip(axes.flat, values):
+        chosen = sorted(by_a[a], key=lambda p: number(p["lambda"]))
+        lam = [number(p["lambda"]) for p in chosen]
+        steady = [number(p.get("mean_steady", "nan")) for p in chosen]
+        stable = [p.get("regime_stability") in ("damped", "steady") for p in chosen]
+        ax.plot(lam, steady, color="gray", lw=0.8)
+        ax.scatter([x for x, s in zip(lam, stable) if s], [y for y, s in zip(steady, stable) if s], s=12,
+                   color="tab:blue", label="steady state, stable")
+        ax.scatter([x for x, s in zip(lam, stable) if not s], [y for y, s in zip(steady, stable) if not s], s=12,
+                   facecolors="none", edgecolors="tab:blue", label="steady state, unstable")
+        for key in ("cycle_m0_min", "cycle_m0_max"):
+            for stable_cycle in (True, False):
+                pts = [(number(p["lambda"]), number(p.get(key, "nan") or "nan")) for p in chosen
+                       if (p.get("cycle_stable") == "yes") == stable_cycle and p.get("cycle_stable")]
+                if pts:
+                    ax.scatter(*zip(*pts), s=14, marker="^" if key.endswith("max") else "v", color="tab:red",
+                               facecolors="tab:red" if stable_cycle else "none",
+                               label=("cycle M0 range, stable" if stable_cycle else "cycle M0 range, unstable")
+                               if key.endswith("max") else None)
+        if a in hopf and hopf[a] > 0:
+            ax.axvline(hopf[a], color="black", lw=0.8, ls="--", label="lambda_crit")
+        if args.log_lambda:
+            ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title("a = %g" % a, fontsize=9)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in list(axes.flat)[len(values):]:
+        ax.axis("off")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8)
+    for ax in axes[-1]:
+        ax.set_xlabel("lambda", fontsize=8)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("M0", fontsize=8)
+    fig.suptitle(args.title + ": bifurcation diagrams", fontsize=10)
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    fig.savefig(args.bifurcation, dpi=110, format="png")
 
 
 if __name__ == "__main__":

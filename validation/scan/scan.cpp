@@ -535,7 +535,8 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
     }
     if (options.plot) {
       const std::string why = plot_phase_diagram(options.out / "scan.csv", options.out / "lambda_crit.csv",
-                                                 options.out / "phase_diagram.png", plan.scene.name, plan.lambda_log);
+                                                 options.out / "phase_diagram.png", options.out / "bifurcation.png",
+                                                 plan.scene.name, plan.lambda_log);
       if (!why.empty() && options.progress) *options.progress << "aggkit scan: phase diagram not drawn: " << why << "\n";
     }
     if (options.progress) {

@@ -67,11 +67,13 @@ void write_truncation_check_csv(const std::filesystem::path& file, const std::ve
 }
 
 std::string plot_phase_diagram(const std::filesystem::path& scan_csv, const std::filesystem::path& lambda_crit_csv,
-                               const std::filesystem::path& png, const std::string& title, bool log_lambda) {
-  AtomicFile output(png);
+                               const std::filesystem::path& png, const std::filesystem::path& bifurcation_png,
+                               const std::string& title, bool log_lambda) {
+  AtomicFile output(png), bifurcation(bifurcation_png);
   std::vector<std::string> argv{plot_interpreter(), plot_scan_script().string(), "--scan", scan_csv.string(),
                                 "--lambda-crit", lambda_crit_csv.string(), "--output",
-                                output.temporary_path().string(), "--title", title};
+                                output.temporary_path().string(), "--bifurcation",
+                                bifurcation.temporary_path().string(), "--title", title};
   if (log_lambda) argv.push_back("--log-lambda");
   const ProcessOutcome run = run_process(argv, std::chrono::seconds(120));
   if (!run.succeeded()) {
@@ -85,6 +87,7 @@ std::string plot_phase_diagram(const std::filesystem::path& scan_csv, const std:
   }
   try {
     output.commit();
+    bifurcation.commit();
   } catch (const std::exception& e) {
     return e.what();
   }

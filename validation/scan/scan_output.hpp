@@ -41,9 +41,11 @@ void write_timing_csv(const std::filesystem::path& file, const std::vector<ScanR
 void write_lambda_crit_csv(const std::filesystem::path& file, const std::vector<LambdaCritRow>& rows);
 void write_truncation_check_csv(const std::filesystem::path& file, const std::vector<TruncationCheckRow>& rows);
 
-// Draws `png` from scan.csv and lambda_crit.csv with plot_scan.py; returns "" or why it failed (plotting is a
-// convenience, never fatal).
+// Draws the phase diagram `png` and the bifurcation diagrams `bifurcation_png` (M0 of the steady states and of the
+// cycles against λ, per a) from scan.csv and lambda_crit.csv with plot_scan.py; returns "" or why it failed
+// (plotting is a convenience, never fatal).
 std::string plot_phase_diagram(const std::filesystem::path& scan_csv, const std::filesystem::path& lambda_crit_csv,
-                               const std::filesystem::path& png, const std::string& title, bool log_lambda);
+                               const std::filesystem::path& png, const std::filesystem::path& bifurcation_png,
+                               const std::string& title, bool log_lambda);
 
 }  // namespace aggkit
