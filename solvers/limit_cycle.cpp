@@ -100,11 +100,13 @@ class Shooting {
 
   std::size_t unknowns() const { return M_ + 1; }
 
-  // Moves to (x0, T) and returns F there.
+  // Moves to (x0, T) and returns F there; where the integration fails (a state CVODE cannot follow) it throws
+  // and stays where it was.
   std::vector<double> residual_at(const std::vector<double>& x0, double T) {
+    std::vector<double> phi = flow_.map(x0, T);
     x0_ = x0;
     T_ = T;
-    phi_ = flow_.map(x0_, T_);
+    phi_ = std::move(phi);
     f_phi_ = flow_.rhs(phi_);
     std::vector<double> F(M_ + 1);
     const std::vector<double>& x = flow_.sizes();
@@ -246,7 +248,12 @@ void newton(Shooting& shooting, std::vector<double> x0, double T, const LimitCyc
     for (double fraction = 1.0; fraction >= 1.0 / 16; fraction /= 2) {
       auto [x, t] = shooting.stepped(from, from_T, dz, fraction);
       if (!(t > 0.0)) continue;
-      std::vector<double> trial = shooting.residual_at(x, t);
+      std::vector<double> trial;
+      try {
+        trial = shooting.residual_at(x, t);
+      } catch (const std::runtime_error&) {
+        continue;  // a step too long for the integrator (a state it cannot follow): a shorter one
+      }
       if (max_norm(trial) < norm) {
         F = std::move(trial);
         norm = max_norm(F);
