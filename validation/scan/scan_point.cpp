@@ -89,7 +89,11 @@ std::string verdict_of(const ScanRecord& r, bool stable, bool complex_pair) {
 // crossings are used) and 12 e-folding times 1/re of the growth away from the steady state (the scene's t_end
 // at least), with outputs 50 per period; then shooting and the Floquet multipliers.
 void find_cycle(const ScanPlan& plan, const AggregationModel& model, double re, double im, ScanRecord& r) {
-  if (!(re > 0.0) || !(im > 0.0)) return;
+  if (!(re > 0.0)) return;
+  if (!(im > 0.0)) {
+    add_note(r, "the rightmost eigenvalue is real (an unstable node): no cycle around it is sought");
+    return;
+  }
   const double period = 2.0 * M_PI / im;
   const double settle = std::max({plan.scene.time.end, 16.0 * period, 12.0 / re});
   try {
@@ -98,8 +102,12 @@ void find_cycle(const ScanPlan& plan, const AggregationModel& model, double re, 
       add_note(r, "no cycle: the run to t = " + shortest_text(settle) + " does not oscillate");
       return;
     }
+    // The scaled residual of the shooting equations to 1e-4 (periods to ~1e-5), and a bounded cost per point:
+    // at most 8 Newton steps of at most 30 GMRES iterations (period maps); a start that needs more is reported.
     LimitCycleOptions options;
-    options.tolerance = 1e-4;  // the scaled residual of the shooting equations (periods to ~1e-5)
+    options.tolerance = 1e-4;
+    options.max_newton_iterations = 8;
+    options.max_krylov_iterations = 30;
     const LimitCycle cycle = find_limit_cycle(model, start->state, start->period, options);
     if (!cycle.converged) {
       add_note(r, "no cycle: shooting from the run to t = " + shortest_text(settle) + " did not converge (" + cycle.note + ")");
