@@ -215,6 +215,8 @@ TEST_CASE("scan cli: bad input exits 2 naming the key and the value") {
       {replace(small_scan, "from = 0.01, to = 1.0", "from = 1.0, to = 0.01"), "scan.lambda.to", "0.01"},
       {replace(small_scan, "count = 3, spacing", "count = 0, spacing"), "scan.lambda.count", "0"},
       {replace(small_scan, "from = 0.01, to = 1.0", "from = -0.01, to = 1.0"), "scan.lambda.from", "-0.01"},
+      {small_scan + std::string("cycle_run = -5\n"), "scan.cycle_run", "-5"},
+      {small_scan + std::string("cycles = 3\n"), "scan.cycles", "3"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     INFO(cases[i].text);
@@ -309,6 +311,17 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
   CHECK(std::stod(slow.at("cycle_m0_min")) < std::stod(slow.at("cycle_m0_max")));
   CHECK(sustained.at("cycle_stable") == "yes");
   CHECK(std::isnan(std::stod(high.at("cycle_period"))));  // no cycle around a stable focus
+
+  // A run budget too short to reach the cycle (cycle_run = 100, below the scene's own t_end): no cycle is sought,
+  // the point without an oscillating run stays unstable and says why.
+  const auto budget = aggkit::testing::write_text(folder / "budget.toml", std::string(coarse_scan) + "refine = false\ncycle_run = 100\n");
+  const Outcome budgeted = run(scan_command("", budget, folder / "budget"), folder);
+  INFO(budgeted.err);
+  REQUIRE(budgeted.exit_code == 0);
+  const auto unsought = scan_row(folder / "budget" / "scan.csv", 0.85, 0.001);
+  CHECK(unsought.at("verdict") == "unstable");
+  CHECK(unsought.at("cycle_stable").empty());
+  CHECK_THAT(unsought.at("note"), Contains("no cycle sought") && Contains("beyond cycle_run = 100"));
   CHECK(high.at("verdict") == "damped");
   CHECK(high.at("agree") == "yes");
   CHECK(low.at("verdict") == "unresolved");

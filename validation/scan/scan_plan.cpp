@@ -119,7 +119,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
 
   const SceneTable scan(scan_table, "scan");
   scan.allow_only({"a", "lambda", "series", "tail", "stability", "steady_match", "refine", "truncation_check", "hopf_grid",
-                    "cycles"});
+                    "cycles", "cycle_run"});
   bool a_log = false;
   plan.a = read_axis(scan, "a", a_log);
   for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
@@ -155,6 +155,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   if (!(plan.steady_match < 1)) scan.fail("steady_match", "a fraction in (0, 1) of the steady state's value");
   plan.refine = scan.optional_boolean("refine").value_or(true);
   plan.cycles = scan.optional_boolean("cycles").value_or(true);
+  plan.cycle_run = scan.optional_number("cycle_run", Bound::positive).value_or(plan.cycle_run);
   plan.hopf_grid = scene.model.grid;
   if (const auto grid = scan.optional_table("hopf_grid")) {
     grid->allow_only({"resolved", "ratio", "scheme"});

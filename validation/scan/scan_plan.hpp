@@ -25,6 +25,9 @@
 //   cycles = true                         the attracting cycle around every unstable steady state by
 //                                         shooting (period, M0 range, Floquet multipliers); a stable one
 //                                         makes the point sustained (default true)
+//   cycle_run = 1e5                       the longest run that starts a cycle search (its length comes from
+//                                         the spectrum: 16 linear periods, 12 e-folding times); a point that
+//                                         needs more stays "unstable", and says so (default 1e5)
 //   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
 //                                         repeat these points (and λ_crit(a)) at size 2N (optional)
 //   hopf_grid = { resolved = 256, ratio = 1.005 }   the size grid of λ_crit(a) (default: the model's grid).
@@ -66,6 +69,7 @@ struct ScanPlan {
   double steady_match = 0.05;         // largest |tail mean - steady value| / steady value of a relaxing verdict
   bool refine = true;                 // relaxing verdicts repeated on refined_plan()
   bool cycles = true;                 // the attracting cycle of every unstable point by shooting
+  double cycle_run = 1e5;             // the longest run a cycle's start may take (time units)
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N
   SizeGrid hopf_grid;                                   // the grid of λ_crit(a) (the model's by default)

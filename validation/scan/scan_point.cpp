@@ -96,6 +96,11 @@ void find_cycle(const ScanPlan& plan, const AggregationModel& model, double re, 
   }
   const double period = 2.0 * M_PI / im;
   const double settle = std::max({plan.scene.time.end, 16.0 * period, 12.0 / re});
+  if (settle > plan.cycle_run) {
+    add_note(r, "no cycle sought: reaching it takes a run to t = " + shortest_text(settle) + " (16 periods 2 pi/Im mu, 12/Re mu), beyond cycle_run = " +
+                    shortest_text(plan.cycle_run));
+    return;
+  }
   try {
     const std::optional<CycleStart> start = cycle_start_from_run(model, settle, period / 50.0);
     if (!start) {
