@@ -352,3 +352,5 @@ aggkit_test_timeout([==[graded grid against exact solutions: M0 exact, M2 exact 
 aggkit_test_timeout([==[graded grid keeps the a = 0.95, λ = 0.01 limit cycle of the uniform grid]==] 400)  # ~32 s CPU (the uniform N = 2048 run), 42 s wall under load 6
 aggkit_test_timeout([==[locate_hopf from a start at another (a, λ) follows its branch to the same lambda_crit]==] 30)  # measured 1.9 s
 aggkit_test_timeout([==[negative_mass_fraction weighs each entry by its size]==] 30)  # measured 0.0 s
+aggkit_test_timeout([==[limit cycles by shooting: the period of a long time series to 1e-3, a periodic orbit, stable multipliers]==] 240)  # measured 20 s alone, 45 s under load 10
+aggkit_test_timeout([==[continuation on a coarse graded grid: the direct solve's root, then where the roots go negative]==] 30)  # measured 0.6 s
