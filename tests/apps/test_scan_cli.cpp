@@ -375,3 +375,41 @@ TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the s
   CHECK(before > 0);
   CHECK(again == Approx(before).epsilon(1e-4));  // the bracket: 8.5e-8 of 0.00157 (5e-5)
 }
+
+TEST_CASE("scan cli: where the grid's roots go negative the steady state is sought on the refined grid") {
+  // a = 0.7 on K = 16, r = 1.1 up to N = 2^34: the continuation's roots go negative below λ = 7.5e-6 on this
+  // grid, below 2.8e-6 on the refined one (r = 1.05). At λ = 4e-6 the refined grid's steady state (unstable:
+  // λ_crit(0.7) = 4.4e-4) decides the point; at 1e-9 neither grid has a positive root, and the row says where
+  // each walk stopped. Runs to t = 10 only (the verdict comes from the spectrum; no cycles).
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-negative");
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", R"(
+name = "negative-roots"
+[model]
+kernel = { name = "brownian", a = 0.7 }
+size = 17179869184
+grid = { resolved = 16, ratio = 1.1 }
+[time]
+end = 10.0
+every = 0.25
+[scan]
+a = [0.7]
+lambda = [1e-9, 4e-6]
+refine = false
+cycles = false
+)");
+  const Outcome outcome = run(scan_command("", scene, folder / "out", /*plot=*/true), folder);
+  INFO(outcome.err);
+  REQUIRE(outcome.exit_code == 0);
+  const fs::path csv = folder / "out" / "scan.csv";
+  const auto reached = scan_row(csv, 0.7, 4e-6);
+  CHECK(reached.at("verdict") == "unstable");
+  CHECK(reached.at("spectrum_converged") == "yes");
+  CHECK_THAT(reached.at("steady_how"), Contains("has no positive root below lambda = 7.4") &&
+                                           Contains("on the refined grid graded(K=16; r=1.05): continuation from lambda = 0.1"));
+  const auto none = scan_row(csv, 0.7, 1e-9);
+  CHECK(none.at("verdict") == "no-positive-steady-state");
+  CHECK_THAT(none.at("steady_how"), Contains("stopped at lambda = 2.7"));
+  // Both pictures, also where a row has no steady state to draw (the bifurcation diagram's log scale).
+  CHECK(aggkit::testing::read_text(folder / "out" / "phase_diagram.png").substr(1, 3) == "PNG");
+  CHECK(aggkit::testing::read_text(folder / "out" / "bifurcation.png").substr(1, 3) == "PNG");
+}

@@ -143,7 +143,8 @@ def bifurcation_diagram(points, crit, args):
             ax.axvline(hopf[a], color="black", lw=0.8, ls="--", label="lambda_crit")
         if args.log_lambda:
             ax.set_xscale("log")
-        ax.set_yscale("log")
+        if any(y > 0 for y in steady) or any(p.get("cycle_stable") for p in chosen):
+            ax.set_yscale("log")
         ax.set_title("a = %g" % a, fontsize=9)
         ax.tick_params(labelsize=7)
         ax.grid(True, which="both", alpha=0.3)

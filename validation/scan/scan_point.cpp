@@ -48,27 +48,41 @@ namespace {
 void add_note(ScanRecord& r, const std::string& text) { r.note += (r.note.empty() ? "" : "; ") + text; }
 
 // The point's steady state by continuation (solvers/steady_branch.hpp); records how it was reached, or where
-// the walk stopped. nullopt: none reached.
-std::optional<SteadyStateResult> branch_steady_state(const ScanPlan& plan, const AggregationModel& model, double a,
+// the walk stopped. Where the scan grid's roots go negative (the graded scheme's overshoot at the steep front,
+// solvers/size_grid.hpp) the walk is repeated once on the refined grid ((r - 1)/2), and `model` becomes that
+// grid's model: the spectrum and the cycle are then computed there. nullopt: none reached.
+std::optional<SteadyStateResult> branch_steady_state(const ScanPlan& plan, AggregationModel& model, double a,
                                                      double lambda, ScanRecord& r) {
   // A fixed anchor, not the scan's largest λ: a point's result then does not depend on the other points
   // (a resumed scan with a changed λ list reuses it). At λ = 0.1 the relaxation takes ~10 time units and the
   // solver's own start converges for every a of the brownian kernel.
   constexpr double anchor = 0.1;
   std::shared_ptr<SteadyBranches> branches = plan.branches ? plan.branches : make_steady_branches();
-  const BranchSteadyState found = branches->of(model, a, anchor).at(lambda);
+  BranchSteadyState found = branches->of(model, a, anchor).at(lambda);
+  std::string coarse;
+  AggregationModel finer = model;
+  finer.grid = model.grid.refined();  // the uniform grid is its own
+  if (!found.steady.converged && found.negative_root && std::isfinite(found.stopped_lambda) &&
+      finer.grid.describe() != model.grid.describe()) {
+    coarse = "the grid " + model.grid.describe() + " has no positive root below lambda = " +
+             shortest_text(found.stopped_lambda) + "; on the refined grid ";
+    BranchSteadyState refined = branches->of(finer, a, anchor).at(lambda);
+    coarse += finer.grid.describe() + ": ";
+    if (refined.steady.converged) model = finer;
+    found = std::move(refined);
+  }
   if (found.steady.converged) {
-    r.steady_how = found.how;
+    r.steady_how = coarse + found.how;
     return found.steady;
   }
   if (found.negative_root && std::isfinite(found.stopped_lambda)) {
-    r.steady_how = "no positive steady state on this grid: the continuation from lambda = " + shortest_text(anchor) +
+    r.steady_how = coarse + "no positive steady state on this grid: the continuation from lambda = " + shortest_text(anchor) +
                    " stopped at lambda = " + shortest_text(found.stopped_lambda) + " (the next root has negative densities)";
     r.verdict = "no-positive-steady-state";
   } else {
-    r.steady_how = std::isfinite(found.stopped_lambda)
-                       ? "not reached: the continuation stopped at lambda = " + shortest_text(found.stopped_lambda)
-                       : "not reached: no steady state at the anchor lambda = " + shortest_text(anchor);
+    r.steady_how = coarse + (std::isfinite(found.stopped_lambda)
+                                 ? "not reached: the continuation stopped at lambda = " + shortest_text(found.stopped_lambda)
+                                 : "not reached: no steady state at the anchor lambda = " + shortest_text(anchor));
     r.verdict = "unresolved";
   }
   add_note(r, "steady state not reached (" + found.note + ")");
@@ -130,7 +144,7 @@ void find_cycle(const ScanPlan& plan, const AggregationModel& model, double re, 
 
 // Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
 // oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
-void classify_by_stability(const ScanPlan& plan, const AggregationModel& model, double a, double lambda, bool cycles,
+void classify_by_stability(const ScanPlan& plan, AggregationModel model, double a, double lambda, bool cycles,
                            ScanRecord& r) {
   const std::optional<SteadyStateResult> steady = branch_steady_state(plan, model, a, lambda, r);
   if (!steady) return;
