@@ -48,7 +48,7 @@ def main():
     with open(args.lambda_crit, newline="") as f:
         crit = list(csv.DictReader(f))
 
-    fig, ax = plt.subplots(figsize=(10, 5))
+    fig, ax = plt.subplots(figsize=(9, 7))
     # The verdict from the spectrum where the scan has one (marker filled where the time series confirms it,
     # hollow where it does not or says nothing); else the time series' regime (hollow: not converged).
     by_verdict = bool(points) and "verdict" in points[0]
@@ -73,6 +73,8 @@ def main():
                 colours = [plt.cm.viridis(norm(period(p))) if period(p) > 0 else "tab:red" for p in chosen]
                 ax.scatter(x, y, s=34, marker=style["marker"], label=label, edgecolors="tab:red", linewidths=1.2,
                            facecolors=colours if confirmed else "none")
+            elif style["marker"] == "x":  # an unfilled marker: drawn in its line colour
+                ax.scatter(x, y, s=28, marker="x", label=label, color=style["color"], linewidths=1.0)
             else:
                 ax.scatter(x, y, s=28, marker=style["marker"], label=label, edgecolors=style["color"],
                            facecolors=style["color"] if confirmed else "none")
@@ -101,7 +103,8 @@ def main():
     ax.set_xlabel("a  (kernel (i/j)^a + (j/i)^a)")
     ax.set_ylabel("lambda (shattering rate)")
     ax.set_title(args.title)
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    # Below the axes: the colour bar of the periods takes the right-hand side.
+    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, borderaxespad=0.0)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(args.output, dpi=120, format="png")
