@@ -126,7 +126,6 @@ void study(const char* name, AggregationModel model, bool quick) {
       o.rtol = rtol;
       o.atol = rtol * 1e-2;
       o.atol_exponent = 3.0;
-      o.lowrank_tolerance = std::min(1e-8, rtol * 1e-3);
       o.max_steps = v.method == IntegratorMethod::adams ? 20000 : 200000;
       print_row(v.label, rtol, run(model, o), reference);
     }

@@ -9,8 +9,11 @@ const OptionRows<IntegratorOptions>& integrator_option_rows() {
   using O = IntegratorOptions;
   using B = Bind<O>;
   static const OptionRows<O> rows{{
-      B::named("method", &O::method, std::vector{IntegratorMethod::bdf_gmres, IntegratorMethod::bdf_dense, IntegratorMethod::adams},
-               "BDF with matrix-free GMRES, BDF with a dense Jacobian (small N), or Adams"),
+      B::named("method", &O::method,
+               std::vector{IntegratorMethod::bdf_gmres, IntegratorMethod::bdf_dense, IntegratorMethod::adams,
+                           IntegratorMethod::erk, IntegratorMethod::automatic},
+               "BDF with matrix-free GMRES, BDF with a dense Jacobian (small N), Adams, explicit Runge-Kutta "
+               "(erk_table), or auto: erk while its steps are bounded by accuracy, bdf-gmres once stability bounds them"),
       B::number("rtol", &O::rtol, open(0.0, 1.0), "relative tolerance"),
       B::number("atol", &O::atol, at_least(0.0), "absolute tolerance of n_1 (atol_k = atol / k^atol_exponent); 0 = default",
                 "rtol/100"),
@@ -20,13 +23,16 @@ const OptionRows<IntegratorOptions>& integrator_option_rows() {
       B::named("rhs", &O::rates, std::vector{RatesPath::fast, RatesPath::direct},
                "right-hand side: FFT/low-rank O(N R log N), or the direct O(N^2) sums"),
       B::number("lowrank_tolerance", &O::lowrank_tolerance, right_open(0.0, 0.1),
-                "relative error of the low-rank kernel (0: default)", "min(1e-8, 1e-3 rtol)"),
+                "relative error of the low-rank kernel (0: default)", "rtol within [1e-12, 1e-6]"),
       B::number("jacobian_tolerance", &O::jacobian_tolerance, right_open(0.0, 0.1),
                 "low-rank tolerance of the Jacobian-vector products"),
       B::number("negligible_fraction", &O::negligible_fraction, closed(0.0, 0.1),
                 "sizes beyond the last with |n_k| > this fraction of atol_k take no part (adaptive active range; 0: off)"),
       B::named("preconditioner", &O::preconditioner, std::vector{Preconditioner::monomer, Preconditioner::jacobi, Preconditioner::none},
                "bdf-gmres preconditioner"),
+      B::named("erk_table", &O::erk_table,
+               std::vector{ErkTable::dormand_prince_5, ErkTable::verner_6, ErkTable::fehlberg_8},
+               "the explicit Runge-Kutta pair of erk and auto (ARKODE's tables)"),
       B::integer("krylov", &O::krylov_dimension, closed(0, 500), "Krylov subspace dimension (0: CVODE's default 5)"),
       B::number("linear_tolerance_factor", &O::linear_tolerance_factor, left_open(0.0, 1.0),
                 "GMRES stops at this factor of the Newton tolerance (CVodeSetEpsLin)"),

@@ -25,7 +25,7 @@ namespace aggkit {
 SeparableForm cross_approximation(const std::function<double(std::size_t, std::size_t)>& kernel,
                                   std::size_t N, double tolerance);
 
-// Max relative entry error of `form` against `kernel`: on every entry for N ≤ 2048; otherwise on the
+// Max relative entry error of `form` against `kernel`: on every entry for N ≤ 256; otherwise on the
 // full rows (by symmetry also the columns) of sizes 1..16 and N, 24 log-spaced and 24 pseudo-random
 // sizes, and every 7th diagonal entry.
 double separable_form_error(const SeparableForm& form,

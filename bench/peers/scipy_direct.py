@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """The peer a user would write: the truncated aggregation-shattering equations (the mass-conserving form
 of [Kalinov2022, eq. 4], with the 1/2 on the monomer double sum, as solvers/rates_direct.cpp) integrated
-by scipy's DOP853 with the right-hand side as numpy direct O(N^2) sums. Ballistic kernel
+by scipy's solve_ivp (DOP853 by default; LSODA, BDF, RK45, Radau with their finite-difference Jacobians) with
+the right-hand side as numpy direct O(N^2) sums. Ballistic kernel
 K_ij = (i^{1/3}+j^{1/3})^2 sqrt(1/i+1/j), cutoff truncation (K_ij = 0 for i + j > N), monodisperse start.
 
-  /usr/bin/python3 bench/peers/scipy_direct.py [--size 2000] [--lam 0.01] [--rtol 1e-8] [--atol 1e-14]
+  /usr/bin/python3 bench/peers/scipy_direct.py [--size 2000] [--lam 0.01] [--rtol 1e-8] [--atol 1e-14] [--method DOP853]
 
 prints one line per output time: t M0 M2 M3, then the wall time. Also imported by bench/scipy_vs_aggkit.py.
 """
@@ -45,13 +46,13 @@ def right_hand_side(K, lam):
     return f
 
 
-def solve(size=2000, lam=0.01, times=(1.0, 10.0, 100.0), rtol=1e-8, atol=1e-14):
+def solve(size=2000, lam=0.01, times=(1.0, 10.0, 100.0), rtol=1e-8, atol=1e-14, method="DOP853"):
     """Moments M0, M2, M3 at `times` (rows) and the wall time, kernel set-up included."""
     started = time.perf_counter()
     K = ballistic_cutoff(size)
     n0 = np.zeros(size)
     n0[0] = 1.0
-    solution = solve_ivp(right_hand_side(K, lam), (0.0, times[-1]), n0, method="DOP853", t_eval=list(times),
+    solution = solve_ivp(right_hand_side(K, lam), (0.0, times[-1]), n0, method=method, t_eval=list(times),
                          rtol=rtol, atol=atol)
     if not solution.success:
         raise RuntimeError(solution.message)
@@ -66,9 +67,10 @@ def main():
     parser.add_argument("--lam", type=float, default=0.01)
     parser.add_argument("--rtol", type=float, default=1e-8)
     parser.add_argument("--atol", type=float, default=1e-14)
+    parser.add_argument("--method", default="DOP853")
     args = parser.parse_args()
     times = (1.0, 10.0, 100.0)
-    moments, seconds, evaluations = solve(args.size, args.lam, times, args.rtol, args.atol)
+    moments, seconds, evaluations = solve(args.size, args.lam, times, args.rtol, args.atol, args.method)
     for t, row in zip(times, moments):
         print(f"{t:g} {row[0]:.15e} {row[1]:.15e} {row[2]:.15e}")
     print(f"wall {seconds:.2f} s, {evaluations} right-hand sides")

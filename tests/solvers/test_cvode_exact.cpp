@@ -83,7 +83,8 @@ TEST_CASE("product kernel matches M2 = 1/(1-t) before gelation", "[cvode][exact]
 }
 
 TEST_CASE("every integrator reproduces the constant-kernel solution", "[cvode][exact]") {
-  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::bdf_dense, IntegratorMethod::adams}) {
+  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::bdf_dense, IntegratorMethod::adams,
+                                  IntegratorMethod::erk, IntegratorMethod::automatic}) {
     for (RatesPath path : {RatesPath::fast, RatesPath::direct}) {
       IntegratorOptions options;
       options.method = method;
@@ -127,8 +128,11 @@ TEST_CASE("max_steps stops a run with a clear error", "[cvode][input]") {
   model.initial = monodisperse(model.size);
   IntegratorOptions options;
   options.max_steps = 5;
-  CHECK_THROWS_WITH(integrate(model, std::vector<double>{10.0}, options, [](double, std::span<const double>, double) {}),
-                    Catch::Contains("max_steps = 5"));
+  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::erk, IntegratorMethod::automatic}) {
+    options.method = method;
+    CHECK_THROWS_WITH(integrate(model, std::vector<double>{10.0}, options, [](double, std::span<const double>, double) {}),
+                      Catch::Contains("max_steps = 5"));
+  }
   options.rtol = -1.0;
   CHECK_THROWS_WITH(integrate(model, std::vector<double>{10.0}, options, [](double, std::span<const double>, double) {}),
                     Catch::Contains("rtol = -1"));

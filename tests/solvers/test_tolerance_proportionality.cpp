@@ -93,7 +93,8 @@ void check_proportional(const AggregationModel& model, const std::vector<double>
 
 TEST_CASE("K = 2, lambda = 0: moment errors fall in proportion to rtol", "[cvode][tolerance]") {
   const AggregationModel model = constant_two(0.0, 8192, Truncation::drop);
-  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::adams}) {
+  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::adams, IntegratorMethod::erk,
+                                  IntegratorMethod::automatic}) {
     IntegratorOptions options;
     options.method = method;
     check_proportional(model, {1.0, 10.0, 100.0}, options);
@@ -102,7 +103,8 @@ TEST_CASE("K = 2, lambda = 0: moment errors fall in proportion to rtol", "[cvode
 
 TEST_CASE("K = 2, lambda = 0.1: the logistic M0 is met in proportion to rtol", "[cvode][tolerance]") {
   const AggregationModel model = constant_two(0.1, 8192, Truncation::cutoff);
-  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::adams}) {
+  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::adams, IntegratorMethod::erk,
+                                  IntegratorMethod::automatic}) {
     IntegratorOptions options;
     options.method = method;
     check_proportional(model, {1.0, 10.0, 100.0}, options);

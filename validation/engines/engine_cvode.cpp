@@ -106,6 +106,7 @@ class CvodeEngine final : public Engine {
         {"active_size_final", std::int64_t(s.active_size_final)},
         {"active_size_mean", s.active_size_mean},
         {"fft_work_fraction", s.fft_work_fraction},
+        {"stiff_from", s.stiff_from},
         {"negative_densities", std::int64_t(s.negative_densities)},
         {"most_negative_density", s.most_negative_density},
         {"negative_beyond_tolerance", std::int64_t(s.negative_beyond_tolerance)},

@@ -1,0 +1,99 @@
+// The explicit Runge–Kutta method (ARKODE) and `auto`, which hands a run over from it to BDF once the explicit
+// step is bounded by stability [Petzold1983].
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "analysis/moments.hpp"
+#include "solvers/cvode_integrator.hpp"
+#include "solvers/erk_stepper.hpp"
+
+using namespace aggkit;
+
+TEST_CASE("the real stability boundary of Dormand-Prince 5(4) is the published 3.31", "[erk]") {
+  // [DormandPrince1980]'s pair is stable on [-3.3066, 0] of the real axis (Hairer & Wanner, Solving ODEs II,
+  // Sec. IV.2, the stability domain of DOPRI5); the search steps by 0.01.
+  CHECK(integration::real_stability_boundary(ErkTable::dormand_prince_5) == Approx(3.30).margin(0.011));
+  // Higher order with more stages reaches further along the axis, but less per stage.
+  const double verner = integration::real_stability_boundary(ErkTable::verner_6);
+  const double fehlberg = integration::real_stability_boundary(ErkTable::fehlberg_8);
+  CHECK(verner > 3.31);
+  CHECK(fehlberg > verner);
+  CHECK(fehlberg / 13.0 < verner / 8.0);
+}
+
+namespace {
+
+struct Run {
+  std::vector<double> moments;  // M0, M2, M3 at each output
+  IntegratorStatistics stats;
+};
+
+Run run(const AggregationModel& model, IntegratorMethod method, double rtol) {
+  IntegratorOptions options;
+  options.method = method;
+  options.rtol = rtol;
+  Run r;
+  r.stats = integrate(model, std::vector<double>{1.0, 10.0, 100.0}, options, [&](double, std::span<const double> n, double) {
+    for (double p : {0.0, 2.0, 3.0}) r.moments.push_back(moment(n, p));
+  });
+  return r;
+}
+
+AggregationModel ballistic() {
+  AggregationModel model;
+  model.kernel = Kernel::ballistic();
+  model.lambda = ShatteringRate::constant(0.01);
+  model.size = 1000;
+  model.truncation = Truncation::cutoff;
+  model.initial = monodisperse(model.size);
+  return model;
+}
+
+}  // namespace
+
+// The ballistic kernel with shattering relaxes to a steady state whose largest loss rates (~20 at N = 2000)
+// bound Dormand-Prince's step to h ≤ 3.3/ρ: at rtol 1e-6 past t ≈ 20 the explicit steps are set by stability
+// (their number no longer falls with rtol), and BDF takes over. Checked against BDF at rtol 1e-10: the moments
+// within 10 rtol (the bound of the tolerance tests).
+TEST_CASE("auto hands the stiff ballistic run over to BDF and meets its tolerance", "[cvode][erk]") {
+  const AggregationModel model = ballistic();
+  const Run reference = run(model, IntegratorMethod::bdf_gmres, 1e-10);
+  const Run automatic = run(model, IntegratorMethod::automatic, 1e-6);
+  INFO("BDF from t = " << automatic.stats.stiff_from);
+  CHECK(automatic.stats.stiff_from > 1.0);
+  CHECK(automatic.stats.stiff_from < 100.0);
+  CHECK(automatic.stats.linear_iterations > 0);  // BDF's Newton iterations ran after the switch
+  for (std::size_t i = 0; i < reference.moments.size(); ++i)
+    CHECK(relative_error(automatic.moments[i], reference.moments[i]) <= 1e-5);
+}
+
+// K = 2 without shattering: ρ = 2 M0 = 2/(1+t) only falls, so the explicit steps stay set by accuracy and
+// auto never leaves them; its moments are the closed forms M0 = 1/(1+t), M2 = 1+2t, M3 = 1+6t+6t²
+// [Leyvraz2003] within 10 rtol.
+TEST_CASE("auto stays explicit where the run is not stiff", "[cvode][erk]") {
+  AggregationModel model;
+  model.kernel = Kernel::brownian(0.0);  // K_ij = 2
+  model.size = 4096;
+  model.truncation = Truncation::drop;
+  model.initial = monodisperse(model.size);
+  const Run r = run(model, IntegratorMethod::automatic, 1e-8);
+  CHECK(r.stats.stiff_from == -1.0);
+  CHECK(r.stats.linear_iterations == 0);
+  const std::vector<double> times{1.0, 10.0, 100.0};
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const double t = times[i];
+    CHECK(relative_error(r.moments[3 * i], 1.0 / (1.0 + t)) <= 1e-7);
+    CHECK(relative_error(r.moments[3 * i + 1], 1.0 + 2.0 * t) <= 1e-7);
+    CHECK(relative_error(r.moments[3 * i + 2], 1.0 + 6.0 * t + 6.0 * t * t) <= 1e-7);
+  }
+}
+
+TEST_CASE("an unknown method or ERK table is refused naming the key", "[cvode][input]") {
+  CHECK_THROWS_WITH(integrator_method_from_name("rk45"), Catch::Contains("method") && Catch::Contains("erk, auto"));
+  IntegratorOptions options;
+  options.rtol = 2.0;
+  options.method = IntegratorMethod::erk;
+  CHECK_THROWS_WITH(options.validate(), Catch::Contains("rtol"));
+}
