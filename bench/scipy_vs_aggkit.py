@@ -16,7 +16,8 @@ python3-scipy: installed with apt-get if missing.
 
   PYTHONPATH=build/python /usr/bin/python3 bench/scipy_vs_aggkit.py [--cases ballistic constant]
       [--scipy-methods DOP853 LSODA BDF] [--scipy-rtol 1e-6 1e-8] [--implicit-rtol 1e-6]
-      [--aggkit-methods bdf-gmres adams erk auto] [--aggkit-rtol 1e-6 1e-8 1e-9 2e-10] [--timeout 240] [--csv FILE]
+      [--aggkit-methods bdf-gmres adams erk auto] [--aggkit-rtol 1e-6 1e-8 1e-9 2e-10] [--timeout 1800]
+      [--implicit-timeout 300] [--csv FILE] [--analyse-since DATE]
 
 (--implicit-rtol: the tolerances at which scipy's LSODA and BDF run; their finite-difference Jacobians cost N
 right-hand sides each, so they are run where they are cheapest.)
@@ -120,6 +121,17 @@ def schedule(args):
     return runs
 
 
+def record(args, row):
+    """Appends one run to --csv at once (a long run stopped midway keeps what it measured)."""
+    os.makedirs(os.path.dirname(args.csv), exist_ok=True)
+    with open(args.csv, "a", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["date", "case", "code", "method", "rtol", "seconds", "error", "note", "command"],
+                           lineterminator="\n")
+        if f.tell() == 0:
+            w.writeheader()
+        w.writerow(dict(row, date=args.stamp, command=args.command))
+
+
 def run_case(case, args, rows):
     print(f"\n## {case}: {CASES[case]}", flush=True)
     reference, seconds, stats = aggkit_run(case, "bdf-gmres", 1e-12)
@@ -131,10 +143,12 @@ def run_case(case, args, rows):
             if method == "auto":
                 note += f", bdf from t = {stats['stiff_from']:.3g}" if stats["stiff_from"] >= 0 else ", erk throughout"
         else:
-            moments, seconds, detail = scipy_run(case, method, rtol, args.timeout)
+            limit = args.implicit_timeout if method in ("LSODA", "BDF") else args.timeout
+            moments, seconds, detail = scipy_run(case, method, rtol, limit)
             note = f"{detail} f" if moments is not None else detail
         err = error(moments, reference) if moments is not None else float("nan")
         rows.append(dict(case=case, code=code, method=method, rtol=rtol, seconds=seconds, error=err, note=note))
+        record(args, rows[-1])
         print(f"{code:6} {method:10} rtol {rtol:<7g} {seconds:9.3f} s  error {err:9.2e}  ({note})", flush=True)
     scipy_ok = [r for r in rows if r["case"] == case and r["code"] == "scipy" and r["error"] == r["error"]]
     if scipy_ok:
@@ -146,6 +160,7 @@ def run_case(case, args, rows):
             evaluations = int(r["note"].split()[0])
             rows.append(dict(r, method=r["method"] + " direct", seconds=per_call * evaluations,
                              note=f"np.convolve {per_call:.3f} s per call × {evaluations} f (estimated)"))
+            record(args, rows[-1])
             print(f"scipy  {r['method'] + ' direct':10} rtol {r['rtol']:<7g} {rows[-1]['seconds']:9.1f} s  error "
                   f"{r['error']:9.2e}  ({rows[-1]['note']})", flush=True)
 
@@ -157,46 +172,50 @@ def ratios(case, rows, figures):
     print(f"\nratios, {case} (scipy's fastest at error ≤ e / aggkit's fastest at error ≤ e):")
     for direct in (False, True):
         pool = [r for r in theirs if r["method"].endswith(" direct") == direct]
-        for e in sorted({r["error"] for r in pool}):
+        for run in sorted(pool, key=lambda r: r["error"]):
+            e = run["error"]
             s = min((r for r in pool if r["error"] <= e), key=lambda r: r["seconds"])
             matches = [r for r in mine if r["error"] <= e]
             if not matches:
-                print(f"  e = {e:.1e}: no aggkit run as accurate")
+                print(f"  e = {e:.1e} ({run['method']} rtol {run['rtol']:g}): no aggkit run as accurate")
                 continue
             a = min(matches, key=lambda r: r["seconds"])
             ratio = s["seconds"] / a["seconds"]
-            print(f"  e = {e:.1e}: scipy {s['method']} rtol {s['rtol']:g} {s['seconds']:.1f} s vs aggkit {a['method']} "
-                  f"rtol {a['rtol']:g} ({a['error']:.1e}) {a['seconds']:.3f} s: {ratio:.0f}x")
-            figures.append((f"case={case} peer={'numpy direct' if case == 'ballistic' or direct else 'fftconvolve'} "
-                            f"error<={e:.1e}", "speedup_at_equal_error", ratio, "x"))
+            print(f"  e = {e:.1e} ({run['method']} rtol {run['rtol']:g}): scipy's fastest {s['method']} rtol {s['rtol']:g} "
+                  f"{s['seconds']:.1f} s vs aggkit {a['method']} rtol {a['rtol']:g} ({a['error']:.1e}) {a['seconds']:.3f} s: "
+                  f"{ratio:.0f}x")
+            # Named by the scipy run that sets the error (stable from run to run).
+            figures.append((f"case={case} scipy={run['method']} rtol={run['rtol']:g}", "speedup_at_equal_error", ratio, "x"))
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
-    parser.add_argument("--scipy-methods", nargs="+", default=["DOP853", "LSODA", "BDF"])
+    parser.add_argument("--scipy-methods", nargs="*", default=["DOP853", "LSODA", "BDF"])
     parser.add_argument("--scipy-rtol", type=float, nargs="+", default=[1e-6, 1e-8])
     parser.add_argument("--aggkit-methods", nargs="+", default=["bdf-gmres", "adams", "erk", "auto"])
     parser.add_argument("--implicit-rtol", type=float, nargs="+", default=[1e-6])
     parser.add_argument("--aggkit-rtol", type=float, nargs="+", default=[1e-6, 1e-8, 1e-9, 2e-10])
-    parser.add_argument("--timeout", type=float, default=240.0)
+    parser.add_argument("--timeout", type=float, default=1800.0)
+    parser.add_argument("--implicit-timeout", type=float, default=300.0)
+    parser.add_argument("--analyse-since", metavar="DATE", help="run nothing: the ratios of the runs in --csv recorded "
+                        "since DATE (UTC, as in its date column), e.g. of concurrent invocations, one per case")
     here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     parser.add_argument("--csv", default=os.path.join(here, "build", "bench", "scipy_vs_aggkit_runs.csv"))
     args = parser.parse_args()
+    args.stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    args.command = "PYTHONPATH=build/python /usr/bin/python3 bench/scipy_vs_aggkit.py " + " ".join(sys.argv[1:])
     rows, figures = [], []
+    if args.analyse_since:  # no runs: the ratios of the runs recorded in --csv since that date (concurrent invocations)
+        with open(args.csv) as f:
+            for r in csv.DictReader(f):
+                if r["date"] >= args.analyse_since:
+                    rows.append(dict(r, rtol=float(r["rtol"]), seconds=float(r["seconds"]), error=float(r["error"])))
     for case in args.cases:
-        run_case(case, args, rows)
+        if not args.analyse_since:
+            run_case(case, args, rows)
         ratios(case, rows, figures)
-    stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
-    command = "PYTHONPATH=build/python /usr/bin/python3 bench/scipy_vs_aggkit.py " + " ".join(sys.argv[1:])
-    os.makedirs(os.path.dirname(args.csv), exist_ok=True)
-    with open(args.csv, "a", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=["date", "case", "code", "method", "rtol", "seconds", "error", "note", "command"],
-                           lineterminator="\n")
-        if f.tell() == 0:
-            w.writeheader()
-        for r in rows:
-            w.writerow(dict(r, date=stamp, command=command))
+    stamp, command = args.stamp, args.command
     folder = os.environ.get("AGGKIT_BENCH_FIGURES") or os.path.join(here, "build", "bench", "figures")
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, "scipy_vs_aggkit.csv"), "a", newline="") as f:

@@ -116,7 +116,9 @@ void study(const char* name, AggregationModel model, bool quick) {
       {"bdf-gmres + monomer", IntegratorMethod::bdf_gmres, Preconditioner::monomer, RatesPath::fast},
       {"bdf-gmres + Jacobi", IntegratorMethod::bdf_gmres, Preconditioner::jacobi, RatesPath::fast},
       {"bdf-gmres, no prec.", IntegratorMethod::bdf_gmres, Preconditioner::none, RatesPath::fast},
-      {"adams (fixed point)", IntegratorMethod::adams, Preconditioner::none, RatesPath::fast}};
+      {"adams (fixed point)", IntegratorMethod::adams, Preconditioner::none, RatesPath::fast},
+      {"erk (dormand-prince-5)", IntegratorMethod::erk, Preconditioner::none, RatesPath::fast},
+      {"auto", IntegratorMethod::automatic, Preconditioner::monomer, RatesPath::fast}};
   for (const auto& v : variants)
     for (double rtol : rtols) {
       IntegratorOptions o;
@@ -126,7 +128,7 @@ void study(const char* name, AggregationModel model, bool quick) {
       o.rtol = rtol;
       o.atol = rtol * 1e-2;
       o.atol_exponent = 3.0;
-      o.max_steps = v.method == IntegratorMethod::adams ? 20000 : 200000;
+      o.max_steps = v.method == IntegratorMethod::adams || v.method == IntegratorMethod::erk ? 20000 : 200000;
       print_row(v.label, rtol, run(model, o), reference);
     }
   // Baseline: the direct O(N^2) right-hand side (the test oracle) with the same integrator and

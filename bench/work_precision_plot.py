@@ -2,7 +2,7 @@
 """Work-precision diagrams from the runs bench/scipy_vs_aggkit.py recorded: for each case, wall time against the
 largest relative error of M0, M2, M3 at t = 1, 10, 100, one line per method (aggkit's CVODE BDF, Adams, ARKODE's
 explicit Runge–Kutta, auto; scipy's DOP853, LSODA, BDF), each point labelled with its rtol. Only the latest run
-of the CSV (its last date) is drawn; scipy runs stopped by the time limit are drawn at the limit with an arrow.
+of the CSV (each case's last date) is drawn; scipy runs stopped by the time limit are drawn at the limit with an arrow.
 
   /usr/bin/python3 bench/work_precision_plot.py [--csv build/bench/scipy_vs_aggkit_runs.csv] [--out bench/work_precision]
 
@@ -26,10 +26,13 @@ TITLES = {
 
 
 def latest_runs(path):
+    """The rows of each case's latest run (the cases may come from separate invocations)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    last = max(r["date"] for r in rows)
-    return [r for r in rows if r["date"] == last]
+    last = {}
+    for r in rows:
+        last[r["case"]] = max(last.get(r["case"], ""), r["date"])
+    return [r for r in rows if r["date"] == last[r["case"]]]
 
 
 def draw(case, rows, out):
