@@ -5,6 +5,7 @@ explicit Runge–Kutta, auto; scipy's DOP853, LSODA, BDF), each point labelled w
 of the CSV (each case's last date) is drawn; scipy runs stopped by the time limit are drawn at the limit with an arrow.
 
   /usr/bin/python3 bench/work_precision_plot.py [--csv build/bench/scipy_vs_aggkit_runs.csv] [--out bench/work_precision]
+      [--since DATE]
 
 writes OUT_<case>.png.
 """
@@ -25,10 +26,13 @@ TITLES = {
 }
 
 
-def latest_runs(path):
-    """The rows of each case's latest run (the cases may come from separate invocations)."""
+def latest_runs(path, since=None):
+    """The rows of each case's latest run (the cases may come from separate invocations), or every row since
+    `since` (concurrent invocations of one case)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
+    if since:
+        return [r for r in rows if r["date"] >= since]
     last = {}
     for r in rows:
         last[r["case"]] = max(last.get(r["case"], ""), r["date"])
@@ -65,8 +69,9 @@ def main():
     here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     parser.add_argument("--csv", default=os.path.join(here, "build", "bench", "scipy_vs_aggkit_runs.csv"))
     parser.add_argument("--out", default=os.path.join(here, "bench", "work_precision"))
+    parser.add_argument("--since", metavar="DATE", help="draw every run recorded since DATE (UTC), not only the latest")
     args = parser.parse_args()
-    rows = latest_runs(args.csv)
+    rows = latest_runs(args.csv, args.since)
     for case in sorted({r["case"] for r in rows}):
         draw(case, [r for r in rows if r["case"] == case], args.out)
 
