@@ -10,12 +10,15 @@ solve_ivp (DOP853 by default; LSODA, BDF, RK45, Radau with their finite-differen
 prints one line per output time: t M0 M2 M3, then the wall time. Also imported by bench/scipy_vs_aggkit.py,
 which also times the direct sum np.convolve(n, n) (what scipy_direct.py is for the ballistic kernel) per call.
 """
-import argparse
+import os
+import sys
 import time
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.signal import fftconvolve
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import scipy_direct  # noqa: E402
 
 
 def right_hand_side(size, lam, convolve=fftconvolve):
@@ -32,32 +35,8 @@ def right_hand_side(size, lam, convolve=fftconvolve):
 
 def solve(size=32768, lam=0.1, times=(1.0, 10.0, 100.0), rtol=1e-8, atol=1e-14, method="DOP853"):
     """Moments M0, M2, M3 at `times` (rows), the wall time and the number of right-hand sides."""
-    started = time.perf_counter()
-    n0 = np.zeros(size)
-    n0[0] = 1.0
-    solution = solve_ivp(right_hand_side(size, lam), (0.0, times[-1]), n0, method=method, t_eval=list(times),
-                         rtol=rtol, atol=atol)
-    if not solution.success:
-        raise RuntimeError(solution.message)
-    k = np.arange(1, size + 1, dtype=float)
-    moments = np.array([[np.sum(n), np.sum(k**2 * n), np.sum(k**3 * n)] for n in solution.y.T])
-    return moments, time.perf_counter() - started, solution.nfev
-
-
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--size", type=int, default=32768)
-    parser.add_argument("--lam", type=float, default=0.1)
-    parser.add_argument("--rtol", type=float, default=1e-8)
-    parser.add_argument("--atol", type=float, default=1e-14)
-    parser.add_argument("--method", default="DOP853")
-    args = parser.parse_args()
-    times = (1.0, 10.0, 100.0)
-    moments, seconds, evaluations = solve(args.size, args.lam, times, args.rtol, args.atol, args.method)
-    for t, row in zip(times, moments):
-        print(f"{t:g} {row[0]:.15e} {row[1]:.15e} {row[2]:.15e}")
-    print(f"wall {seconds:.2f} s, {evaluations} right-hand sides")
+    return scipy_direct.integrate(right_hand_side(size, lam), size, times, rtol, atol, method, time.perf_counter())
 
 
 if __name__ == "__main__":
-    main()
+    scipy_direct.command_line(solve, __doc__, 32768, 0.1)

@@ -46,14 +46,12 @@ def right_hand_side(K, lam):
     return f
 
 
-def solve(size=2000, lam=0.01, times=(1.0, 10.0, 100.0), rtol=1e-8, atol=1e-14, method="DOP853"):
-    """Moments M0, M2, M3 at `times` (rows) and the wall time, kernel set-up included."""
-    started = time.perf_counter()
-    K = ballistic_cutoff(size)
+def integrate(f, size, times, rtol, atol, method, started):
+    """solve_ivp of dn/dt = f from the monodisperse start: moments M0, M2, M3 at `times` (rows), the wall time
+    since `started` and the number of right-hand sides. Shared with scipy_constant.py."""
     n0 = np.zeros(size)
     n0[0] = 1.0
-    solution = solve_ivp(right_hand_side(K, lam), (0.0, times[-1]), n0, method=method, t_eval=list(times),
-                         rtol=rtol, atol=atol)
+    solution = solve_ivp(f, (0.0, times[-1]), n0, method=method, t_eval=list(times), rtol=rtol, atol=atol)
     if not solution.success:
         raise RuntimeError(solution.message)
     k = np.arange(1, size + 1, dtype=float)
@@ -61,10 +59,17 @@ def solve(size=2000, lam=0.01, times=(1.0, 10.0, 100.0), rtol=1e-8, atol=1e-14, 
     return moments, time.perf_counter() - started, solution.nfev
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--size", type=int, default=2000)
-    parser.add_argument("--lam", type=float, default=0.01)
+def solve(size=2000, lam=0.01, times=(1.0, 10.0, 100.0), rtol=1e-8, atol=1e-14, method="DOP853"):
+    """Moments M0, M2, M3 at `times` (rows), the wall time (kernel set-up included), the right-hand sides."""
+    started = time.perf_counter()
+    return integrate(right_hand_side(ballistic_cutoff(size), lam), size, times, rtol, atol, method, started)
+
+
+def command_line(solve, doc, size, lam):
+    """The peers' command line: one line t M0 M2 M3 per output time, then the wall time."""
+    parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--size", type=int, default=size)
+    parser.add_argument("--lam", type=float, default=lam)
     parser.add_argument("--rtol", type=float, default=1e-8)
     parser.add_argument("--atol", type=float, default=1e-14)
     parser.add_argument("--method", default="DOP853")
@@ -77,4 +82,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    command_line(solve, __doc__, 2000, 0.01)
