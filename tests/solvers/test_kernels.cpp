@@ -61,10 +61,21 @@ TEST_CASE("ballistic low-rank approximation meets the requested tolerance", "[ke
     CHECK_FALSE(form.exact);
     const double measured = max_relative_error_all_entries(kernel, form, N);
     CHECK(measured <= tol);
-    CHECK(form.max_relative_error == Approx(measured).margin(1e-15));  // reported = measured on all entries
+    // Beyond N = 256 the reported error is measured on 65 sampled rows: never above the error on all entries.
+    CHECK(form.max_relative_error <= measured + 1e-15);
     CHECK(form.rank() >= previous_rank);  // tighter tolerance never needs fewer terms
     CHECK(form.rank() < 80);              // and stays low rank
     previous_rank = form.rank();
+  }
+}
+
+TEST_CASE("up to N = 256 the reported low-rank error is the error on all entries", "[kernels][lowrank]") {
+  const Kernel kernel = Kernel::ballistic();
+  for (std::size_t N : {100, 256}) {
+    const SeparableForm form = kernel.separable_form(N, 1e-8);
+    INFO("N " << N << " rank " << form.rank());
+    CHECK(form.max_relative_error == Approx(max_relative_error_all_entries(kernel, form, N)).margin(1e-15));
+    CHECK(form.checked_entries >= N * N);
   }
 }
 
