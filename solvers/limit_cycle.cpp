@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -429,14 +430,19 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
   for (double t = spacing; t <= t_end * (1 + 1e-12); t += spacing) times.push_back(t);
   IntegratorOptions options;
   options.rtol = rtol;
+  // M0 over the second half, and only the latest states: a run of 12/Re μ at 50 outputs per period can have
+  // 10^5 outputs of several hundred classes, and the start is the state at the last crossing, within the
+  // last period of an oscillating run.
+  constexpr std::size_t kept = 4000;
   std::vector<double> m0;
-  std::vector<std::vector<double>> states;
+  std::deque<std::vector<double>> states;
   integrate(model, times, options, [&](double t, std::span<const double> n, double) {
     if (t < 0.5 * t_end) return;
     double sum = 0.0;
     for (double v : n) sum += v;
     m0.push_back(sum);
     states.emplace_back(n.begin(), n.end());
+    if (states.size() > kept) states.pop_front();
   });
   const std::size_t first = times.size() - m0.size();
   double mean = 0.0;
@@ -450,12 +456,13 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
       crossings.push_back(times[first + i - 1] + f * spacing);
       last = i;
     }
-  if (crossings.size() < 3) return std::nullopt;
+  const std::size_t oldest = m0.size() - states.size();  // m0 index of states.front()
+  if (crossings.size() < 3 || last < oldest) return std::nullopt;
   const std::size_t use = std::min<std::size_t>(crossings.size(), 6);
   CycleStart start;
   start.crossings = int(crossings.size());
   start.period = (crossings.back() - crossings[crossings.size() - use]) / double(use - 1);
-  start.state = states[last];
+  start.state = states[last - oldest];
   return start;
 }
 
