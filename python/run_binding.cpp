@@ -16,6 +16,8 @@
 #include <thread>
 #include <fstream>
 #include <iterator>
+#include <mutex>
+#include <optional>
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
@@ -25,6 +27,7 @@
 #include "validation/engines/engine.hpp"
 #include "validation/harness/engine_record.hpp"
 #include "validation/harness/harness.hpp"
+#include "validation/harness/recording_observer.hpp"
 #include "validation/harness/run_checkpoint.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/text.hpp"
@@ -95,8 +98,9 @@ struct FinalConfiguration {
   bool periodic = false;
 };
 
-py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py::object kernel, py::object initial,
-                    py::object lambda, py::object progress) {
+// A scene's text with what Python gives beyond it: a callable λ(t), a callable kernel K(i, j), an initial
+// table (each checked as the scene's own would be).
+Scene python_scene(const std::string& scene_text, py::object kernel, py::object initial, py::object lambda) {
   Scene scene = parse_scene(scene_text, "arguments");
   if (!lambda.is_none()) {
     // λ(t) from Python: called with the GIL at every evaluation of the rates.
@@ -131,50 +135,13 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     std::copy(n.data(), n.data() + n.shape(0), scene.model.initial.begin());
     scene.model.validate(scene.time.end);  // keys as the Python arguments name them ("initial.n[3]")
   }
-  const std::unique_ptr<Engine> engine = build_engine(scene, engine_index);
-  if (const auto every = engine->settings().find("checkpoint_every");
-      every != engine->settings().end() && every->is_number() && every->get<double>() > 0)
-    throw InputError("checkpoint_every", shortest_text(every->get<double>()),
-                     "0 here: checkpoints need an output folder — aggkit.run(scene, out, checkpoint_every=...) or a "
-                     "scene's engine option with aggkit.run(scene, out, resume=True)");
+  return scene;
+}
 
-  EngineRecord record;
-  record.label = engine->label();
-  record.name = engine->name();
-  std::vector<FinalStatistic> finals;
-  std::optional<FinalConfiguration> configuration;
-  Watcher watcher(progress);
-  const ScratchFolder scratch;
-  EngineObserver observer;
-  observer.measure = [&scene](double t, const ObservedState& state) { return measure_state(scene, t, state); };
-  observer.record = [&](double t, std::vector<Measurement> m) {
-    record_measurements(record, scene, t, m);
-    watcher.tick("t = " + shortest_text(t));
-  };
-  observer.progress = [&](double t) { watcher.tick("t = " + shortest_text(t)); };
-  observer.status = [&](const std::string& what) { watcher.tick(what); };
-  observer.final_state = [&](std::vector<FinalStatistic> v) { finals = std::move(v); };
-  observer.final_configuration = [&](const ParticleView& view) {
-    FinalConfiguration c;
-    const ParticleConfiguration& config = view.configuration();
-    for (const auto& x : config.positions) c.positions.insert(c.positions.end(), x.begin(), x.end());
-    for (const auto& v : view.velocities()) c.velocities.insert(c.velocities.end(), v.begin(), v.end());
-    c.masses.assign(view.masses().begin(), view.masses().end());
-    c.cluster.assign(view.cluster_labels().begin(), view.cluster_labels().end());
-    for (std::size_t i = 0; i < config.positions.size(); ++i) c.radii.push_back(config.radius_of(i));
-    c.dimension = config.dimension, c.box = config.box, c.periodic = config.periodic;
-    configuration = std::move(c);
-  };
-  observer.folder = scratch.path;
-  EngineStatistics statistics;
-  try {
-    py::gil_scoped_release release;
-    statistics = engine->run(scene, observer);
-  } catch (const Interrupted&) {
-    PyErr_SetNone(PyExc_KeyboardInterrupt);
-    throw py::error_already_set();
-  }
-
+// What run_engine returns: the record's series (means, standard errors), distributions, the statistics,
+// final values, warnings and the final configuration of the first realization.
+py::dict result_dict(const Scene& scene, const EngineRecord& record, const EngineStatistics& statistics,
+                     std::optional<FinalConfiguration>& configuration) {
   py::dict out;
   const auto T = py::ssize_t(record.times.size());
   out["t"] = owned_array(std::vector<double>(record.times), {T});
@@ -210,8 +177,10 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
   for (const auto& s : statistics) std::visit([&](const auto& v) { stats[py::str(s.name)] = v; }, s.value);
   out["statistics"] = stats;
   py::dict final_values;
-  for (const auto& f : finals) final_values[py::str(f.name)] = py::make_tuple(f.mean, f.standard_error);
+  for (const auto& f : record.finals) final_values[py::str(f.name)] = py::make_tuple(f.mean, f.standard_error);
   out["final"] = final_values;
+  out["engine"] = record.label;
+  out["warnings"] = record.warnings;  // aggkit/__init__.py issues each as an aggkit.EngineWarning
   if (configuration) {
     const auto count = py::ssize_t(configuration->cluster.size());
     py::dict c;
@@ -226,6 +195,51 @@ py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py:
     out["configuration"] = c;
   }
   return out;
+}
+
+py::dict run_engine(const std::string& scene_text, std::size_t engine_index, py::object kernel, py::object initial,
+                    py::object lambda, py::object progress) {
+  const Scene scene = python_scene(scene_text, std::move(kernel), std::move(initial), std::move(lambda));
+  const std::unique_ptr<Engine> engine = build_engine(scene, engine_index);
+  if (const auto every = engine->settings().find("checkpoint_every");
+      every != engine->settings().end() && every->is_number() && every->get<double>() > 0)
+    throw InputError("checkpoint_every", shortest_text(every->get<double>()),
+                     "0 here: checkpoints need an output folder — aggkit.run(scene, out, checkpoint_every=...) or a "
+                     "scene's engine option with aggkit.run(scene, out, resume=True)");
+
+  EngineRecord record;
+  record.label = engine->label();
+  record.name = engine->name();
+  std::mutex record_lock;
+  std::optional<FinalConfiguration> configuration;
+  Watcher watcher(progress);
+  const ScratchFolder scratch;
+  // The harness's observer (measurements, final values, warnings), with Ctrl-C and the progress callback.
+  EngineObserver observer = recording_observer(scene, record, record_lock,
+                                               {[&watcher](double t) { watcher.tick("t = " + shortest_text(t)); },
+                                                [&watcher](const std::string& what) { watcher.tick(what); }});
+  observer.final_configuration = [&](const ParticleView& view) {
+    FinalConfiguration c;
+    const ParticleConfiguration& config = view.configuration();
+    for (const auto& x : config.positions) c.positions.insert(c.positions.end(), x.begin(), x.end());
+    for (const auto& v : view.velocities()) c.velocities.insert(c.velocities.end(), v.begin(), v.end());
+    c.masses.assign(view.masses().begin(), view.masses().end());
+    c.cluster.assign(view.cluster_labels().begin(), view.cluster_labels().end());
+    for (std::size_t i = 0; i < config.positions.size(); ++i) c.radii.push_back(config.radius_of(i));
+    c.dimension = config.dimension, c.box = config.box, c.periodic = config.periodic;
+    configuration = std::move(c);
+  };
+  observer.folder = scratch.path;
+  EngineStatistics statistics;
+  try {
+    py::gil_scoped_release release;
+    statistics = engine->run(scene, observer);
+  } catch (const Interrupted&) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+
+  return result_dict(scene, record, statistics, configuration);
 }
 
 // The whole harness on a scene: returns summary.json's text. `resume`: continue from the checkpoints in

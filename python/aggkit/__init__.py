@@ -12,6 +12,7 @@ arguments are the scene keys, and bad input raises ValueError with the message t
 import inspect
 import json
 import os
+import warnings
 
 import numpy as np
 
@@ -23,8 +24,28 @@ from . import _aggkit  # noqa: E402
 from . import _scene  # noqa: E402
 from . import analysis  # noqa: E402
 
-__all__ = ["Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
+__all__ = ["EngineWarning", "Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
            "ed", "ts", "dem", "run", "analysis", "engine_options", "rightmost_eigenvalues", "spectrum", "limit_cycle", "locate_hopf"]
+
+
+class EngineWarning(RuntimeWarning):
+    """What an engine warns about a run that completed (the command line's "aggkit: warning: engine ..." lines,
+    summary.json's `warnings`): densities negative beyond the tolerance (cvode), PETSc options no solver read
+    (snes), a DEM time step above its contact or damping limit. Each result also keeps them as `warnings`."""
+
+
+def _warn_engine(label, messages, stacklevel):
+    for message in messages:
+        warnings.warn(f"engine {label}: {message}", EngineWarning, stacklevel=stacklevel + 1)
+
+
+def _run_engine(text, kernel, initial, lam, progress):
+    """The scene's one engine run by the core; its warnings issued as EngineWarning at the user's line (every
+    public function reaches here in two calls: integrate -> Model._run -> _run_engine, ed -> _particle_engine ->
+    _run_engine)."""
+    raw = _aggkit.run_engine(text, 0, kernel, initial, lam, progress)
+    _warn_engine(raw["engine"], raw["warnings"], stacklevel=4)
+    return raw
 
 
 def engine_options(engine):
@@ -103,8 +124,8 @@ class Model:
         if distributions:
             observe["distributions"] = [float(t) for t in np.asarray(times, dtype=float).ravel()]
         text = _scene.scene("python", model=self._section(), times=times, engine=engine, observe=observe)
-        return _aggkit.run_engine(text, 0, self.kernel if callable(self.kernel) else None, self.initial,
-                                  self.lam if callable(self.lam) else None, progress)
+        return _run_engine(text, self.kernel if callable(self.kernel) else None, self.initial,
+                           self.lam if callable(self.lam) else None, progress)
 
     def _text(self):
         return _scene.scene("python", model=self._section(), times=[1.0], engine={"name": "cvode"},
@@ -138,6 +159,7 @@ class Solution:
         self.sizes = _sizes(raw)
         self.mass_leak = raw["series"]["mass_leak"]
         self.statistics = raw["statistics"]
+        self.warnings = raw["warnings"]
 
     def moment(self, p):
         """M_p(t) = Σ_k k^p n_k(t). The absolute tolerance controls M_p for p <= atol_exponent (3)."""
@@ -165,6 +187,7 @@ class SteadyState:
         self.n = raw["n"][0]
         self.sizes = _sizes(raw)
         self.statistics = raw["statistics"]
+        self.warnings = raw["warnings"]
         self.residual = self.statistics["relative_residual"]
         self.leak_rate = self.statistics["leak_rate"]
         self.newton_iterations = self.statistics["newton_iterations"]
@@ -194,6 +217,7 @@ class EnsembleSolution:
         self.series = raw["series"]
         self.stderr = raw["stderr"]
         self.statistics = raw["statistics"]
+        self.warnings = raw["warnings"]
 
 
 def dsmc(model, particles, times, method=None, runs=None, seed=None, observables=("M0", "M1", "M2", "M3"), progress=None,
@@ -224,6 +248,7 @@ class ParticleRun:
         self.stderr = raw["stderr"]
         self.final = raw["final"]
         self.statistics = raw["statistics"]
+        self.warnings = raw["warnings"]
         c = raw.get("configuration", {})
         self.positions = c.get("positions")
         self.velocities = c.get("velocities")
@@ -244,7 +269,7 @@ def _particle_engine(name, times, particles, series, final, progress, keywords):
     if final:
         observe["final"] = list(final)
     text = _scene.scene("python", particles=section, times=times, engine=engine, observe=observe)
-    return ParticleRun(_aggkit.run_engine(text, 0, None, None, None, progress))
+    return ParticleRun(_run_engine(text, None, None, None, progress))
 
 
 def ed(times, particles=None, series=("clusters", "kinetic_energy", "M2"), final=("clusters",), progress=None, **keywords):
@@ -367,7 +392,10 @@ def run(scene, out=None, force=False, plot=False, resume=False, checkpoint_every
     else:
         raise ValueError(f"scene = {scene!r}: a path to a scene file or a dict")
     every = 0.0 if checkpoint_every is None else _seconds(checkpoint_every, "checkpoint_every")
-    return json.loads(_aggkit.run_scene(text, source, "" if out is None else os.fspath(out), force, plot, bool(resume), every))
+    summary = json.loads(_aggkit.run_scene(text, source, "" if out is None else os.fspath(out), force, plot, bool(resume), every))
+    for label, engine in summary["engines"].items():
+        _warn_engine(label, engine.get("warnings", []), stacklevel=2)
+    return summary
 
 
 def _generic_engine(kind):

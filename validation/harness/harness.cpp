@@ -14,6 +14,7 @@
 #include "validation/harness/run_checkpoint.hpp"
 #include "validation/io/stop_signal.hpp"
 #include "validation/harness/plot.hpp"
+#include "validation/harness/recording_observer.hpp"
 #include "validation/io/progress.hpp"
 #include "validation/harness/report.hpp"
 #include "validation/harness/series_output.hpp"
@@ -39,20 +40,10 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
   if (checkpoints) checkpoint = checkpoints->start(engine, record, record_lock);
   const double earlier_wall = record.wall_seconds;  // of the runs before a resume
   const auto started = std::chrono::steady_clock::now();
-  EngineObserver observer;
+  EngineObserver observer = recording_observer(scene, record, record_lock,
+                                               {[&progress](double t) { progress.reached(t); },
+                                                [&progress](const std::string& what) { progress.note(what); }});
   observer.checkpoint = checkpoint.get();
-  observer.measure = [&scene](double t, const ObservedState& state) { return measure_state(scene, t, state); };
-  observer.record = [&](double t, std::vector<Measurement> realizations) {
-    {
-      std::lock_guard lock(record_lock);
-      record_measurements(record, scene, t, realizations);
-    }
-    progress.reached(t);
-  };
-  observer.final_state = [&](std::vector<FinalStatistic> values) { record.finals = std::move(values); };
-  observer.progress = [&](double t) { progress.reached(t); };
-  observer.status = [&](const std::string& what) { progress.note(what); };
-  observer.warning = [&](const std::string& what) { record.warnings.push_back(what); };
   observer.folder = folder.engine_folder(engine.label());
   if (ranks && engine.spreads_over_ranks()) {  // the other ranks start their share (serve_realizations)
     ranks->broadcast(engine_command + engine.label());
