@@ -14,13 +14,13 @@
 // TS state cut short after its particle count, the same under another engine's name).
 //   AGGKIT_FUZZ_CHECKPOINT_SEEDS=DIR fuzz_checkpoint   writes further seeds into DIR instead (each engine's state
 //   after a few steps, and a checkpoint file of the TS state with the expected header) and exits.
-#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <unistd.h>
@@ -31,6 +31,7 @@
 #include "particle/dsmc/ensemble.hpp"
 #include "particle/ed/event_driven_aggregation.hpp"
 #include "particle/ts/time_stepping_aggregation.hpp"
+#include "tests/particle/dsmc/dsmc_fixture.hpp"
 
 using namespace aggkit;
 
@@ -75,12 +76,8 @@ std::unique_ptr<Dem> start_dem() {
 }
 
 std::unique_ptr<dsmc::Ensemble> start_dsmc(dsmc::Method method) {
-  AggregationModel model;
-  model.kernel = Kernel::ballistic();
-  model.lambda = ShatteringRate::constant(0.1);
-  model.size = 64;
+  AggregationModel model = aggkit::testing::dsmc_model(Kernel::ballistic(), 0.1);
   model.truncation = Truncation::cutoff;
-  model.initial = monodisperse(model.size);
   dsmc::Options options;
   options.method = method;
   options.particles = 100;
@@ -132,16 +129,12 @@ void check_file(const std::filesystem::path& file, std::string_view bytes) {
   } catch (const CheckpointError&) {
     return;
   }
-  // Accepted: the file is the expected header, the payload's length and checksum, and the payload, exactly.
-  StateWriter file_bytes;
-  file_bytes.put(std::array<char, 8>{'A', 'G', 'G', 'K', 'I', 'T', 'C', 'K'});
-  file_bytes.put(checkpoint_format_version);
-  file_bytes.put(expected.aggkit_version);
-  file_bytes.put(expected.engine);
-  file_bytes.put(expected.scene_fingerprint);
-  file_bytes.put(std::uint64_t(payload.size()));
-  file_bytes.put(fnv1a64(payload));
-  if (file_bytes.bytes() + payload != bytes) fail("read_checkpoint", "accepted a file that is not the expected header and its payload");
+  // Accepted: the file is exactly what write_checkpoint writes for the expected header and this payload.
+  const std::filesystem::path again = file.string() + "-again";
+  write_checkpoint(again, expected, payload);
+  std::ifstream in(again, std::ios::binary);
+  if (std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()) != bytes)
+    fail("read_checkpoint", "accepted a file that is not the expected header and its payload");
   check_engine("ts (from a file)", start_ts, payload);
 }
 
