@@ -26,7 +26,7 @@ void StateWriter::put(const std::vector<bool>& values) {
 }
 
 void StateReader::get(std::vector<bool>& values) {
-  const std::uint64_t n = count(1);
+  const std::uint64_t n = length(1);
   values.assign(n, false);
   for (std::uint64_t i = 0; i < n; ++i) values[i] = read<std::uint8_t>() != 0;
 }
@@ -40,9 +40,9 @@ const char* StateReader::take(std::uint64_t n) {
   return at;
 }
 
-std::uint64_t StateReader::count(std::size_t element) {
+std::uint64_t StateReader::length(std::size_t element_bytes) {
   const auto n = read<std::uint64_t>();
-  if (n > (bytes_.size() - position_) / element)
+  if (n > (bytes_.size() - position_) / element_bytes)
     throw CheckpointError("the checkpoint's state holds a length (" + std::to_string(n) + ") beyond its end");
   return n;
 }

@@ -69,13 +69,13 @@ class StateReader {
   template <class T>
   void get(std::vector<T>& values) {
     static_assert(std::is_trivially_copyable_v<T>);
-    const std::uint64_t n = count(sizeof(T));
+    const std::uint64_t n = length(sizeof(T));
     values.resize(n);
     if (n > 0) std::memcpy(values.data(), take(n * sizeof(T)), n * sizeof(T));
   }
   void get(std::vector<bool>& values);
   void get(std::string& text) {
-    const std::uint64_t n = count(1);
+    const std::uint64_t n = length(1);
     text.assign(take(n), n);
   }
   template <class T>
@@ -84,6 +84,9 @@ class StateReader {
     get(value);
     return value;
   }
+  // A length prefix of elements that take at least `element_bytes` each in the state: CheckpointError if that
+  // many cannot be in the bytes left, so a damaged length is refused before anything is allocated for it.
+  std::uint64_t length(std::size_t element_bytes);
   bool at_end() const { return position_ == bytes_.size(); }
   std::size_t remaining() const { return bytes_.size() - position_; }
   // Throws CheckpointError unless every byte has been read (a state longer than its reader expects).
@@ -96,7 +99,6 @@ class StateReader {
 
  private:
   const char* take(std::uint64_t n);
-  std::uint64_t count(std::size_t element);  // a length prefix, checked against the bytes left
   std::string_view bytes_;
   std::size_t position_ = 0;
 };

@@ -27,7 +27,7 @@ void BinnedPopulation::restore(StateReader& in) {
   in.get(bucket_);
   if (bucket_.size() != buckets) throw CheckpointError("the checkpoint's DSMC buckets have another length");
   fenwick_.restore(in);
-  bins_.resize(in.read<std::uint64_t>());
+  bins_.resize(in.length(3 * sizeof(std::uint64_t)));  // a bin: count, small, the length of large
   for (Bin& bin : bins_) {
     in.get(bin.count);
     in.get(bin.small);

@@ -5,8 +5,10 @@
 // refused with exit status 2.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <regex>
@@ -15,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "particle/common/checkpoint.hpp"
 #include "tests/apps/command_fixture.hpp"
 #include "tests/validation/scene_fixture.hpp"
 
@@ -255,6 +258,28 @@ TEST_CASE("checkpoint cli: damaged, truncated and changed-scene checkpoints are 
   SECTION("truncated") {
     std::ofstream(state, std::ios::binary | std::ios::trunc) << good.substr(0, good.size() - 3);
     refused("truncated");
+  }
+  SECTION("a length in the record beyond the state's end, under a right checksum") {
+    // The header read back, the payload's first row count (after the completed flag and the output times)
+    // set to 2^62, the file written again with its checksum. Taken on trust, the count threw length_error
+    // out of the resume instead of the refusal.
+    aggkit::StateReader file(good);
+    file.read<std::array<char, 8>>();
+    file.read<std::uint32_t>();
+    aggkit::CheckpointHeader header;
+    file.get(header.aggkit_version);
+    file.get(header.engine);
+    file.get(header.scene_fingerprint);
+    const auto length = file.read<std::uint64_t>();
+    std::string payload = good.substr(good.size() - length);
+    aggkit::StateReader record(payload);
+    record.read<std::uint8_t>();
+    std::vector<double> times;
+    record.get(times);
+    const std::uint64_t huge = std::uint64_t(1) << 62;
+    std::memcpy(payload.data() + (payload.size() - record.remaining()), &huge, sizeof huge);
+    aggkit::write_checkpoint(state, header, payload);
+    refused("beyond its end");
   }
   SECTION("the scene changed") {
     aggkit::testing::write_text(scene, std::string(dem_scene) + "# edited\n");

@@ -179,7 +179,7 @@ class DemSimulation final : public ParticleSimulation {
   void restore(StateReader& in) override {
     dem_.restore(in);
     in.get(aggregation_time_);
-    at_aggregation_.resize(in.read<std::uint64_t>());
+    at_aggregation_.resize(in.length(2 * sizeof(std::uint64_t)));  // key length, value
     for (auto& [key, value] : at_aggregation_) {
       in.get(key);
       in.get(value);

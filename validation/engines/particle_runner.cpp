@@ -66,7 +66,7 @@ void put_pairs(StateWriter& out, const std::vector<std::pair<std::string, T>>& p
 
 template <class T>
 void get_pairs(StateReader& in, std::vector<std::pair<std::string, T>>& pairs) {
-  pairs.resize(in.read<std::uint64_t>());
+  pairs.resize(in.length(sizeof(std::uint64_t) + sizeof(T)));  // key length, value
   for (auto& [key, value] : pairs) {
     in.get(key);
     in.get(value);
@@ -81,7 +81,7 @@ void put_partial(StateWriter& out, const RealizationResult& result) {
 }
 
 void get_partial(StateReader& in, RealizationResult& result) {
-  result.series.resize(in.read<std::uint64_t>());
+  result.series.resize(in.length(4 * sizeof(std::uint64_t)));  // a measurement: three lengths and a leak
   for (auto& m : result.series) m = get_measurement(in);
   get_pairs(in, result.finals);
 }
@@ -103,7 +103,7 @@ void put_result(StateWriter& out, const RealizationResult& result) {
 RealizationResult get_result(StateReader& in) {
   RealizationResult result;
   get_partial(in, result);
-  result.profiles.resize(in.read<std::uint64_t>());
+  result.profiles.resize(in.length(5 * sizeof(std::uint64_t)));  // five lengths
   for (auto& [name, profile] : result.profiles) {
     in.get(name);
     in.get(profile.x_name);

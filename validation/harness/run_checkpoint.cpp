@@ -55,7 +55,7 @@ void put_record(StateWriter& out, const EngineRecord& record) {
 
 template <class Row>
 void get_rows(StateReader& in, std::vector<Row>& rows) {
-  rows.resize(in.read<std::uint64_t>());
+  rows.resize(in.length(sizeof(std::uint64_t)));  // a row: at least its length
   for (auto& row : rows) in.get(row);
 }
 
@@ -63,22 +63,22 @@ void get_record(StateReader& in, EngineRecord& record) {
   in.get(record.times);
   get_rows(in, record.values);
   get_rows(in, record.standard_errors);
-  record.distributions.resize(in.read<std::uint64_t>());
+  record.distributions.resize(in.length(4 * sizeof(std::uint64_t)));  // t, n, two lengths
   for (auto& d : record.distributions) {
     in.get(d.t);
     in.get(d.n);
     get_rows(in, d.realizations);
     in.get(d.sizes);
   }
-  record.realization_values.resize(in.read<std::uint64_t>());
+  record.realization_values.resize(in.length(sizeof(std::uint64_t)));
   for (auto& series : record.realization_values) get_rows(in, series);
-  record.finals.resize(in.read<std::uint64_t>());
+  record.finals.resize(in.length(3 * sizeof(std::uint64_t)));  // name length, mean, standard error
   for (auto& f : record.finals) {
     in.get(f.name);
     in.get(f.mean);
     in.get(f.standard_error);
   }
-  record.statistics.resize(in.read<std::uint64_t>());
+  record.statistics.resize(in.length(sizeof(std::uint64_t) + 1));  // name length, kind
   for (auto& s : record.statistics) {
     in.get(s.name);
     switch (in.read<std::uint8_t>()) {

@@ -67,6 +67,16 @@ TEST_CASE("checkpoint: a state is read back value for value, and its end is chec
   StateReader unread(state);
   unread.read<std::uint64_t>();
   CHECK_THROWS_WITH(unread.expect_end(), Catch::Contains("bytes more than this engine reads"));
+
+  // A count of elements that take at least 8 bytes each, more than the bytes left hold: refused.
+  StateWriter counted;
+  counted.put(std::uint64_t(3));
+  counted.put(std::uint64_t(7));
+  counted.put(std::uint64_t(8));
+  StateReader three_of_eight(counted.bytes());
+  CHECK_THROWS_WITH(three_of_eight.length(8), Catch::Contains("beyond its end"));
+  StateReader three_of_one(counted.bytes());
+  CHECK(three_of_one.length(1) == 3);
 }
 
 TEST_CASE("checkpoint: a file is written atomically and read back whole") {

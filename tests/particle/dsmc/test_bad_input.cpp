@@ -1,7 +1,11 @@
-// Bad DSMC input gets an InputError naming the key, the value and what is allowed.
+// Bad DSMC input gets an InputError naming the key, the value and what is allowed; a damaged saved state a CheckpointError.
 #include <catch2/catch.hpp>
 
+#include <cstring>
+#include <string>
+
 #include "analysis/input_error.hpp"
+#include "particle/common/checkpoint.hpp"
 #include "tests/particle/dsmc/dsmc_fixture.hpp"
 #include "tests/validation/scene_fixture.hpp"
 #include "validation/scene/scene.hpp"
@@ -40,4 +44,46 @@ TEST_CASE("dsmc: bad engine options in a scene name the scene key") {
   CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("method = \"exact\"")), Contains("engine[0].method"));
   CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("particles = 100", "-0.5")), Contains("model.lambda = -0.5"));
   CHECK_THROWS_WITH(aggkit::testing::parse_checked(scene("colour = 1")), Contains("colour"));
+}
+
+TEST_CASE("dsmc: a saved state with a damaged length anywhere is refused with a CheckpointError") {
+  // 2^62 written over each 8 bytes of a saved ensemble in turn (both methods, bucketed and one-by-one sizes):
+  // a length among them must be refused before anything is allocated for it. A length taken on trust throws
+  // length_error or bad_alloc instead, which the harness does not turn into the refusal of a bad checkpoint
+  // (exit status 2, the reason named). Values that are not lengths may be read as they are.
+  AggregationModel model = aggkit::testing::dsmc_model(Kernel::ballistic(), 0.1);
+  model.truncation = Truncation::cutoff;
+  for (const auto method : {dsmc::Method::acceptance_rejection, dsmc::Method::fast}) {
+    dsmc::Options options;
+    options.method = method;
+    options.particles = 100;
+    options.runs = 2;
+    options.bucket = 8;
+    options.threads = 1;
+    dsmc::Ensemble ensemble(model, options, 1.0);
+    ensemble.advance_to(0.5);
+    StateWriter out;
+    ensemble.save(out);
+    const std::string good = out.take();
+    std::size_t refused = 0;
+    std::string other;  // the first exception of another kind, with where the damage was
+    for (std::size_t at = 0; at + 8 <= good.size() && other.empty(); ++at) {
+      std::string bad = good;
+      const std::uint64_t huge = std::uint64_t(1) << 62;
+      std::memcpy(bad.data() + at, &huge, sizeof huge);
+      dsmc::Ensemble fresh(model, options, 1.0);
+      StateReader in(bad);
+      try {
+        fresh.restore(in);
+        in.expect_end();
+      } catch (const CheckpointError&) {
+        ++refused;
+      } catch (const std::exception& e) {
+        other = "byte " + std::to_string(at) + " of " + std::to_string(good.size()) + ": " + e.what();
+      }
+    }
+    INFO("method " << int(method));
+    CHECK(other == "");
+    CHECK(refused > 0);
+  }
 }
