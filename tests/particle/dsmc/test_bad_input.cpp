@@ -47,17 +47,20 @@ TEST_CASE("dsmc: bad engine options in a scene name the scene key") {
 }
 
 TEST_CASE("dsmc: a saved state with a damaged length anywhere is refused with a CheckpointError") {
-  // 2^62 written over each 8 bytes of a saved ensemble in turn (both methods, bucketed and one-by-one sizes):
-  // a length among them must be refused before anything is allocated for it. A length taken on trust throws
-  // length_error or bad_alloc instead, which the harness does not turn into the refusal of a bad checkpoint
-  // (exit status 2, the reason named). Values that are not lengths may be read as they are.
+  // 2^62 written over each 8-byte-aligned word of a saved run in turn (both methods, bucketed and one-by-one
+  // sizes): a length among them must be refused before anything is allocated for it. A length taken on trust
+  // throws length_error or bad_alloc instead, which the harness does not turn into the refusal of a bad
+  // checkpoint (exit status 2, the reason named). Every length of a run's state lies on such a word: all that
+  // comes before the last of them (the stepper's vectors) is 8-byte values and length-prefixed 8-byte
+  // vectors. Values that are not lengths may be read as they are. One run: a second would start 1 byte off
+  // (the stepper's dirty flag), and each damaged state is restored into a fresh ensemble.
   AggregationModel model = aggkit::testing::dsmc_model(Kernel::ballistic(), 0.1);
   model.truncation = Truncation::cutoff;
   for (const auto method : {dsmc::Method::acceptance_rejection, dsmc::Method::fast}) {
     dsmc::Options options;
     options.method = method;
     options.particles = 100;
-    options.runs = 2;
+    options.runs = 1;
     options.bucket = 8;
     options.threads = 1;
     dsmc::Ensemble ensemble(model, options, 1.0);
@@ -67,7 +70,7 @@ TEST_CASE("dsmc: a saved state with a damaged length anywhere is refused with a 
     const std::string good = out.take();
     std::size_t refused = 0;
     std::string other;  // the first exception of another kind, with where the damage was
-    for (std::size_t at = 0; at + 8 <= good.size() && other.empty(); ++at) {
+    for (std::size_t at = 0; at + 8 <= good.size() && other.empty(); at += 8) {
       std::string bad = good;
       const std::uint64_t huge = std::uint64_t(1) << 62;
       std::memcpy(bad.data() + at, &huge, sizeof huge);
