@@ -31,7 +31,7 @@
 #include "validation/harness/run_checkpoint.hpp"
 #include "validation/scene/kernel_catalogue.hpp"
 #include "validation/scan/scan.hpp"
-#include "validation/scan/scan_mpi.hpp"
+#include "validation/runs/mpi_ranks.hpp"
 #include "validation/scene/scene.hpp"
 #include "validation/validate/validate.hpp"
 #include "validation/sweep/sweep.hpp"

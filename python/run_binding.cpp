@@ -21,7 +21,6 @@
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
-#include "particle/common/checkpoint.hpp"
 #include "solvers/limit_cycle.hpp"
 #include "solvers/stability.hpp"
 #include "validation/engines/engine.hpp"
@@ -31,6 +30,7 @@
 #include "validation/harness/run_checkpoint.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/text.hpp"
+#include "validation/runs/fingerprint.hpp"
 
 namespace py = pybind11;
 using namespace aggkit;
@@ -258,7 +258,7 @@ std::string run_scene_text(const std::string& scene_text, const std::string& sou
   options.out = out.empty() ? scratch->path / "run" : std::filesystem::path(out);
   options.force = force;
   options.plot = plot;
-  options.scene_fingerprint = fnv1a64(scene_text);
+  options.scene_fingerprint = text_fingerprint(scene_text);
   if (std::filesystem::exists(source)) options.scene_file = std::filesystem::absolute(source);
   options.checkpoint_every = checkpoint_every;
   if (resume && std::filesystem::exists(options.out / "checkpoint" / "run.json")) {

@@ -6,7 +6,7 @@
 //   * Rank k of K runs realizations k, k + K, k + 2K, ... (threads within the rank as in one process);
 //     realization 0, whose snapshots and trajectory are written, is always on rank 0. A rank with none idles.
 //   * The ranks are an interface here, so the engines know no MPI: `aggkit run` hands the harness the MPI one
-//     (validation/scan/scan_mpi.hpp), the harness passes it to the engines that spread their realizations
+//     (validation/runs/mpi_ranks.hpp), the harness passes it to the engines that spread their realizations
 //     (Engine::spreads_over_ranks) and runs the other ranks' side (harness.hpp, serve_realizations).
 //   * A failure on any rank fails the share on every rank after every rank has finished its part, so no rank
 //     is left waiting: rank 0 throws it and reports, the others end quietly (ShareAbandoned).

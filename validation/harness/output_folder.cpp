@@ -2,10 +2,10 @@
 
 #include <fstream>
 #include <system_error>
-#include <unistd.h>
 
 #include "analysis/input_error.hpp"
 #include "validation/io/atomic_file.hpp"
+#include "validation/runs/run_folder.hpp"
 
 namespace aggkit {
 
@@ -67,21 +67,7 @@ void OutputFolder::prepare(const std::vector<std::pair<std::string, std::vector<
                        "holds " + std::to_string(entries) + " entries aggkit did not write: choose another folder, or "
                        "add --force to write into it");
   }
-  std::filesystem::create_directories(root_, error);
-  if (error) unusable(root_, error.message());
-  if (!std::filesystem::is_directory(root_, error)) unusable(root_, "it is not a folder");
-  // Root may write anywhere by permissions alone; only writing a file proves the folder is usable.
-  const std::filesystem::path probe = root_ / (".aggkit-write-test-" + std::to_string(::getpid()));
-  {
-    std::ofstream file(probe);
-    file << "probe\n";
-    file.close();
-    if (!file) {
-      std::filesystem::remove(probe, error);
-      unusable(root_, "cannot write files in it");
-    }
-  }
-  std::filesystem::remove(probe, error);
+  check_writable_folder(root_, root_);
 
   remove_stale(summary_file());  // first: a summary.json must never describe outputs of another run
   remove_stale(report_file());

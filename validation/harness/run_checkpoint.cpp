@@ -179,12 +179,6 @@ class HarnessCheckpoint final : public EngineCheckpoint {
 
 }  // namespace
 
-std::uint64_t scene_fingerprint(const std::filesystem::path& scene, const std::string& key) {
-  std::ifstream in(scene, std::ios::binary);
-  if (!in) throw InputError(key, scene.string(), "a readable scene file");
-  return fnv1a64(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
-}
-
 CheckpointedRun read_checkpointed_run(const std::filesystem::path& out) {
   const std::filesystem::path file = out / "checkpoint" / "run.json";
   std::ifstream in(file);
@@ -210,10 +204,8 @@ RunCheckpoints::RunCheckpoints(const std::filesystem::path& out, CheckpointedRun
   if (resume) return;
   std::filesystem::remove_all(folder_);  // a fresh run: an earlier run's states must not be continued
   std::filesystem::create_directories(folder_);
-  char fingerprint[17];
-  std::snprintf(fingerprint, sizeof fingerprint, "%016llx", static_cast<unsigned long long>(run_.fingerprint));
   const nlohmann::json json{{"scene", std::filesystem::absolute(run_.scene).string()},
-                            {"fingerprint", fingerprint},
+                            {"fingerprint", fingerprint_text(run_.fingerprint)},
                             {"checkpoint_every", run_.interval},
                             {"plot", run_.plot},
                             {"aggkit", version()}};

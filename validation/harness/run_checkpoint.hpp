@@ -17,6 +17,7 @@
 #include <string>
 
 #include "validation/harness/engine_record.hpp"
+#include "validation/runs/fingerprint.hpp"  // scene_fingerprint, the fingerprint run.json records
 
 namespace aggkit {
 
@@ -28,8 +29,6 @@ struct CheckpointedRun {
   bool plot = true;
 };
 
-// The fingerprint of a scene file's text; InputError naming `key` if it cannot be read.
-std::uint64_t scene_fingerprint(const std::filesystem::path& scene, const std::string& key);
 // run.json of DIR; InputError for --resume when there is none or it cannot be read.
 CheckpointedRun read_checkpointed_run(const std::filesystem::path& out);
 

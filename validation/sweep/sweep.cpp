@@ -13,8 +13,8 @@
 #include "validation/io/child_process.hpp"
 #include "validation/io/python_plotter.hpp"
 #include "validation/io/text.hpp"
-#include "validation/scan/run_store.hpp"
-#include "validation/scan/scan_mpi.hpp"
+#include "validation/runs/run_store.hpp"
+#include "validation/runs/mpi_ranks.hpp"
 #include "validation/sweep/sweep_record.hpp"
 
 namespace aggkit {

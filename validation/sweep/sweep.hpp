@@ -2,7 +2,7 @@
 // `aggkit sweep SCENE --out DIR`: every point of a sweep scene's product of keys (sweep_plan.hpp), each run
 // `realizations` times, the runs spread over the MPI ranks (`mpirun -np K aggkit sweep ...`; each rank draws
 // the next run when it is free) and kept in DIR/points/ as they finish, so that an interrupted sweep resumes
-// without rerunning them (validation/scan/run_store.hpp, shared with `aggkit scan`). Outputs (rank 0, each
+// without rerunning them (validation/runs/run_store.hpp, shared with `aggkit scan`). Outputs (rank 0, each
 // written atomically):
 //   DIR/sweep.csv        one row per point and realization: the swept values (a column per key, as written),
 //                        realization, then the run's final values — every entry of each engine's final.json

@@ -8,8 +8,9 @@
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
-#include "validation/scan/scan_mpi.hpp"
+#include "validation/runs/mpi_ranks.hpp"
 #include "validation/io/atomic_file.hpp"
+#include "validation/runs/run_folder.hpp"
 #include "validation/validate/finished_record.hpp"
 #include "validation/validate/report_html.hpp"
 #include "validation/validate/scene_jobs.hpp"
@@ -37,18 +38,8 @@ void prepare_output(const std::filesystem::path& out) {
       throw InputError("--out", out.string(),
                        "a new or empty folder, or one an earlier `aggkit validate` wrote (this one holds other files)");
   }
-  for (const auto& folder : {finished_folder(out), out / "logs"}) {
-    std::filesystem::create_directories(folder, error);
-    if (error) unusable(out, error.message());
-  }
-  // Root may write anywhere by permissions alone; only writing a file proves the folder is usable.
-  const std::filesystem::path probe = out / "logs" / (".write-test-" + std::to_string(::getpid()));
-  std::ofstream file(probe);
-  file << "probe\n";
-  file.close();
-  const bool ok = static_cast<bool>(file);
-  std::filesystem::remove(probe, error);
-  if (!ok) unusable(out, "cannot write files in it");
+  check_writable_folder(finished_folder(out), out);
+  check_writable_folder(out / "logs", out);
 }
 
 bool outputs_present(const std::filesystem::path& out, const PlannedScene& scene) {

@@ -8,24 +8,13 @@
 #include <system_error>
 
 #include "analysis/input_error.hpp"
+#include "validation/runs/fingerprint.hpp"
 #include "validation/scan/scan_plan.hpp"
 #include "validation/scene/scene_table.hpp"
 
 namespace aggkit {
 
 namespace {
-
-// FNV-1a, 64 bits: a stable digest of a scene's text (std::hash may differ between builds).
-std::string digest(const std::string& text) {
-  std::uint64_t hash = 14695981039346656037ull;
-  for (const unsigned char c : text) {
-    hash ^= c;
-    hash *= 1099511628211ull;
-  }
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
-  return hex;
-}
 
 // The scene's name as a folder name: characters other than letters, digits, '.', '-' and '_' become '_', and
 // a leading '.' too (no hidden folders, no "..").
@@ -61,7 +50,7 @@ PlannedScene read_planned(const std::filesystem::path& file, bool plot) {
   planned.tier = scene.tier;
   for (const auto& engine : scene.engines) planned.engines.push_back(engine.label);
   planned.description = opening_comment(text);
-  planned.fingerprint = digest(text + "\n# aggkit validate: " + to_string(planned.kind) + (plot ? " plot" : " no-plot"));
+  planned.fingerprint = fingerprint_text(text_fingerprint(text + "\n# aggkit validate: " + to_string(planned.kind) + (plot ? " plot" : " no-plot")));
   return planned;
 }
 

@@ -1,4 +1,4 @@
-#include "validation/scan/scan_mpi.hpp"
+#include "validation/runs/mpi_ranks.hpp"
 
 #include <algorithm>
 #include <cstdint>

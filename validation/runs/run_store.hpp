@@ -4,7 +4,7 @@
 // (a killed command leaves finished files whole and never a half-written one under a final name), a
 // fingerprint of everything the results depend on (results of another scene are not reused), and the
 // unfinished runs computed over the ranks of MPI_COMM_WORLD, each rank drawing the next one when it is free
-// (scan_mpi.hpp).
+// (mpi_ranks.hpp).
 #include <cstddef>
 #include <filesystem>
 #include <functional>

@@ -1,8 +1,8 @@
 #pragma once
-// The MPI side of a scan: points are independent and distributed over the ranks of MPI_COMM_WORLD
-// (`mpirun -np K aggkit scan ...`). Without mpirun the process is a singleton MPI job of one rank; a
-// library user who never initialises MPI gets a serial scan (rank 0 of 1). mpi.h stays out of headers.
-// The sweep uses the same, and `aggkit run` under mpirun its ranks (MpiRanks) for the realizations.
+// The MPI side of the runs: a scan's points and a sweep's runs are independent and distributed over the ranks
+// of MPI_COMM_WORLD (`mpirun -np K aggkit scan ...`, run_store.hpp), and `aggkit run` under mpirun gives its
+// ranks (MpiRanks) the realizations. Without mpirun the process is a singleton MPI job of one rank; a library
+// user who never initialises MPI gets a serial scan (rank 0 of 1). mpi.h stays out of headers.
 #include <cstddef>
 #include <string>
 #include <vector>

@@ -1,13 +1,13 @@
-#include "validation/scan/run_store.hpp"
+#include "validation/runs/run_store.hpp"
 
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 #include <vector>
 
 #include "analysis/input_error.hpp"
 #include "validation/io/atomic_file.hpp"
-#include "validation/scan/scan_mpi.hpp"
+#include "validation/runs/run_folder.hpp"
+#include "validation/runs/mpi_ranks.hpp"
 
 namespace aggkit {
 
@@ -19,34 +19,12 @@ std::string read_text_file(const std::filesystem::path& file) {
   return text.str();
 }
 
-namespace {
-
-[[noreturn]] void unusable(const std::filesystem::path& folder, const std::string& why) {
-  throw InputError("--out", folder.string(), "an output folder that can be created and written (" + why + ")");
-}
-
-void prepare_here(const std::filesystem::path& root, const std::filesystem::path& points, int rank) {
-  std::error_code error;
-  std::filesystem::create_directories(points, error);
-  if (error) unusable(root, error.message());
-  // Root may write anywhere by permissions alone; only writing a file proves the folder is usable.
-  const std::filesystem::path probe = points / (".write-test-" + std::to_string(::getpid()) + "-" + std::to_string(rank));
-  std::ofstream file(probe);
-  file << "probe\n";
-  file.close();
-  const bool ok = static_cast<bool>(file);
-  std::filesystem::remove(probe, error);
-  if (!ok) unusable(root, "cannot write files in it");
-}
-
-}  // namespace
-
 void prepare_points_folder(const std::filesystem::path& out, const std::filesystem::path& points) {
   // Every rank checks that it can write (they may not share a file system view); a failure anywhere stops
   // all ranks with the same error.
   std::string folder_error;
   try {
-    prepare_here(out, points, mpi_world().rank);
+    check_writable_folder(points, out, std::to_string(mpi_world().rank));  // a probe per rank
   } catch (const InputError& e) {
     folder_error = e.what();
   }
