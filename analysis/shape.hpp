@@ -30,7 +30,7 @@ Gyration gyration(std::span<const std::array<double, 3>> points, int dimension);
 // ContactCounting::with_self sums over all (i, j), i = j included, which adds exactly 1/N_max. That is
 // the reading under which the published N_c ≈ 0.5 [Degond2024, Sec. 4.2.1, Fig. 7] is what hit-and-stick
 // gives: each merge makes one contact, the contact graph is a tree with mean degree 2(N−1)/N, and
-// (2(N−1)/N + 1)/6 → 0.5, whereas the i ≠ j sum gives 1/3 (measured: bench/log/ed-ballistic-aggregation.md). Eq. 4.6 indeed
+// (2(N−1)/N + 1)/6 → 0.5, whereas the i ≠ j sum gives 1/3 (measured: bench/results/log/ed-ballistic-aggregation.md). Eq. 4.6 indeed
 // sums over all i, j = 1..N, and the paper expects N_c "between 1/6 and one".
 enum class ContactCounting { other_particles, with_self };
 double relative_contacts(const ParticleConfiguration& config, double factor = 2.1,

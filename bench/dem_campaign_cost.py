@@ -11,7 +11,7 @@ default dt, t_c = π √(m_eff/k_n): t_c/50 with the implicit dashpot (the engin
 steps cost --implicit-factor times an explicit one where γ_n dt/m_eff > 0.2, where the engine switches it on),
 min(t_c/50, m_eff/(5 γ_n)) with the explicit one (--dashpot explicit: the engine before the implicit dashpot). T_agg/t_ff is interpolated (log ζ) from the
 measured (ζ, T_agg/t_ff) pairs, ζ = γ_n/(2 √(k_n m_eff)) the damping ratio: the measurements at k̃_n = 10^5,
-10^6 and 10^7 fall on one curve of ζ (bench/log/dem-campaign.md). Below --zeta-min the cloud does not
+10^6 and 10^7 fall on one curve of ζ (bench/results/log/dem-campaign.md). Below --zeta-min the cloud does not
 aggregate and the run lasts to --end. Prints the CPU seconds of the campaign and its wall time on --ranks
 ranks with a core each (perfect balance)."""
 import argparse
@@ -32,7 +32,7 @@ def main():
     p.add_argument("--zeta-min", type=float, required=True)
     p.add_argument("--dashpot", choices=["implicit", "explicit"], default="implicit")
     p.add_argument("--implicit-factor", type=float, default=1.0,
-                   help="cost of an implicit-dashpot step over an explicit one (measured: bench/log/dem-campaign.md)")
+                   help="cost of an implicit-dashpot step over an explicit one (measured: bench/results/log/dem-campaign.md)")
     a = p.parse_args()
     pairs = sorted((float(z), float(t)) for z, t in (m.split(":") for m in a.measured))
     zs = [math.log(z) for z, _ in pairs]

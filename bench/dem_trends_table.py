@@ -8,7 +8,7 @@ definition (at T_agg, at k t_ff).
 
 Each DIR is an `aggkit sweep --out` folder of bench/scenes/dem-trends-paper.toml and -converged.toml; the
 finished runs are read from DIR/points/*.json (validation/sweep/sweep_record.hpp), so that a sweep stopped
-before its end is tabulated as far as it ran, or from DIR/sweep.csv (bench/log/dem-trends/paper, converged).
+before its end is tabulated as far as it ran, or from DIR/sweep.csv (bench/results/log/dem-trends/paper, converged).
 
 A cell "m ± s (n)" is the mean over the n runs with a finite value and its standard error (sample sd/√n); a
 run that never aggregated has no T_agg and no value at T_agg; "F0" columns count such runs as F = 0 (the
@@ -23,7 +23,7 @@ import sys
 
 def read(folder, keys):
     """The finished runs of a sweep folder as rows {engine.<key>: value, realization, column: value}; from
-    DIR/sweep.csv when the folder has no points/ (the copies kept in bench/log/dem-trends/)."""
+    DIR/sweep.csv when the folder has no points/ (the copies kept in bench/results/log/dem-trends/)."""
     if not os.path.isdir(os.path.join(folder, "points")):
         with open(os.path.join(folder, "sweep.csv"), newline="") as f:
             return list(csv.DictReader(f))

@@ -1,6 +1,6 @@
 // DSMC accuracy and speed for the ballistic kernel with shattering, λ = 0.01, monodisperse ([Kalinov2022,
 // Tables 2 and 4]): relative RMS error per run (the paper's "std over runs") of M0, M2, M3 at t = 1, 10, 100
-// against CVODE (N = 5000, rtol 1e-8; within 1e-7 of a rtol 1e-12 reference, bench/log/cvode-work-precision.md, CVODE
+// against CVODE (N = 5000, rtol 1e-8; within 1e-7 of a rtol 1e-12 reference, bench/results/log/cvode-work-precision.md, CVODE
 // work-precision), and run time / accepted events per second of one run to t = 100.
 //   bench_dsmc_ballistic PARTICLES RUNS [method ar|fast] [bucket] [halving 1|0]
 // (halving 0, the default: population control only doubles, as in [Kalinov2022]; halving 1: the case name

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # Plots the output of bench_ed_fractal (fractal dimension of the final aggregate against the volume
-# fraction): /usr/bin/python3 bench/ed_fractal_plot.py bench/ed_fractal_n1e5.txt bench/ed_fractal.png
+# fraction): /usr/bin/python3 bench/ed_fractal_plot.py bench/results/ed_fractal_n1e5.txt bench/results/ed_fractal.png
 import sys
 
 import matplotlib

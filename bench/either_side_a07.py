@@ -23,7 +23,7 @@ import numpy as np
 
 import aggkit
 
-LAMBDA_CRIT = 4.391029736419316e-4  # bench/log/scan-brownian/lambda_crit.csv, a = 0.7
+LAMBDA_CRIT = 4.391029736419316e-4  # bench/results/log/scan-brownian/lambda_crit.csv, a = 0.7
 
 
 def uniform_start(steady, size):

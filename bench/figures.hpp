@@ -11,7 +11,7 @@
 //
 // `date` is UTC (ISO 8601), `case` names the parameters of the measurement, `command` is the command line
 // that produced it. Rows accumulate: bench/check takes the latest row of each (bench, case, figure) and
-// compares it with bench/standing.csv. A row is written with one write() of a complete line, so a killed
+// compares it with bench/results/standing.csv. A row is written with one write() of a complete line, so a killed
 // bench leaves whole rows only.
 #include <chrono>
 #include <cstdio>

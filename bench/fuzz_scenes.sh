@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A longer run of the scene fuzzer (tests/fuzz/fuzz_scenes.py; the test suite runs it for 45 s as
 # fuzz_scenes_quick): mutates the shipped scenes for BUDGET seconds, one aggkit run at a time, and prints
-# the statistics and the findings. Results and the command that produced them: bench/log/scene-fuzzing.md,
+# the statistics and the findings. Results and the command that produced them: bench/results/log/scene-fuzzing.md,
 # "Scene fuzzing".
 #   bench/fuzz_scenes.sh [BUDGET_S [SEED]]     defaults 600 s, seed 7 (the quick test uses seed 1)
 #   BUILD_DIR=dir OUT=dir bench/fuzz_scenes.sh  binary BUILD_DIR/aggkit (default build), output folder

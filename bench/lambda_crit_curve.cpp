@@ -33,7 +33,7 @@ std::string load_average() {
 
 int main(int argc, char** argv) {
   std::vector<double> as;
-  double guess = 0.015;  // λ_crit(1) at N = 8192 is 0.01538 (bench/RESULTS.md)
+  double guess = 0.015;  // λ_crit(1) at N = 8192 is 0.01538 (bench/results/RESULTS.md)
   std::size_t size = 1024;
   HopfCurveOptions options;
   SizeGrid grid;

@@ -1,4 +1,4 @@
-// Memory latency of this machine, the bound on the event-driven engines at large N (bench/log/ed-ballistic-aggregation.md,
+// Memory latency of this machine, the bound on the event-driven engines at large N (bench/results/log/ed-ballistic-aggregation.md,
 // elastic gas): nanoseconds per load for one chain of dependent random loads (each address read from
 // the previous line, as an event reads slot -> state -> cell table -> neighbours) and for 8 independent
 // chains interleaved (what prefetching can reach), over arrays of 1 to 256 MiB of 64-byte lines, with the

@@ -3,7 +3,7 @@
 // every run, so that a slow leak or a rare violation shows up:
 //   kinetic (CVODE)  ballistic kernel, cutoff at N = 5000, λ cycling 0.01, 0.1, 1, to t = 1000: mass M1 = 1
 //                    at every output to round-off (the projected integrator keeps it; measured ≤ 6e-15 in
-//                    bench/log/cvode-stress.md): |M1 − 1| ≤ 1e-12 = N·eps·(a factor 50 for the sums)
+//                    bench/results/log/cvode-stress.md): |M1 − 1| ≤ 1e-12 = N·eps·(a factor 50 for the sums)
 //   DSMC             ballistic kernel, λ = 0.01, 10^6 particles to t = 100 [Kalinov2022, Table 2]: the integer
 //                    mass Σ k·count + leaked equals the mass at the last population-control event and, without
 //                    halving, N(0)·2^doublings, exactly; M1 + leaked density = 1 to 1e-12 (a double sum)

@@ -39,7 +39,7 @@ enum class Preconditioner {
 Preconditioner preconditioner_from_name(const std::string& name);  // throws InputError
 std::string to_string(Preconditioner p);
 
-// Defaults chosen by the work-precision study (bench/log/cvode-work-precision.md): at rtol 1e-6 the moments M0, M2, M3
+// Defaults chosen by the work-precision study (bench/results/log/cvode-work-precision.md): at rtol 1e-6 the moments M0, M2, M3
 // are within ~3e-7 of a tight reference for the ballistic and constant kernels with shattering.
 struct IntegratorOptions {
   IntegratorMethod method = IntegratorMethod::bdf_gmres;
@@ -54,12 +54,12 @@ struct IntegratorOptions {
   // Lower bound of atol_k, relative to the largest initial density. The FFT gain is accurate to about
   // 1e-16 of the largest densities; below that, tolerance-level junk in the far tail evolves
   // non-smoothly and a smaller atol_k makes CVODE chase it with tiny steps (30x more steps were seen
-  // for the ballistic kernel at λ = 1 without the floor; bench/log/cvode-stress.md, stress runs). 0 (default)
+  // for the ballistic kernel at λ = 1 without the floor; bench/results/log/cvode-stress.md, stress runs). 0 (default)
   // chooses 1e-10 rtol, i.e. 1e-16 at rtol 1e-6. The floor does not bound M3 by itself (Σ k³ · floor
   // over N sizes is ~N^4/4 · floor): the moments stay proportional to rtol because sizes beyond the
   // distribution's support stay exactly empty (the mass projection leaves them alone). A start that
   // fills every size with sub-tolerance values (e.g. 1e-30) defeats the tilted convolution, and FFT
-  // round-off below the floor then sets M3 to ~1e-5 whatever rtol (N = 32768; bench/log/cvode-tolerance-proportionality.md).
+  // round-off below the floor then sets M3 to ~1e-5 whatever rtol (N = 32768; bench/results/log/cvode-tolerance-proportionality.md).
   double atol_floor = 0.0;
   double effective_atol_floor() const { return atol_floor > 0.0 ? atol_floor : 1e-10 * rtol; }
   // Adaptive active size range (fast right-hand side): sizes beyond the last one with |n_k| above
@@ -82,7 +82,7 @@ struct IntegratorOptions {
   // Project each output, and each BDF step while atol ≥ 1e-10, onto Σ k n_k + L = M (the exact
   // invariant; L the leaked mass), so that mass is conserved to round-off. Without it the mass drifts by
   // the accumulated Newton/GMRES residual, which grows with λ: at rtol 1e-6 over t = 10^4 it reached 4e-7
-  // (λ = 0.01), 3e-4 (λ = 1) and 8e-3 (λ = 10), with M0 off by 0.8 % (bench/log/cvode-stress.md, stress runs).
+  // (λ = 0.01), 3e-4 (λ = 1) and 8e-3 (λ = 10), with M0 off by 0.8 % (bench/results/log/cvode-stress.md, stress runs).
   // The correction goes only to the sizes in the relative-tolerance regime (solvers/cvode_integrator.cpp,
   // project_onto_mass_shell), so it leaves the moments' errors proportional to rtol. Below atol 1e-10
   // projecting the steps made CVODE take 4-5x more steps, so only the outputs are projected there.
@@ -99,7 +99,7 @@ struct IntegratorOptions {
   // method needs only an approximate Jacobian). 0 uses the right-hand side's form. At 1e-2 instead of 1e-4
   // the ballistic kernel (N = 5000, rtol 1e-6, t = 100) took the same steps and linear iterations (680 and
   // 1118 at λ = 0.01; 628/1038 against 632/1072 at λ = 0.1; 200/221 against 205/234 at λ = 1) at 15-20 %
-  // less CPU time (bench/log/cvode-active-range.md).
+  // less CPU time (bench/results/log/cvode-active-range.md).
   double jacobian_tolerance = 1e-2;
   std::size_t dense_limit = 4000;  // bdf_dense refuses larger N
   // Called after every internal step with the time reached (for progress reports); may be empty.

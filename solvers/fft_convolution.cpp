@@ -18,7 +18,7 @@ namespace {
 std::mutex planner_mutex;  // the FFTW planner is not thread-safe; execution is
 
 // Planning. FFTW_MEASURE plans run about twice as fast as FFTW_ESTIMATE ones for lengths 3·2^m and
-// 10-25 % faster for 2^m (bench/log/cvode-work-precision.md), but take ~0.1-1 s each to make. AGGKIT_FFT_PLANNING picks:
+// 10-25 % faster for 2^m (bench/results/log/cvode-work-precision.md), but take ~0.1-1 s each to make. AGGKIT_FFT_PLANNING picks:
 //   adaptive (default): a length is first planned with FFTW_ESTIMATE, or measured at once if FFTW's
 //     wisdom already knows it; after `measure_after` executions (about the break-even point) it is
 //     re-planned with FFTW_MEASURE, so short runs never pay for planning and long runs pay once;

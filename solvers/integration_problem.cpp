@@ -28,7 +28,7 @@ int rhs(double t, N_Vector y, N_Vector ydot, void* data) {
 // so the tilt collapses (θ ≈ ln(1e41)/N) and FFT round-off of ~1e-16 e^{-θ s} lands on sizes s ~ 10^3,
 // below their tolerance floor, where CVODE accepts it. Weighted by k³ over thousands of sizes that junk
 // shifted M3 by ~1e-6 at early times whatever rtol (constant kernel, N = 32768: 1.6e-6 … 7.4e-6 at
-// rtol 1e-5 … 1e-8; bench/log/cvode-tolerance-proportionality.md). Restricted to the relative regime, the correction stays on the
+// rtol 1e-5 … 1e-8; bench/results/log/cvode-tolerance-proportionality.md). Restricted to the relative regime, the correction stays on the
 // resolved sizes, the tail keeps its exact zeros, and the errors fall with rtol (tests/solvers/
 // test_tolerance_proportionality.cpp). The defect itself is the Newton residual of the mass, so the
 // resolved sizes absorb it at O(rtol) relative change.

@@ -12,7 +12,7 @@ namespace aggkit {
 namespace {
 
 constexpr std::size_t leaf_size = 16;
-constexpr std::uint32_t group_size = 64;  // particles sharing one walk (leaves 16, groups 64: measured best of 4–16 and 16–64, bench/RESULTS.md)
+constexpr std::uint32_t group_size = 64;  // particles sharing one walk (leaves 16, groups 64: measured best of 4–16 and 16–64, bench/results/RESULTS.md)
 
 // Interaction lists of one group walk: accepted cells (centre of mass, mass, quadrupole) and the particles
 // of opened leaves, as arrays.

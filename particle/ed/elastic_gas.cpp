@@ -18,7 +18,7 @@ ElasticGasIn<D>::ElasticGasIn(const Box& box, double radius, std::span<const Vec
   if (v.size() != x.size()) throw InputError("velocities", std::to_string(v.size()), "one velocity per particle");
   if (!(particles_per_cell >= 0) || !std::isfinite(particles_per_cell))
     throw InputError("particles_per_cell", format_value(particles_per_cell), "a finite number >= 0 (0: default)");
-  // Default (bench/log/ed-ballistic-aggregation.md, elastic gas): about 2 particles per cell in 2-D and 1 in 3-D; cells never
+  // Default (bench/results/log/ed-ballistic-aggregation.md, elastic gas): about 2 particles per cell in 2-D and 1 in 3-D; cells never
   // narrower than a diameter, so only the 3^d stencil can hold a contact partner.
   const double per_cell = particles_per_cell > 0 ? particles_per_cell : (D == 2 ? 2.0 : 1.0);
   const double wanted = std::max(sigma_, std::pow(box.volume() * per_cell / double(x.size()), 1.0 / D));

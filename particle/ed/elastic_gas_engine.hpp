@@ -433,7 +433,7 @@ bool ElasticGasIn<D>::step() {
   // its slot, state, cell index and queue block; then its cell table and, for a crossing, the destination
   // cell's (+5–20 % in 2-D). Three quarters of the events have been winners for 4 events or more, yet
   // further stages — the tables it will predict against, then their particles' states — measured no gain
-  // within the ±15 % run-to-run scatter (bench/log/ed-ballistic-aggregation.md, event-driven aggregation: the elastic gas).
+  // within the ±15 % run-to-run scatter (bench/results/log/ed-ballistic-aggregation.md, event-driven aggregation: the elastic gas).
   int k = 0;
   tree_.for_each_subtree_winner(4, [&](std::uint32_t j) {
     std::uint8_t& age = lookahead_age_[k];

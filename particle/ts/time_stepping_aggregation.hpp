@@ -15,7 +15,7 @@
 //      round-off at any Δt (tests/particle/ts/test_against_ed.cpp); without it every contact is resolved
 //      from its end-of-flight overlap and the clusters stay interpenetrated by up to |ΔV| Δt around the
 //      link (measured at dt_factor 0.005: N_c 2 % above ED's and P(r) near 2R several standard errors
-//      off, bench/RESULTS.md);
+//      off, bench/results/RESULTS.md);
 //   3. the spheres near the new links are moved by the DAHA minimisation (daha.hpp) to a configuration
 //      without overlaps in which every link touches; contacts with other clusters that appear during the
 //      minimisation (or after a wall correction) become links in turn, and 2–3 repeat until no new link

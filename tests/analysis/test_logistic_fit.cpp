@@ -70,7 +70,7 @@ TEST_CASE("logistic fit: too few or non-finite points give no fit, mismatched le
   const std::vector<double> x5{1, 2, 3, 4, 5}, y5{1, 1, NAN, 0, 0};
   CHECK_FALSE(fit_logistic(x5, y5).converged);
   CHECK_THROWS_AS(fit_logistic(x5, y), InputError);
-  // A step between two abscissae: the DEM campaign's C/N_tot against log10 γ_n (bench/log/dem-campaign.md),
+  // A step between two abscissae: the DEM campaign's C/N_tot against log10 γ_n (bench/results/log/dem-campaign.md),
   // which falls from 0.75 to 0.10 between γ_n = 22 and 46 with no point in between: the midpoint is undetermined.
   const std::vector<double> xs{1, 1, 1.17609, 1.17609, 1.34242, 1.34242, 1.66667, 1.66667, 2.33333, 2.33333, 3, 3, 3.66667, 3.66667};
   const std::vector<double> ys{0.9523, 0.9354, 0.9231, 0.9262, 0.7385, 0.7692, 0.09692, 0.09692, 0.09538, 0.1, 0.09231, 0.09538, 0.07692, 0.08615};

@@ -116,19 +116,19 @@ class CheckTest(unittest.TestCase):
 
 class ResultsTest(unittest.TestCase):
     def test_results_md_shows_the_current_standing(self):
-        """bench/RESULTS.md's tables are what bench/check --write-results makes of bench/standing.csv."""
+        """bench/results/RESULTS.md's tables are what bench/check --write-results makes of bench/results/standing.csv."""
         root = os.path.dirname(os.path.dirname(CHECK))
         with tempfile.TemporaryDirectory() as d:
             copy = os.path.join(d, "RESULTS.md")
-            with open(os.path.join(root, "bench", "RESULTS.md")) as f, open(copy, "w") as g:
+            with open(os.path.join(root, "bench", "results", "RESULTS.md")) as f, open(copy, "w") as g:
                 g.write(f.read())
             code, out, err = run("--results", copy, "--write-results")
             self.assertEqual(code, 0, err)
-            self.assertIn("already current", out, "run bench/check --write-results after editing bench/standing.csv")
+            self.assertIn("already current", out, "run bench/check --write-results after editing bench/results/standing.csv")
             for line in open(copy):  # every history link resolves
                 if "](log/" in line:
                     target = line.split("](", 1)[1].split(")", 1)[0]
-                    self.assertTrue(os.path.exists(os.path.join(root, "bench", target)), target)
+                    self.assertTrue(os.path.exists(os.path.join(root, "bench", "results", target)), target)
 
 
 if __name__ == "__main__":

@@ -91,7 +91,7 @@ TEST_CASE("active range: constant kernel with exact moments, adaptive = full ran
 
 // The README example (ballistic kernel, λ = 0.01, N = 5000, drop; validation/scenes/ballistic-shattering.toml)
 // at its default tolerances: no exact solution, so the adaptive run is compared with the full-range run.
-// Each has moment errors ~1e-7 against a tight reference (bench/log/cvode-work-precision.md, case b); their
+// Each has moment errors ~1e-7 against a tight reference (bench/results/log/cvode-work-precision.md, case b); their
 // difference was measured at 2.7e-9, and the check allows the tolerance, 10 rtol.
 TEST_CASE("active range: README example agrees with the full range", "[cvode][active-range]") {
   AggregationModel model;

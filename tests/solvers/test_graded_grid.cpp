@@ -327,10 +327,10 @@ TEST_CASE("graded grid keeps the a = 0.95, λ = 0.01 limit cycle of the uniform 
 }
 
 TEST_CASE("graded grid λ_crit against the converged uniform values", "[graded]") {
-  // Uniform-grid values converged in N (bench/log/lambda-crit-curve.md): λ_crit(0.8) = 0.00367756 (N = 16384,
+  // Uniform-grid values converged in N (bench/results/log/lambda-crit-curve.md): λ_crit(0.8) = 0.00367756 (N = 16384,
   // change 2.5e-6) and λ_crit(0.75) = 0.00159471 (N = 16384, change 9.7e-4). With three-moment shares the
   // grid K = 64, r = 1.04 (about 260 classes) gives λ_crit(0.75) to 5e-4 and changes by ≤ 4e-4 when K
-  // doubles or r - 1 halves (bench/log/graded-grid.md), so 0.5 % leaves a factor ~10. Fixed pivots on the
+  // doubles or r - 1 halves (bench/results/log/graded-grid.md), so 0.5 % leaves a factor ~10. Fixed pivots on the
   // same grid are 9 % off at a = 0.75 (first order in r - 1) and fail it.
   HopfCurveOptions options;
   AggregationModel base = model_of(Kernel::brownian(0.8), 0.0, 1024, Truncation::cutoff, graded(64, 1.04));

@@ -23,7 +23,7 @@ AggregationModel cutoff_model(std::size_t N) {
 }  // namespace
 
 TEST_CASE("hopf_curve reproduces the N = 8192 lambda_crit within its error bars", "[stability][hopf][hopf_curve]") {
-  // References: locate_hopf at N = 8192, Brent bracket 1e-3 (bench/RESULTS.md): λ_crit(0.95) = 0.0126706
+  // References: locate_hopf at N = 8192, Brent bracket 1e-3 (bench/results/RESULTS.md): λ_crit(0.95) = 0.0126706
   // (bracket 6.3e-6; N = 16384 gives the same digits), λ_crit(0.9) = 0.00962022 (bracket 4.8e-6). The
   // converged search stops at N = 1024 … 2048 here. Its claim: the value at its largest N lies within
   // change · λ (the N/2 → N change, its truncation error bar) plus its Brent bracket of the true λ_crit;
@@ -111,7 +111,7 @@ TEST_CASE("hopf_curve bad input", "[stability][hopf_curve][input]") {
 
 TEST_CASE("locate_hopf from a start at another (a, λ) follows its branch to the same lambda_crit", "[stability][hopf]") {
   // Graded grid K = 64, r = 1.04, N = 2^33, cutoff, brownian a = 0.6: the branch's Hopf point is at
-  // λ = 5.7457e-8, ω = 1.2525e-6 (bench/log/graded-grid.md; locate_hopf_converged, change with 2N 8e-5).
+  // λ = 5.7457e-8, ω = 1.2525e-6 (bench/results/log/graded-grid.md; locate_hopf_converged, change with 2N 8e-5).
   // The start is the steady state at (a, λ) = (0.61, 3e-7), far from the bracket [5e-8, 7e-8]: the
   // continuation must end at the requested (0.6, λ) and find the same crossing (a path that stayed at
   // a = 0.61 finds no crossing in the bracket: checked by breaking it). This checks where the path ends, not

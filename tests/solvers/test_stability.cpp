@@ -67,7 +67,7 @@ TEST_CASE("the trivial mass mode is excluded", "[stability]") {
 TEST_CASE("a = 0.95, λ = 0.01 is unstable (Hopf) and a = 0.9, λ = 0.01 stable", "[stability]") {
   // [Kalinov2022, Sec. 5.2]: sustained oscillations at (0.95, 0.01), relaxation at (0.9, 0.01).
   // N = 2048, Krylov path; the rightmost pair is complex (an oscillation), Re μ ≈ +0.0066 and -0.0008
-  // (bench/log/snes-steady-states-and-stability.md lists N = 1024 … 16384: the signs do not change with N).
+  // (bench/results/log/snes-steady-states-and-stability.md lists N = 1024 … 16384: the signs do not change with N).
   const AggregationModel unstable = brownian_model(0.95, 0.01, 2048);
   const SteadyStateResult s1 = solve_steady_state(unstable);
   REQUIRE(s1.converged);

@@ -18,7 +18,7 @@
 // Truncation: N = 8192 with `cutoff` (K_ij = 0 for i + j > N) or `drop`. At λ = 0 the exact tail beyond N
 // at t = 100 is ~ (100/101)^N = e^{-81}, so even M3 changes by < 1e-25; at λ = 0.1 the distribution
 // relaxes to a steady state with an exponential cut-off at sizes ~10², and the moments at t = 100 for
-// N = 4096, 8192 and 32768 agree to ≤ 1.1e-11 relative (bench/log/cvode-tolerance-proportionality.md, truncation check). The error is
+// N = 4096, 8192 and 32768 agree to ≤ 1.1e-11 relative (bench/results/log/cvode-tolerance-proportionality.md, truncation check). The error is
 // thus the integration error alone.
 // (bench/tolerance_proportionality.cpp runs the same study at N = 32768 for every method.)
 //

@@ -129,7 +129,7 @@ TEST_CASE("ts: physics against ED [Degond2024, Sec. 4.2]: D_f, N_c and P(r) over
   // The published setup (discs of radius 0.2, reflecting walls, square-lattice start, unit speed in uniform
   // directions, dt_factor 0.005), to one cluster, 10 realizations per case. The suite runs the cases that fit
   // in seconds; N = 900 and 2500 at every volume fraction, with the scheme without contact-time merging,
-  // are in bench/RESULTS.md (same criteria, all met with contact-time merging).
+  // are in bench/results/RESULTS.md (same criteria, all met with contact-time merging).
   struct Case {
     int count;
     double volume_fraction;
@@ -162,7 +162,7 @@ TEST_CASE("ts: physics against ED [Degond2024, Sec. 4.2]: D_f, N_c and P(r) over
     REQUIRE(p_ts.size() == 90);
     REQUIRE(p_ed.size() == 90);
     // P(r) at 90 correlated radii on (2R, 20R]: within 3 combined standard errors at every radius and within
-    // one at 90 % of them (measured: at most 2.4 and at least 96 % over the 12 cases of bench/RESULTS.md).
+    // one at 90 % of them (measured: at most 2.4 and at least 96 % over the 12 cases of bench/results/RESULTS.md).
     std::size_t within_one = 0;
     for (std::size_t k = 0; k < 90; ++k) {
       const double se = std::hypot(p_ts[k][2], p_ed[k][2]);

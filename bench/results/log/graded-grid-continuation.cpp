@@ -1,6 +1,6 @@
 // Continuation in (a, ln λ) from a known steady state: does a positive steady state exist at small a?
-// A study kept with bench/log/graded-grid.md (not built by CMake). Build and run from the repository root:
-//   g++ -O2 -std=c++20 -I. bench/log/graded-grid-continuation.cpp -o /tmp/cont -Lbuild/solvers -Lbuild/analysis
+// A study kept with bench/results/log/graded-grid.md (not built by CMake). Build and run from the repository root:
+//   g++ -O2 -std=c++20 -I. bench/results/log/graded-grid-continuation.cpp -o /tmp/cont -Lbuild/solvers -Lbuild/analysis
 //       -laggkit_solvers -laggkit_analysis -Wl,-rpath,$PWD/build/solvers:$PWD/build/analysis
 //   /tmp/cont K r N scheme steps a0 l0 a1 l1 ...   (e.g. 512 1.02 1.1e12 three-moment 6 0.6 1e-6 0.6 5.745e-8
 //                                                   0.59 5.745e-8 0.59 2.5e-9 0.59 4e-11)
