@@ -4,7 +4,7 @@
 // λ_crit at the largest N, that N, λ_crit at N/2 and the relative change (the truncation error bar), Brent's
 // bracket, ω, evaluations, wall and CPU seconds; then the totals and the load average.
 //   bench_lambda_crit_curve [--a A ...] [--guess L] [--size N] [--min-size N] [--max-size N] [--size-per-inverse-lambda S] [--convergence C] [--tol T] [--slope S]
-//                           [--resolved K --ratio R [--scheme three-moment|fixed-pivot]]
+//                           [--resolved K --ratio R [--scheme four-moment|three-moment|fixed-pivot]]
 // (--resolved/--ratio: the graded grid of solvers/size_grid.hpp; each λ_crit is then also repeated with K doubled
 // and with r - 1 halved, and the changes are printed beside the N/2 -> N one)
 // (--slope: d ln λ_crit/da for the second point's guess, e.g. 16.7 from the N = 8192 values at a = 0.75, 0.8)
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   std::string grid_case;
   if (!grid.uniform()) {
     grid_case = " K=" + std::to_string(grid.resolved) + " r=" + aggkit::bench::Figures::text(grid.ratio);
-    if (grid.scheme != GridScheme::three_moment) grid_case += std::string(" ") + scheme_name(grid.scheme);
+    if (grid.scheme != GridScheme::four_moment) grid_case += std::string(" ") + scheme_name(grid.scheme);
   }
   hopf_curve(base, as, guess, size, options, [&](const ConvergedHopfPoint& p) {
     std::printf("| %.2f | %.6g | %zu | %zu | %.6g | %.2e | %.2e | %.2e | %.1e | %.5g | %.4g | %d | %.1f | %.1f | %s%s |\n", p.a,

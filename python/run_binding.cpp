@@ -22,6 +22,7 @@
 
 #include "analysis/input_error.hpp"
 #include "solvers/limit_cycle.hpp"
+#include "solvers/size_grid.hpp"
 #include "solvers/stability.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/harness/engine_record.hpp"
@@ -170,6 +171,14 @@ py::dict result_dict(const Scene& scene, const EngineRecord& record, const Engin
     if (!record.distributions.front().sizes.empty()) {  // a graded grid: the classes' sizes (pivots)
       std::vector<double> sizes = record.distributions.front().sizes;
       const auto count = py::ssize_t(sizes.size());
+      // The densities per unit size the numbers stand for (solvers/size_grid.hpp section_densities).
+      std::vector<double> density(record.distributions.size() * width, 0.0);
+      for (std::size_t i = 0; i < record.distributions.size(); ++i) {
+        const DistributionRecord& d = record.distributions[i];
+        const std::vector<double> f = section_densities(sizes, d.n, scene.model.grid.scheme, scene.model.grid.resolved);
+        std::copy(f.begin(), f.end(), density.begin() + std::ptrdiff_t(i * width));
+      }
+      out["density"] = owned_array(std::move(density), {py::ssize_t(record.distributions.size()), py::ssize_t(width)});
       out["sizes"] = owned_array(std::move(sizes), {count});
     }
   }

@@ -10,9 +10,7 @@ Discretisation::Discretisation(const AggregationModel& model, std::vector<double
     : model_(model), sizes_(std::move(sizes)), widths_(pivot_widths(sizes_)) {}
 
 std::vector<double> Discretisation::densities(std::span<const double> n) const {
-  std::vector<double> f(n.size());
-  for (std::size_t i = 0; i < n.size(); ++i) f[i] = n[i] / widths_[i];
-  return f;
+  return section_densities(sizes_, n, model_.grid.scheme, model_.grid.resolved);
 }
 
 namespace {

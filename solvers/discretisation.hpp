@@ -51,7 +51,8 @@ class Discretisation {
   // The sizes a density output names per row, or empty where the rows are the integers 1..N (the uniform
   // grid: distribution.csv keeps its "k = row number" form there).
   virtual std::vector<double> output_sizes() const = 0;
-  // The density per unit size of each class, N_i / Δ_i (the n_k themselves on the uniform grid).
+  // The density per unit size at each class that its number stands for (solvers/size_grid.hpp
+  // section_densities; the n_k themselves on the uniform grid).
   std::vector<double> densities(std::span<const double> n) const;
 
  protected:

@@ -5,7 +5,7 @@
 // and small clusters (K_kj ≈ (k/j)^a for j ≪ k) and is shattered at λ times its collision rate, so the
 // steady-state tail obeys the drift–loss balance d/dk (A k^a n_k) = -λ B k^a n_k with A = Σ j^{1-a} n_j,
 // B = Σ j^{-a} n_j, i.e. n_k ∝ k^{-a} e^{-c k} with c = λ B / A (model of [Kalinov2022, eq. 4]; the
-// balance is derived in bench/log/lambda-crit-curve.md, where c ≈ 0.62 λ … 0.67 λ is measured near
+// balance is derived in bench/results/log/lambda-crit-curve.md, where c ≈ 0.62 λ … 0.67 λ is measured near
 // λ_crit at a = 0.75 and 0.8). A truncation at N cuts the tail where it has fallen by e^{-cN}, so N must
 // grow like 1/λ; below c N ≈ 4 … 5 the quasi-steady state of the truncated system has no positive root.
 //

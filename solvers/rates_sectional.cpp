@@ -1,6 +1,6 @@
 // The aggregation-shattering right-hand side on a graded size grid (solvers/size_grid.hpp): aggregates
-// between pivots shared by the three-moment shares [Alopaeus2006] (the default) or the fixed-pivot
-// technique [Kumar1996].
+// between pivots shared by the four-moment shares (the default) or the three-moment shares [Alopaeus2006],
+// or by the fixed-pivot technique [Kumar1996].
 //
 // Derivation. The unknowns N_i are the numbers of clusters at the pivots x_1 < ... < x_M = N. A collision
 // of classes i and j happens at rate K(x_i, x_j) N_i N_j per unordered pair (½ K N_i² for i = j). With
@@ -10,7 +10,8 @@
 // (η + (1 - η) = 1) and mass (η x_p + (1 - η) x_{p+1} = v) [Kumar1996]. Three moments: the nearest three
 // pivots q, q+1, q+2 get the Lagrange weights w_m = Π_{l≠m} (v - x_l)/(x_m - x_l), the only three shares
 // with Σ w_m x_m^k = v^k for k = 0, 1, 2, which also keep the second moment and so add no numerical
-// spread to the aggregate [Alopaeus2006]. With rate λ K it shatters both partners into x_i + x_j
+// spread to the aggregate [Alopaeus2006]; four moments: the Lagrange weights of x_{p-1} .. x_{p+2}, which
+// keep x³ as well. With rate λ K it shatters both partners into x_i + x_j
 // monomers, which is exact on any grid (x_1 = 1). So, summing over unordered pairs i ≤ j with
 // w_ij = K(x_i, x_j) (½ K(x_i, x_i) on the diagonal),
 //   dN/dt = Σ_{i≤j} w_ij N_i N_j V_ij,
@@ -121,10 +122,9 @@ class PairTable {
         monomers += (xi + x_[j]) * r;
         const std::size_t p = pair->target();
         if (p < M) {
-          out[p] += pair->share[0] * r;
           const std::uint32_t count = pair->count();
-          if (count > 1) out[p + 1] += pair->share[1] * r;
-          if (count > 2) out[p + 2] += pair->share_at(2) * r;
+          for (std::uint32_t m = 0; m + 1 < count; ++m) out[p + m] += pair->share[m] * r;
+          out[p + count - 1] += pair->share_at(count - 1) * r;  // 1 - the others: number exact
         }
       }
       out[i] -= lost_i + lambda * lost_i;
@@ -156,18 +156,24 @@ class PairTable {
   }
 
  private:
-  // 32 bytes: the table is streamed twice per Newton-Krylov step (f and J v) and holds M²/2 pairs, ~19 MB at
-  // M = 1100, beyond the caches; the third share is 1 - the other two (Σ w_m = 1 is one of the conditions
-  // that define them), the stencil's first pivot and its size are one word.
+  // 40 bytes: the table is streamed twice per Newton-Krylov step (f and J v) and holds M²/2 pairs, ~24 MB at
+  // M = 1100, beyond the caches; the stencil's last share is 1 - the others (Σ w_m = 1 is one of the
+  // conditions that define them, and number stays exact to round-off), the stencil's first pivot and its
+  // size are one word.
   struct Pair {
-    double weight = 0.0;            // w_ij
-    double share[2] = {1.0, 0.0};   // the parts of the aggregate given to pivots target(), target() + 1
-    std::uint32_t stencil = 1;      // target() << 2 | count()
-    std::size_t target() const { return stencil >> 2; }  // the first pivot of the stencil (M: beyond N)
-    std::uint32_t count() const { return stencil & 3; }  // pivots in the stencil (1 to 3)
-    double share_at(std::uint32_t m) const { return m < 2 ? share[m] : 1.0 - share[0] - share[1]; }
+    double weight = 0.0;                // w_ij
+    double share[3] = {1.0, 0.0, 0.0};  // the parts of the aggregate given to pivots target() .. target() + 2
+    std::uint32_t stencil = 1;          // target() << 3 | count()
+    std::size_t target() const { return stencil >> 3; }  // the first pivot of the stencil (M: beyond N)
+    std::uint32_t count() const { return stencil & 7; }   // pivots in the stencil (1 to 4)
+    double share_at(std::uint32_t m) const {
+      if (m + 1 < count()) return share[m];
+      double rest = 1.0;
+      for (std::uint32_t l = 0; l < m; ++l) rest -= share[l];
+      return rest;
+    }
   };
-  static_assert(sizeof(Pair) == 32);
+  static_assert(sizeof(Pair) == 40);
 
   Pair pair_of(const AggregationModel& model, std::size_t i, std::size_t j, double N) const {
     const std::size_t M = x_.size();
@@ -175,14 +181,13 @@ class PairTable {
     Pair pair;
     pair.weight = (i == j ? 0.5 : 1.0) * model.kernel.at(x_[i], x_[j]);
     if (v > N) {
-      pair.stencil = std::uint32_t(M) << 2;  // leaves the grid (drop) or does not collide (cutoff)
+      pair.stencil = std::uint32_t(M) << 3;  // leaves the grid (drop) or does not collide (cutoff)
       if (cutoff_) pair.weight = 0.0;
       return pair;
     }
     const PivotShare share = pivot_share(x_, v, model.grid.scheme, model.grid.resolved);
-    pair.stencil = std::uint32_t(share.first) << 2 | std::uint32_t(share.count);
-    pair.share[0] = share.weight[0];
-    pair.share[1] = share.weight[1];
+    pair.stencil = std::uint32_t(share.first) << 3 | std::uint32_t(share.count);
+    for (int m = 0; m + 1 < share.count; ++m) pair.share[m] = share.weight[m];
     return pair;
   }
 

@@ -11,13 +11,18 @@
 namespace aggkit {
 
 const char* scheme_name(GridScheme scheme) {
-  return scheme == GridScheme::three_moment ? "three-moment" : "fixed-pivot";
+  switch (scheme) {
+    case GridScheme::four_moment: return "four-moment";
+    case GridScheme::three_moment: return "three-moment";
+    case GridScheme::fixed_pivot: break;
+  }
+  return "fixed-pivot";
 }
 
 GridScheme scheme_from_name(const std::string& name) {
-  if (name == "three-moment") return GridScheme::three_moment;
-  if (name == "fixed-pivot") return GridScheme::fixed_pivot;
-  throw InputError("grid.scheme", name, "\"three-moment\" (the default) or \"fixed-pivot\"");
+  for (GridScheme scheme : {GridScheme::four_moment, GridScheme::three_moment, GridScheme::fixed_pivot})
+    if (name == scheme_name(scheme)) return scheme;
+  throw InputError("grid.scheme", name, "\"four-moment\" (the default), \"three-moment\" or \"fixed-pivot\"");
 }
 
 void SizeGrid::validate() const {
@@ -30,7 +35,7 @@ void SizeGrid::validate() const {
 std::string SizeGrid::describe() const {
   if (uniform()) return "uniform";
   char text[96];
-  if (scheme == GridScheme::three_moment) std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g)", resolved, ratio);
+  if (scheme == GridScheme::four_moment) std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g)", resolved, ratio);
   else std::snprintf(text, sizeof text, "graded(K=%zu, r=%.10g, %s)", resolved, ratio, scheme_name(scheme));
   return text;
 }
@@ -86,6 +91,24 @@ std::pair<std::size_t, double> fixed_pivot_share(std::span<const double> x, doub
   return {p, (x[p + 1] - v) / (x[p + 1] - x[p])};
 }
 
+namespace {
+
+// The Lagrange weights of v on the pivots x_first .. x_first+count-1: Σ w_m x_m^p = v^p for p < count.
+PivotShare lagrange_share(std::span<const double> x, double v, std::size_t first, int count) {
+  PivotShare share;
+  share.first = first;
+  share.count = count;
+  for (int m = 0; m < count; ++m) {
+    double w = 1.0;
+    for (int l = 0; l < count; ++l)
+      if (l != m) w *= (v - x[first + l]) / (x[first + m] - x[first + l]);
+    share.weight[m] = w;
+  }
+  return share;
+}
+
+}  // namespace
+
 PivotShare pivot_share(std::span<const double> x, double v, GridScheme scheme, std::size_t resolved) {
   const std::size_t M = x.size();
   const auto [p, eta] = fixed_pivot_share(x, v);
@@ -95,21 +118,22 @@ PivotShare pivot_share(std::span<const double> x, double v, GridScheme scheme, s
   share.count = 2;
   share.weight[0] = eta;
   share.weight[1] = 1.0 - eta;
-  if (scheme != GridScheme::three_moment || M < 3) return share;
-  // The nearest three pivots: x_{p-1}, x_p, x_{p+1} when v is nearer x_p, else x_p, x_{p+1}, x_{p+2}.
+  if (scheme == GridScheme::fixed_pivot || M < 3) return share;
   // Below x_K the unit spacing jumps to the sections' (x_{K+1} - x_K ≫ 1 at coarse r), and a stencil
   // across the jump gives its far pivot a large negative share: just above x_K the stencil looks forward.
+  if (scheme == GridScheme::four_moment && M >= 4) {
+    // x_{p-1} .. x_{p+2}: the interval of v in the middle.
+    std::size_t s = p > 0 ? p - 1 : p;
+    if (s + 1 < resolved) s = p;
+    if (s + 3 >= M) s = M - 4;
+    if (s + 1 >= resolved) return lagrange_share(x, v, s, 4);
+  }
+  // The nearest three pivots: x_{p-1}, x_p, x_{p+1} when v is nearer x_p, else x_p, x_{p+1}, x_{p+2}.
   std::size_t q = v - x[p] < x[p + 1] - v && p > 0 ? p - 1 : p;
   if (q + 1 < resolved) q = p;
   if (q + 2 >= M) q = M - 3;
   if (q + 1 < resolved) return share;  // fewer than two sections: the fixed-pivot pair
-  const double a = x[q], b = x[q + 1], c = x[q + 2];
-  share.first = q;
-  share.count = 3;
-  share.weight[0] = (v - b) * (v - c) / ((a - b) * (a - c));
-  share.weight[1] = (v - a) * (v - c) / ((b - a) * (b - c));
-  share.weight[2] = (v - a) * (v - b) / ((c - a) * (c - b));
-  return share;
+  return lagrange_share(x, v, q, 3);
 }
 
 std::vector<double> to_grid(std::span<const double> x, std::span<const double> per_size) {

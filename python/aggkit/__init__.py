@@ -86,10 +86,11 @@ class Model:
         evaluation; checked at 1001 points of [0, t_end]).
     size: the truncation N >= 2.  truncation: "drop" or "cutoff".
     initial: None (unit monodisperse start) or an array n_1.. of densities (padded with zeros to N).
-    grid: None (every size 1..N) or {"resolved": K, "ratio": r} (optionally "scheme": "three-moment", the
-        default, or "fixed-pivot"): sizes 1..K one by one, then sections growing by r up to N (about
-        K + ln(N/K)/ln r unknowns; N may then reach 2^62). Results then hold one entry per section: `sizes`
-        are their pivots, `n` the numbers of clusters they stand for.
+    grid: None (every size 1..N) or {"resolved": K, "ratio": r} (optionally "scheme": "four-moment", the
+        default, "three-moment" or "fixed-pivot"): sizes 1..K one by one, then sections growing by r up to N
+        (about K + ln(N/K)/ln r unknowns; N may then reach 2^62). Results then hold one entry per section:
+        `sizes` are their pivots, `n` the numbers of clusters they stand for, `density` the density per unit
+        size those numbers stand for.
     kernel_parameters: the kernel's parameters by name (a=0.95, mu=0.5, A=1, B=0).
     """
 
@@ -99,7 +100,7 @@ class Model:
         if grid is not None and (not isinstance(grid, dict) or not {"resolved", "ratio"} <= set(grid)
                                  or not set(grid) <= {"resolved", "ratio", "scheme"}):
             raise ValueError(f"grid = {grid!r}: None or a dict {{'resolved': K, 'ratio': r}} with an optional "
-                             "'scheme' ('three-moment' or 'fixed-pivot')")
+                             "'scheme' ('four-moment', 'three-moment' or 'fixed-pivot')")
         self.grid = None if grid is None else dict(grid)
         self.kernel = kernel
         self.lam = lam
@@ -151,12 +152,15 @@ def _moment(n, p, sizes=None):
 
 class Solution:
     """A CVODE solution: t (1-D), n (2-D, one row per time; numpy views of the core's buffer), sizes (the
-    size of each column: 1..N, or a graded grid's pivots), mass_leak, statistics (dict), moment(p)."""
+    size of each column: 1..N, or a graded grid's pivots), density (n per unit size: n itself on the
+    uniform grid; on a graded grid the density each pivot's number stands for), mass_leak, statistics
+    (dict), moment(p)."""
 
     def __init__(self, raw):
         self.t = raw["t"]
         self.n = raw["n"]
         self.sizes = _sizes(raw)
+        self.density = raw.get("density", raw["n"])
         self.mass_leak = raw["series"]["mass_leak"]
         self.statistics = raw["statistics"]
         self.warnings = raw["warnings"]
@@ -181,11 +185,13 @@ _engine_keywords(integrate, "cvode")
 
 
 class SteadyState:
-    """n (the steady state), sizes (of n's entries), residual, leak_rate, newton_iterations, statistics."""
+    """n (the steady state), sizes (of n's entries), density (per unit size, as Solution.density), residual,
+    leak_rate, newton_iterations, statistics."""
 
     def __init__(self, raw):
         self.n = raw["n"][0]
         self.sizes = _sizes(raw)
+        self.density = raw.get("density", raw["n"])[0]
         self.statistics = raw["statistics"]
         self.warnings = raw["warnings"]
         self.residual = self.statistics["relative_residual"]

@@ -377,8 +377,9 @@ TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the s
 }
 
 TEST_CASE("scan cli: where the grid's roots go negative the steady state is sought on the refined grid") {
-  // a = 0.7 on K = 16, r = 1.1 up to N = 2^34: the continuation's roots go negative below λ = 7.5e-6 on this
-  // grid, below 2.8e-6 on the refined one (r = 1.05). At λ = 4e-6 the refined grid's steady state (unstable:
+  // a = 0.7 on K = 16, r = 1.1 up to N = 2^34 with three-moment shares (four-moment ones have positive roots
+  // down to 1e-9 here): the continuation's roots go negative below λ = 7.5e-6 on this grid, below 2.8e-6 on
+  // the refined one (r = 1.05). At λ = 4e-6 the refined grid's steady state (unstable:
   // λ_crit(0.7) = 4.4e-4) decides the point; at 1e-9 neither grid has a positive root, and the row says where
   // each walk stopped. Runs to t = 10 only (the verdict comes from the spectrum; no cycles).
   const auto folder = aggkit::testing::scratch_folder("scan-cli-negative");
@@ -387,7 +388,7 @@ name = "negative-roots"
 [model]
 kernel = { name = "brownian", a = 0.7 }
 size = 17179869184
-grid = { resolved = 16, ratio = 1.1 }
+grid = { resolved = 16, ratio = 1.1, scheme = "three-moment" }
 [time]
 end = 10.0
 every = 0.25
@@ -405,7 +406,7 @@ cycles = false
   CHECK(reached.at("verdict") == "unstable");
   CHECK(reached.at("spectrum_converged") == "yes");
   CHECK_THAT(reached.at("steady_how"), Contains("has no positive root below lambda = 7.4") &&
-                                           Contains("on the refined grid graded(K=16; r=1.05): continuation from lambda = 0.1"));
+                                           Contains("on the refined grid graded(K=16; r=1.05; three-moment): continuation from lambda = 0.1"));
   const auto none = scan_row(csv, 0.7, 1e-9);
   CHECK(none.at("verdict") == "no-positive-steady-state");
   CHECK_THAT(none.at("steady_how"), Contains("stopped at lambda = 2.7"));

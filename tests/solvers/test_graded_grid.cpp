@@ -1,8 +1,8 @@
 // The graded size grid (solvers/size_grid.hpp) and the sectional rates on it (solvers/rates_sectional.cpp),
-// with three-moment [Alopaeus2006] and fixed-pivot [Kumar1996] shares:
-// the pivots and shares, the uniform limit against the direct O(N^2) rates, mass conservation, the exact
-// Jacobian, exact solutions under refinement, and steady states, stability and λ_crit against the uniform
-// grid's converged values.
+// with four- and three-moment [Alopaeus2006] and fixed-pivot [Kumar1996] shares: the pivots and shares,
+// the uniform limit against the direct O(N^2) rates, mass conservation, the exact Jacobian, exact solutions
+// under refinement, the densities the numbers stand for, and steady states, stability and λ_crit against
+// the uniform grid's converged values.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -35,7 +35,7 @@ AggregationModel model_of(Kernel kernel, double lambda, std::size_t N, Truncatio
   return model;
 }
 
-SizeGrid graded(std::size_t K, double r, GridScheme scheme = GridScheme::three_moment) {
+SizeGrid graded(std::size_t K, double r, GridScheme scheme = GridScheme::four_moment) {
   SizeGrid g;
   g.resolved = K;
   g.ratio = r;
@@ -43,7 +43,7 @@ SizeGrid graded(std::size_t K, double r, GridScheme scheme = GridScheme::three_m
   return g;
 }
 
-constexpr GridScheme both_schemes[] = {GridScheme::three_moment, GridScheme::fixed_pivot};
+constexpr GridScheme all_schemes[] = {GridScheme::four_moment, GridScheme::three_moment, GridScheme::fixed_pivot};
 
 // A smooth positive state on the classes: n ∝ x^-0.8 e^{-x/300} per unit size.
 std::vector<double> smooth_state(const std::vector<double>& x) {
@@ -98,44 +98,55 @@ TEST_CASE("fixed-pivot shares keep number and mass of every aggregate", "[graded
   CHECK(fixed_pivot_share(x, x.back() + 1.0).first == x.size());
 }
 
-TEST_CASE("three-moment shares keep number, mass and the second moment of every aggregate", "[graded]") {
+TEST_CASE("three- and four-moment shares keep number, mass, x² (and x³) of every aggregate", "[graded]") {
   const std::size_t K = 8;
   const std::vector<double> x = grid_pivots(graded(K, 1.3), 1 << 20);
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(0.0, 20.0);
-  int three = 0;
-  for (int trial = 0; trial < 2000; ++trial) {
-    const double v = std::round(std::exp(u(rng)) + 1.0);
-    if (v > x.back()) continue;
-    const PivotShare share = pivot_share(x, v, GridScheme::three_moment, K);
-    REQUIRE(share.first + share.count <= x.size());
-    double m[3] = {0, 0, 0};
-    for (int j = 0; j < share.count; ++j)
-      for (int p = 0; p < 3; ++p) m[p] += share.weight[j] * std::pow(x[share.first + j], p);
-    REQUIRE(m[0] == Approx(1.0).epsilon(1e-13));
-    REQUIRE(m[1] == Approx(v).epsilon(1e-13));
-    if (share.count == 1) {
-      REQUIRE(x[share.first] == v);  // on a pivot: whole
-      continue;
+  for (const int moments : {3, 4}) {
+    const GridScheme scheme = moments == 3 ? GridScheme::three_moment : GridScheme::four_moment;
+    INFO(scheme_name(scheme));
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 20.0);
+    int full = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+      const double v = std::round(std::exp(u(rng)) + 1.0);
+      if (v > x.back()) continue;
+      const PivotShare share = pivot_share(x, v, scheme, K);
+      REQUIRE(share.first + share.count <= x.size());
+      double m[4] = {0, 0, 0, 0};
+      for (int j = 0; j < share.count; ++j)
+        for (int p = 0; p < 4; ++p) m[p] += share.weight[j] * std::pow(x[share.first + j], p);
+      REQUIRE(m[0] == Approx(1.0).epsilon(1e-13));
+      REQUIRE(m[1] == Approx(v).epsilon(1e-13));
+      if (share.count == 1) {
+        REQUIRE(x[share.first] == v);  // on a pivot: whole
+        continue;
+      }
+      // Every aggregate off a pivot lies beyond x_K and gets the full stencil within the sections.
+      REQUIRE(share.count == moments);
+      REQUIRE(share.first + 1 >= K);
+      REQUIRE(m[2] == Approx(v * v).epsilon(1e-12));
+      if (moments == 4) REQUIRE(m[3] == Approx(v * v * v).epsilon(1e-11));
+      REQUIRE(x[share.first] <= v);
+      REQUIRE(v <= x[share.first + share.count - 1]);
+      // Four-moment: x_{p-1} .. x_{p+2} with v in the middle interval, except against the ends of the sections.
+      if (moments == 4 && share.first + 1 > K && share.first + 4 < x.size()) {
+        REQUIRE(x[share.first + 1] < v);
+        REQUIRE(v < x[share.first + 2]);
+      }
+      ++full;
     }
-    // Every aggregate off a pivot lies beyond x_K and gets the three-point stencil within the sections.
-    REQUIRE(share.count == 3);
-    REQUIRE(share.first + 1 >= K);
-    REQUIRE(m[2] == Approx(v * v).epsilon(1e-12));
-    // The stencil is the nearest three: v lies within it.
-    REQUIRE(x[share.first] <= v);
-    REQUIRE(v <= x[share.first + 2]);
-    ++three;
+    CHECK(full > 1000);
+    CHECK(pivot_share(x, x.back() + 1.0, scheme, K).first == x.size());
   }
-  CHECK(three > 1000);
   // The fixed-pivot scheme: the bracketing pair, as fixed_pivot_share.
   const double v = 12345.0;
   const PivotShare pair = pivot_share(x, v, GridScheme::fixed_pivot, K);
   CHECK(pair.count == 2);
   CHECK(pair.first == fixed_pivot_share(x, v).first);
   CHECK(pair.weight[0] == fixed_pivot_share(x, v).second);
-  CHECK(pivot_share(x, x.back() + 1.0, GridScheme::three_moment, K).first == x.size());
   CHECK(scheme_from_name("fixed-pivot") == GridScheme::fixed_pivot);
+  CHECK(scheme_from_name("four-moment") == GridScheme::four_moment);
+  CHECK(SizeGrid{}.scheme == GridScheme::four_moment);
   CHECK_THROWS_AS(scheme_from_name("cell-average"), InputError);
 }
 
@@ -166,7 +177,7 @@ TEST_CASE("graded rates with r = 1 are the discrete equations (against the direc
 }
 
 TEST_CASE("graded rates conserve mass to round-off, and drop loses exactly the leak", "[graded]") {
-  for (GridScheme scheme : both_schemes)
+  for (GridScheme scheme : all_schemes)
   for (Truncation truncation : {Truncation::drop, Truncation::cutoff}) {
     const AggregationModel model = model_of(Kernel::brownian(0.7), 0.01, 1 << 16, truncation, graded(32, 1.05, scheme));
     const std::vector<double> x = model.pivots();
@@ -185,13 +196,12 @@ TEST_CASE("graded rates conserve mass to round-off, and drop loses exactly the l
 }
 
 TEST_CASE("a discretisation's dense Jacobian is its exact J·v and its leak gradient that of its leak rate", "[graded]") {
-  // The graded grid under both schemes, and the uniform grid (whose dense Jacobian is written term by term,
+  // The graded grid under each scheme, and the uniform grid (whose dense Jacobian is written term by term,
   // independently of its rates' bilinear form).
-  const int which = GENERATE(0, 1, 2);
+  const int which = GENERATE(0, 1, 2, 3);
   const AggregationModel model =
-      which == 2 ? model_of(Kernel::brownian(0.9), 0.05, 96, Truncation::drop)
-                 : model_of(Kernel::brownian(0.9), 0.05, 1 << 12, Truncation::drop,
-                            graded(16, 1.1, which == 0 ? GridScheme::three_moment : GridScheme::fixed_pivot));
+      which == 3 ? model_of(Kernel::brownian(0.9), 0.05, 96, Truncation::drop)
+                 : model_of(Kernel::brownian(0.9), 0.05, 1 << 12, Truncation::drop, graded(16, 1.1, all_schemes[which]));
   const std::unique_ptr<Discretisation> grid = make_discretisation(model);
   const std::vector<double>& x = grid->sizes();
   const std::size_t M = x.size();
@@ -247,14 +257,16 @@ GradedMoments graded_moments(Kernel kernel, double lambda, double t, double r, G
 
 }  // namespace
 
-TEST_CASE("graded grid against exact solutions: M0 exact, M2 exact (three-moment) or second order (fixed pivot)", "[graded]") {
+TEST_CASE("graded grid against exact solutions: M0 exact, M2 exact (three-, four-moment), M3 exact (four-moment) or second order", "[graded]") {
   // Both schemes keep number and mass, and for these kernels dM0/dt depends on M0 and M1 only, so M0 is
   // exact on any grid (to the integrator's tolerance, rtol 1e-10: errors ≤ 1e-9 leave a factor 10).
   // Three-moment shares also keep x² of every aggregate, and dM2/dt = M1² (constant) or 2 M1 M2 (sum) is
   // closed, so M2 is exact as well; what the grid costs shows in M3, whose error falls with r - 1
   // (bench/graded_grid_convergence.cpp). Fixed pivots do not keep M2: its error falls at order 1.8–2.1
   // (constant: 1.58e-2 at r = 1.2, 4.10e-3 at 1.1; sum: 0.189, 0.054). The test asks for order ≥ 1.5
-  // between r = 1.2 and 1.1 and for the r = 1.1 error below 1e-2 (constant) and 0.1 (sum).
+  // between r = 1.2 and 1.1 and for the r = 1.1 error below 1e-2 (constant) and 0.1 (sum). Four-moment
+  // shares keep x³ too, and dM3/dt = 3 M1 M2 (constant) or 3 (M1 M3 + M2²) (sum) is closed: M0, M2 and M3
+  // are all exact.
   struct Exact {
     const char* name;
     Kernel kernel;
@@ -273,6 +285,14 @@ TEST_CASE("graded grid against exact solutions: M0 exact, M2 exact (three-moment
       CHECK(std::abs(fine.m2 / m2 - 1) < 1e-8);
       CHECK(std::abs(fine.m3 / m3 - 1) < std::abs(coarse.m3 / m3 - 1));
     }
+    for (const double r : {1.2, 1.1}) {
+      const auto four = graded_moments(c.kernel, 0.0, c.t, r, GridScheme::four_moment);
+      INFO(c.name << " (four-moment, r = " << r << "): M0, M2, M3 errors " << four.m0 / m0 - 1 << ", "
+                  << four.m2 / m2 - 1 << ", " << four.m3 / m3 - 1);
+      CHECK(std::abs(four.m0 / m0 - 1) < 1e-9);
+      CHECK(std::abs(four.m2 / m2 - 1) < 1e-8);
+      CHECK(std::abs(four.m3 / m3 - 1) < 1e-8);
+    }
     {
       const auto coarse = graded_moments(c.kernel, 0.0, c.t, 1.2, GridScheme::fixed_pivot),
                  fine = graded_moments(c.kernel, 0.0, c.t, 1.1, GridScheme::fixed_pivot);
@@ -285,17 +305,102 @@ TEST_CASE("graded grid against exact solutions: M0 exact, M2 exact (three-moment
     }
   }
   // K = 2 with λ = 0.1: the logistic M0 [exact_total_density_k2], exact on any grid (even r = 1.4).
-  for (GridScheme scheme : both_schemes)
+  for (GridScheme scheme : all_schemes)
     for (double r : {1.4, 1.1}) {
       const auto k2 = graded_moments(Kernel::brownian(0.0), 0.1, 50.0, r, scheme);
       CHECK(std::abs(k2.m0 / exact_total_density_k2(0.1, 50.0) - 1) < 1e-9);
     }
 }
 
+namespace {
+
+// The numbers the integer sizes 1..N of a density g give the pivots under `scheme`: N_i = Σ_k S_i(k) g(k),
+// size by size (the reference for section_densities, which sums long intervals by quadrature).
+template <class Density>
+std::vector<double> project_sizes(const std::vector<double>& x, GridScheme scheme, std::size_t K, Density g) {
+  std::vector<double> numbers(x.size(), 0.0);
+  for (double k = 1; k <= x.back(); ++k) {
+    const PivotShare share = pivot_share(x, k, scheme, K);
+    for (int m = 0; m < share.count; ++m) numbers[share.first + std::size_t(m)] += share.weight[m] * g(k);
+  }
+  return numbers;
+}
+
+// The largest |f_i / exact(x_i) - 1| over the pivots where the exact density is ≥ 1e-6 of its largest.
+template <class Exact>
+double largest_density_error(const std::vector<double>& x, const std::vector<double>& f, Exact exact) {
+  double largest = 0, worst = 0;
+  for (double xi : x) largest = std::max(largest, exact(xi));
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (exact(x[i]) >= 1e-6 * largest) worst = std::max(worst, std::abs(f[i] / exact(x[i]) - 1));
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("section_densities gives back the density whose sizes the numbers count", "[graded]") {
+  // An exponential density is log-linear between pivots, the form section_densities assumes, so it is
+  // recovered to the fixed point's and the quadrature's accuracy: N = 2^20 on r = 1.1 has intervals of up
+  // to ~10^5 sizes (Gauss–Legendre with the Euler–Maclaurin ends beyond 64; error ~1/(12 h²) per interval).
+  const std::size_t K = 8, N = std::size_t(1) << 20;
+  const auto g = [](double k) { return std::exp(-k / 40000.0); };
+  for (GridScheme scheme : all_schemes) {
+    INFO(scheme_name(scheme));
+    const std::vector<double> x = grid_pivots(graded(K, 1.1, scheme), N);
+    const std::vector<double> numbers = project_sizes(x, scheme, K, g);
+    const std::vector<double> f = section_densities(x, numbers, scheme, K);
+    CHECK(largest_density_error(x, f, g) < 1e-6);
+    // N_i / Δ_i is off where the shares of the sizes around a pivot do not add up to its width.
+    const std::vector<double> width = pivot_widths(x);
+    std::vector<double> plain(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) plain[i] = numbers[i] / width[i];
+    if (scheme != GridScheme::fixed_pivot) CHECK(largest_density_error(x, plain, g) > 1e-2);
+  }
+  // A power law with a cut-off is log-linear only to second order in the spacing: its error is the
+  // interpolation's, (Δ ln x)² / 8 × the curvature of ln g in ln x, ~1e-3 here.
+  const std::vector<double> x = grid_pivots(graded(K, 1.1), N);
+  const auto power = [](double k) { return std::pow(k, -1.5) * std::exp(-k / 40000.0); };
+  const std::vector<double> f = section_densities(x, project_sizes(x, GridScheme::four_moment, K, power), GridScheme::four_moment, K);
+  CHECK(largest_density_error(x, f, power) < 3e-3);
+  // The uniform grid's numbers are its densities.
+  const std::vector<double> n = {0.5, 0.25, 0.125};
+  CHECK(section_densities(grid_pivots(SizeGrid{}, 3), n, GridScheme::four_moment, 0) == n);
+}
+
+TEST_CASE("graded densities converge to the exact ones as r - 1 falls (constant kernel, t = 20)", "[graded]") {
+  // n_k(t) = 4/(t+2)² (t/(t+2))^{k-1} for the constant kernel from a monodisperse unit start
+  // [exact_density], against the densities the graded numbers stand for (section_densities), where
+  // n_k ≥ 1e-6 of its largest (k ≲ 150). K = 8, N = 4096, CVODE at rtol 1e-10. Measured (four-moment):
+  // 1.47 % (r = 1.1), 1.34 % (1.05), 1.70 % (1.025), 0.19 % (1.0125: every pivot up to k ~ 120 is an
+  // integer): the error sits just below the spacing jumps h → h + 1 of the integer pivots (k = 137, jump
+  // at 140, for r = 1.025). Before, N_i / Δ_i of the three-moment scheme was off by 10.1 % (r = 1.05) and
+  // 10.4 % (1.025). Bounds: the measured errors × 1.3.
+  struct Case {
+    double r, bound;
+  };
+  for (const Case c : {Case{1.1, 0.02}, Case{1.05, 0.0175}, Case{1.025, 0.0225}, Case{1.0125, 0.0025}}) {
+    const AggregationModel model = model_of(Kernel::constant(), 0.0, 4096, Truncation::drop, graded(8, c.r));
+    IntegratorOptions options;
+    options.rtol = 1e-10;
+    const double times[] = {20.0};
+    std::vector<double> n;
+    integrate(model, times, options, [&](double, std::span<const double> v, double) { n.assign(v.begin(), v.end()); });
+    const std::unique_ptr<Discretisation> grid = make_discretisation(model);
+    const std::vector<double> f = grid->densities(n);
+    const double error = largest_density_error(grid->sizes(), f, [](double k) { return exact_density("constant", std::size_t(k), 20.0); });
+    INFO("r = " << c.r << ": largest density error " << error);
+    CHECK(error < c.bound);
+    CHECK(error > 0.0);
+    // Densities stay ≥ 0 but for the integrator's own noise in the far tail (n ≤ 1e-10 max: atol 1e-12 M).
+    const double largest = *std::max_element(f.begin(), f.end());
+    CHECK(*std::min_element(f.begin(), f.end()) > -1e-10 * largest);
+  }
+}
+
 TEST_CASE("graded grid keeps the a = 0.95, λ = 0.01 limit cycle of the uniform grid", "[graded]") {
   // The sustained oscillation of M0 [Kalinov2022, Sec. 5.2] at N = 2048 (drop), from t = 1000 to 1600
   // (~18 cycles of T ≈ 33.8, sampled every 0.5), on every size 1..N and on K = 64, r = 1.04 (about 150
-  // classes) with three-moment shares. Both runs at rtol 1e-9, where the uniform run's period and amplitude
+  // classes) with four-moment shares. Both runs at rtol 1e-9, where the uniform run's period and amplitude
   // move by < 1e-4 when rtol is tightened; 0.5 % is then the graded grid's discretisation alone.
   std::vector<double> times;
   for (double t = 1000.0; t <= 1600.0 + 1e-9; t += 0.5) times.push_back(t);
@@ -328,9 +433,10 @@ TEST_CASE("graded grid keeps the a = 0.95, λ = 0.01 limit cycle of the uniform 
 
 TEST_CASE("graded grid λ_crit against the converged uniform values", "[graded]") {
   // Uniform-grid values converged in N (bench/results/log/lambda-crit-curve.md): λ_crit(0.8) = 0.00367756 (N = 16384,
-  // change 2.5e-6) and λ_crit(0.75) = 0.00159471 (N = 16384, change 9.7e-4). With three-moment shares the
-  // grid K = 64, r = 1.04 (about 260 classes) gives λ_crit(0.75) to 5e-4 and changes by ≤ 4e-4 when K
-  // doubles or r - 1 halves (bench/results/log/graded-grid.md), so 0.5 % leaves a factor ~10. Fixed pivots on the
+  // change 2.5e-6) and λ_crit(0.75) = 0.00159471 (N = 16384, change 9.7e-4). Three-moment shares on the
+  // grid K = 64, r = 1.04 (about 260 classes) gave λ_crit(0.75) to 5e-4, changing by ≤ 4e-4 when K doubles or
+  // r - 1 halves (bench/results/log/graded-grid.md); four-moment shares, the default, change by ~1e-6 (a = 0.8,
+  // r = 1.02: 8e-6 from the uniform value; bench/results/RESULTS.md). 0.5 % leaves room. Fixed pivots on the
   // same grid are 9 % off at a = 0.75 (first order in r - 1) and fail it.
   HopfCurveOptions options;
   AggregationModel base = model_of(Kernel::brownian(0.8), 0.0, 1024, Truncation::cutoff, graded(64, 1.04));

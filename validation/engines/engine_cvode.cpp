@@ -42,7 +42,8 @@ class CvodeEngine final : public Engine {
   EngineStatistics run_solver(const Scene& scene, const EngineObserver& observer) const {
     IntegratorOptions options = options_;
     options.progress = observer.progress;
-    const std::vector<double> sizes = make_discretisation(scene.model)->output_sizes();
+    const std::unique_ptr<Discretisation> grid = make_discretisation(scene.model);
+    const std::vector<double> sizes = grid->output_sizes();
     // Checkpoints: after output k, the number of outputs done, the time, the densities and the leaked mass.
     // A resume continues from them with the scene's settings (restart in cvode_integrator.hpp: within the
     // integration tolerance of the uninterrupted run).
@@ -63,7 +64,7 @@ class CvodeEngine final : public Engine {
     const IntegratorStatistics s = integrate(
         scene.model, scene.time.outputs, options,
         [&](double t, std::span<const double> n, double leaked) {
-          observer.output(t, DensityState(n, leaked, sizes));
+          observer.output(t, DensityState(n, leaked, sizes, sizes.empty() ? nullptr : grid.get()));
           ++done;
           if (observer.checkpoint && observer.checkpoint->due()) {
             StateWriter out;

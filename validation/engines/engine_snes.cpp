@@ -59,7 +59,7 @@ class SnesEngine final : public Engine {
       csv << ',' << density[i] << '\n';
     }
     write_file_atomically(observer.folder / "distribution.csv", csv.str());
-    const DensityState state(r.n, 0.0, sizes);
+    const DensityState state(r.n, 0.0, sizes, sizes.empty() ? nullptr : grid.get());
     for (double t : scene.time.outputs) observer.output(t, state);
     EngineStatistics statistics{
         {"newton_iterations", std::int64_t(r.newton_iterations)},

@@ -66,7 +66,7 @@ EngineRecord run_engine(const Scene& scene, const Engine& engine, Progress& prog
 
 void write_engine_outputs(const Scene& scene, const EngineRecord& record, const OutputFolder& folder) {
   write_series_csv(folder.series_file(record.label), scene.observe, record);
-  if (!scene.observe.distribution_times.empty()) write_distribution_csv(folder.distribution_file(record.label), record);
+  if (!scene.observe.distribution_times.empty()) write_distribution_csv(folder.distribution_file(record.label), record, scene.model.grid);
 }
 
 // Checkpoints hold every realization's state in one file written by one process: with the realizations on

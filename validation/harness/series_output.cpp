@@ -25,7 +25,7 @@ void write_series_csv(const std::filesystem::path& file, const Observation& obse
   csv.commit();
 }
 
-void write_distribution_csv(const std::filesystem::path& file, const EngineRecord& record) {
+void write_distribution_csv(const std::filesystem::path& file, const EngineRecord& record, const SizeGrid& grid) {
   AtomicFile csv(file);
   std::ostream& out = csv.stream();
   out << "t,k,n,cdf\n";
@@ -35,13 +35,15 @@ void write_distribution_csv(const std::filesystem::path& file, const EngineRecor
     for (double n : distribution.n) total += n;
     double below = 0;  // Σ_{j<=k} n_j: the cdf is the fraction of clusters of size <= k
     if (!distribution.sizes.empty()) {
-      // A graded grid: one row per pivot, k its size and n the density per unit size N_i/Δ_i (the n_k of
-      // a uniform grid where the pivots are the integers); the cdf counts the clusters of the pivots ≤ k.
-      const std::vector<double> width = pivot_widths(distribution.sizes);
+      // A graded grid: one row per pivot, k its size and n the density per unit size the pivot's number
+      // stands for (solvers/size_grid.hpp section_densities; the n_k of a uniform grid where the pivots
+      // are the integers); the cdf counts the clusters of the pivots <= k.
+      const std::vector<double> density =
+          section_densities(distribution.sizes, distribution.n, grid.scheme, grid.resolved);
       for (std::size_t i = 0; i < distribution.n.size(); ++i) {
         below += distribution.n[i];
         out << t << ',' << full_precision_text(distribution.sizes[i]) << ','
-            << full_precision_text(distribution.n[i] / width[i]) << ','
+            << full_precision_text(density[i]) << ','
             << full_precision_text(total != 0 ? below / total : 0.0) << '\n';
       }
       continue;

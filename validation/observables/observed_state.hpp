@@ -11,6 +11,7 @@
 namespace aggkit {
 
 class ParticleView;
+class Discretisation;
 
 class ObservedState {
  public:
@@ -28,12 +29,15 @@ class ObservedState {
 };
 
 // A state given by its densities n_1..n_N, or on a graded grid by the numbers N_i at the pivots `sizes`
-// (views: both must outlive it). M_p = Σ x_i^p N_i; n_k is N_i/Δ_i at a pivot (the density per unit size,
-// solvers/size_grid.hpp pivot_widths) and interpolated linearly between pivots.
+// (views: both must outlive it) and the discretisation they are on. M_p = Σ x_i^p N_i; n_k is the density
+// per unit size f_i the numbers stand for at a pivot (Discretisation::densities, computed at the first
+// density() call) and log-linear between pivots (linear where an end is ≤ 0), the form those densities
+// assume; without a discretisation, N_i / Δ_i.
 class DensityState final : public ObservedState {
  public:
-  DensityState(std::span<const double> n, double leaked_mass, std::span<const double> sizes = {})
-      : n_(n), leaked_mass_(leaked_mass), sizes_(sizes) {}
+  DensityState(std::span<const double> n, double leaked_mass, std::span<const double> sizes = {},
+               const Discretisation* grid = nullptr)
+      : n_(n), leaked_mass_(leaked_mass), sizes_(sizes), grid_(grid) {}
   std::vector<double> distribution() const override { return {n_.begin(), n_.end()}; }
   std::vector<double> sizes() const override { return {sizes_.begin(), sizes_.end()}; }
   double moment(double p) const override;
@@ -44,9 +48,12 @@ class DensityState final : public ObservedState {
   std::span<const double> n_;
   double leaked_mass_;
   std::span<const double> sizes_;
+  const Discretisation* grid_;
+  mutable std::vector<double> densities_;  // per pivot, once asked for
 };
 
-// n at size k of a graded grid's numbers N_i at pivots x_i (as DensityState::density).
-double density_on_pivots(std::span<const double> n, std::span<const double> sizes, double k);
+// The density at size k of a graded grid's densities f_i at pivots x_i (as DensityState::density): 0
+// outside [x_1, x_M].
+double density_on_pivots(std::span<const double> densities, std::span<const double> sizes, double k);
 
 }  // namespace aggkit

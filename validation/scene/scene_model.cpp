@@ -8,7 +8,7 @@ namespace aggkit {
 
 namespace {
 
-// grid = { resolved = K, ratio = r, scheme = "three-moment" | "fixed-pivot" } (solvers/size_grid.hpp);
+// grid = { resolved = K, ratio = r, scheme = "four-moment" | "three-moment" | "fixed-pivot" } (solvers/size_grid.hpp);
 // absent: the uniform grid.
 SizeGrid read_grid(const SceneTable& model) {
   SizeGrid grid;
