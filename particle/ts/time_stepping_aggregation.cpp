@@ -1,5 +1,4 @@
 #include "particle/ts/time_stepping_aggregation.hpp"
-#include "particle/ts/time_stepping_neighbours.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,42 +6,12 @@
 #include <unordered_map>
 
 #include "analysis/input_error.hpp"
-#include "particle/common/simd_clones.hpp"
 
 namespace aggkit {
 
 namespace {
 
 constexpr double paper_radius = 0.2;  // [Degond2024, Table 1]: the units the DAHA parameters are tuned in
-
-// The replay of logged flights (sync below) for a block of `lanes` spheres, coordinates by axis: per flight
-// f = Δt v and x ← x + f, wrapped on periodic boxes, exactly the arithmetic of an applied flight. Vectorised
-// over the block; contraction into fused multiply-adds is off, so that every vector unit gives the bits of the
-// applied flight's separate multiply and add.
-constexpr std::size_t lanes = 32;
-struct ReplayBlock {
-  double x[3][lanes], v[3][lanes], f[3][lanes];
-};
-AGGKIT_SIMD_CLONES __attribute__((optimize("fp-contract=off"))) void replay_block(ReplayBlock& b, const double* dts,
-                                                                                  std::size_t flights, int dimension,
-                                                                                  const double* periodic_side) {
-  for (std::size_t k = 0; k < flights; ++k) {
-    const double dt = dts[k];
-    for (int a = 0; a < dimension; ++a) {
-      for (std::size_t m = 0; m < lanes; ++m) {
-        b.f[a][m] = dt * b.v[a][m];
-        b.x[a][m] = b.x[a][m] + b.f[a][m];
-      }
-      if (periodic_side) {  // Box::wrap, branch-free
-        const double side = periodic_side[a];
-        for (std::size_t m = 0; m < lanes; ++m) {
-          const double r = b.x[a][m] - side * std::floor(b.x[a][m] / side);
-          b.x[a][m] = r >= side ? 0.0 : r;
-        }
-      }
-    }
-  }
-}
 
 // Cells wide enough for the swept contact test of a flight of at most `substep` diameters per cluster
 // (reach 2R + 2 · flight) to need only the 3^d stencil; 2R when that would leave a periodic axis fewer than
@@ -66,36 +35,17 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
       grid_(box, detection_cell_side(box, radius, settings.substep_displacement), positions.size()),
       cells_(grid_.size(), positions.size()),
       members_(positions.size()),
-      x_(positions.begin(), positions.end()),
+      flights_(box, radius, positions),
+      detection_(grid_, positions.size()),
       velocity_(velocities.begin(), velocities.end()),
-      flown_(positions.size(), Vector3{0, 0, 0}),
-      applied_(positions.size(), 0),
-      extent_low_(positions.size()),
-      extent_high_(positions.size()),
-      drift_(positions.size()),
       reflected_(positions.size(), 0),
       before_(positions.size()),
-      links_(positions.size()),
-      expires_(positions.size(), 0.0),
-      near_key_(positions.size(), 0.0),
-      rate_(positions.size(), 0.0),
-      checked_pass_(positions.size(), 0),
-      changed_(positions.size(), 0),
-      stale_(positions.size(), 0) {
+      links_(positions.size()) {
   if (positions.size() != velocities.size() || positions.size() < 2)
     throw InputError("particles.count", std::to_string(positions.size()), "at least 2 particles, one velocity each");
   settings.validate();
-  for (const CellCoords& o : grid_.stencil())
-    if (o[2] > 0 || (o[2] == 0 && (o[1] > 0 || (o[1] == 0 && o[0] >= 0)))) stencil_.push_back(o);
-  half_width_ = stencil_.size();
-  for (std::size_t k = 1; k < half_width_; ++k) stencil_.push_back({-stencil_[k][0], -stencil_[k][1], -stencil_[k][2]});
-  neighbours_.assign(grid_.size() * stencil_.size(), no_cell);
-  for (std::size_t cell = 0; cell < grid_.size(); ++cell)
-    for (std::size_t k = 0; k < stencil_.size(); ++k)
-      if (const auto n = grid_.neighbour(grid_.coords(cell), stencil_[k]))
-        neighbours_[cell * stencil_.size() + k] = std::uint32_t(grid_.index(*n));
-  for (std::uint32_t p = 0; p < x_.size(); ++p) cells_.insert(p, grid_.index(grid_.coords_of(x_[p])));
-  const auto start_overlaps = overlaps_between_clusters({});
+  for (std::uint32_t p = 0; p < positions.size(); ++p) cells_.insert(p, grid_.index(grid_.coords_of(flights_.x[p])));
+  const auto start_overlaps = detection_.overlaps(spheres(), {});
   for (const auto& [a, b] : start_overlaps)
     if (norm(sep(a, b)) < 2.0 * radius_ * (1.0 - 1e-12))
       throw InputError("particles.initial", "particles " + std::to_string(a) + " and " + std::to_string(b) + " at distance " +
@@ -107,10 +57,15 @@ TimeSteppingAggregation::TimeSteppingAggregation(const Box& box, double radius, 
   double side = 0;
   for (int d = 0; d < box_.dimension; ++d) side = std::max(side, box_.side[d]);
   dt0_ = settings_.dt_factor * side / speed;
+  refresh_live();
+}
+
+SphereView TimeSteppingAggregation::spheres() const {
+  return {box_, radius_, grid_, cells_, members_, flights_.x, flights_.flown, speed_, longest_flight_, pool_.get()};
 }
 
 double TimeSteppingAggregation::time_step() const {
-  const double n = double(x_.size());
+  const double n = double(particles());
   return dt0_ * (2.0 - std::log(double(members_.clusters())) / std::log(n));
 }
 
@@ -119,8 +74,8 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
   for (int d = 0; d < box_.dimension; ++d) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) {
-      lo = std::min(lo, x_[p][d] - radius_);
-      hi = std::max(hi, x_[p][d] + radius_);
+      lo = std::min(lo, flights_.x[p][d] - radius_);
+      hi = std::max(hi, flights_.x[p][d] + radius_);
     }
     const double side = box_.side[d];
     if (lo >= 0 && hi <= side) continue;
@@ -162,136 +117,26 @@ void TimeSteppingAggregation::reflect(std::uint32_t cluster) {
     if (!reflected_[cluster]) reflected_list_.push_back(cluster);
     reflected_[cluster] = 1;
     for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) {
-      x_[p][d] += shift;
-      flown_[p][d] += shift;
+      flights_.x[p][d] += shift;
+      flights_.flown[p][d] += shift;
     }
   }
-}
-
-const std::vector<std::uint32_t>& TimeSteppingAggregation::live() const {
-  if (live_stale_) {
-    live_.clear();
-    for (std::uint32_t c = 0; c < x_.size(); ++c)
-      if (members_.size(c) > 0) live_.push_back(c);
-    live_stale_ = false;
-  }
-  return live_;
-}
-
-void TimeSteppingAggregation::replay(const std::uint32_t* ids, std::size_t count, std::size_t from) const {
-  // Blocks of `lanes` spheres side by side (replay_block): one sphere's flights are a chain of dependent
-  // additions, a block's are independent chains on the vector unit.
-  ReplayBlock b;
-  const double* periodic_side = box_.boundary == Boundary::periodic ? box_.side.data() : nullptr;
-  for (std::size_t first = 0; first < count; first += lanes) {
-    const std::size_t held = std::min(lanes, count - first);
-    for (std::size_t m = 0; m < lanes; ++m) {
-      const std::uint32_t p = ids[first + std::min(m, held - 1)];  // the last sphere again as padding
-      const Vector3& u = velocity_[members_.cluster_of(p)];
-      for (int a = 0; a < 3; ++a) {
-        b.x[a][m] = x_[p][a];
-        b.v[a][m] = u[a];
-        b.f[a][m] = flown_[p][a];
-      }
-    }
-    replay_block(b, logged_.data() + from, logged_.size() - from, box_.dimension, periodic_side);
-    for (std::size_t m = 0; m < held; ++m)
-      for (int a = 0; a < box_.dimension; ++a) {
-        x_[ids[first + m]][a] = b.x[a][m];
-        flown_[ids[first + m]][a] = b.f[a][m];
-      }
-  }
-}
-
-void TimeSteppingAggregation::sync(std::uint32_t cluster) const {
-  const std::size_t from = applied_[cluster];
-  if (from == logged_.size()) return;
-  if (from == 0) partial_.push_back(cluster);
-  thread_local std::vector<std::uint32_t> ids;
-  ids.clear();
-  for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p)) ids.push_back(p);
-  replay(ids.data(), ids.size(), from);
-  applied_[cluster] = std::uint32_t(logged_.size());
-}
-
-void TimeSteppingAggregation::sync_all() const {
-  if (logged_.empty()) return;
-  // The clusters brought up to date part of the way (at a wall) by their members, the rest by index.
-  for (const std::uint32_t c : partial_) sync(c);
-  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t) {
-    constexpr std::size_t batch = 4 * lanes;
-    std::uint32_t ids[batch];
-    std::size_t held = 0;
-    for (std::size_t p = from; p < to; ++p) {
-      if (applied_[members_.cluster_of(std::uint32_t(p))] != 0) continue;
-      ids[held++] = std::uint32_t(p);
-      if (held == batch) {
-        replay(ids, held, 0);
-        held = 0;
-      }
-    }
-    if (held > 0) replay(ids, held, 0);
-  });
-  for (const std::uint32_t c : partial_) applied_[c] = 0;  // the only clusters sync() marked
-  partial_.clear();
-  logged_.clear();
-}
-
-void TimeSteppingAggregation::measure_extent(std::uint32_t cluster) {
-  const double inf = std::numeric_limits<double>::infinity();
-  Vector3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
-  for (std::uint32_t p = members_.first(cluster); p != ClusterMembership::none; p = members_.next(p))
-    for (int d = 0; d < box_.dimension; ++d) {
-      lo[d] = std::min(lo[d], x_[p][d] - radius_);
-      hi[d] = std::max(hi[d], x_[p][d] + radius_);
-    }
-  extent_low_[cluster] = lo;
-  extent_high_[cluster] = hi;
-  drift_[cluster] = {0, 0, 0};
 }
 
 bool TimeSteppingAggregation::quiet_flight(double dt) {
-  // Bounded log (memory, and the round-off the extents' margin covers).
-  if (logged_.size() >= (std::size_t(1) << 20)) sync_all();
-  logged_.push_back(dt);
+  flights_.log(dt, velocity_, members_, pool_.get());
   if (box_.boundary == Boundary::reflecting) {
-    if (!extents_) {
-      const std::vector<std::uint32_t>& alive = live();
-      for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t) {
-        for (std::size_t k = from; k < to; ++k) measure_extent(alive[k]);
-      });
-      extents_ = true;
-    }
-    double side = 0;
-    for (int d = 0; d < box_.dimension; ++d) side = std::max(side, box_.side[d]);
-    // Far above the round-off of a position summed over up to 2^20 flights (2^20 · 2^-53 of the box).
-    const double margin = 1e-9 * side;
-    // The clusters that may touch a wall, found on the workers, then handled in increasing order.
-    const std::vector<std::uint32_t>& alive = live();
-    const std::size_t workers = thread_count();
-    std::vector<std::vector<std::uint32_t>> near(workers);
-    for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
-      std::vector<std::uint32_t> found;
-      for (std::size_t k = from; k < to; ++k) {
-        const std::uint32_t c = alive[k];
-        drift_[c] = drift_[c] + dt * velocity_[c];
-        bool close = false;
-        for (int d = 0; d < box_.dimension; ++d)
-          close = close || extent_low_[c][d] + drift_[c][d] < margin || extent_high_[c][d] + drift_[c][d] > box_.side[d] - margin;
-        if (close) found.push_back(c);
-      }
-      near[w] = std::move(found);
-    });
-    for (std::size_t w = 1; w < workers; ++w) near[0].insert(near[0].end(), near[w].begin(), near[w].end());
-    for (const std::uint32_t c : near[0]) {
+    refresh_live();
+    for (const std::uint32_t c : flights_.near_walls(dt, velocity_, members_, live_, pool_.get())) {
       // Up to date, and the applied flight's test: reflected when a sphere is past a wall.
-      sync(c);
+      flights_.sync(c, velocity_, members_);
+      const std::vector<Vector3>& x = flights_.x;
       bool past = false;
       for (std::uint32_t p = members_.first(c); p != ClusterMembership::none && !past; p = members_.next(p))
         for (int d = 0; d < box_.dimension; ++d)
-          past = past || x_[p][d] - radius_ < 0 || x_[p][d] + radius_ > box_.side[d];
+          past = past || x[p][d] - radius_ < 0 || x[p][d] + radius_ > box_.side[d];
       if (past) reflect(c);
-      measure_extent(c);
+      flights_.measure_extent(c, members_);
     }
   }
   if (!jumped_) {
@@ -301,13 +146,13 @@ bool TimeSteppingAggregation::quiet_flight(double dt) {
   // A wall moved a cluster by more than its flight: the safe time is over, detect now.
   sync_all();
   safe_left_ = 0;
-  extents_ = false;
+  flights_.forget_extents();
   locate();
   return true;
 }
 
 bool TimeSteppingAggregation::flight(double dt) {
-  clock_ += dt;
+  detection_.fly(dt);
   for (const std::uint32_t c : reflected_list_) reflected_[c] = 0;
   reflected_list_.clear();
   jumped_ = false;
@@ -315,36 +160,11 @@ bool TimeSteppingAggregation::flight(double dt) {
   // sphere and the clusters are few beside the spheres (header); otherwise it is applied flight by flight,
   // which the workers share by spheres. Either way the same run.
   if (settings_.quiet_flights && dt < safe_left_ &&
-      (!logged_.empty() || (safe_left_ > logged_stretch * dt && members_.clusters() * logged_clusters <= x_.size())))
+      (!flights_.empty() || (safe_left_ > logged_stretch * dt && members_.clusters() * logged_clusters <= particles())))
     return quiet_flight(dt);
   sync_all();
-  extents_ = false;
-  // One streaming pass: every sphere flies (wrapped on periodic boxes) and, with walls, the clusters with a
-  // sphere past one are noted (the test is reflect's own, sphere by sphere); they are then reflected in
-  // increasing cluster order, as a walk through every cluster's members per axis would.
-  const bool walls = box_.boundary == Boundary::reflecting, periodic = box_.boundary == Boundary::periodic;
-  std::vector<std::vector<std::uint32_t>> past(thread_count());
-  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
-    for (std::size_t p = from; p < to; ++p) {
-      const std::uint32_t c = members_.cluster_of(std::uint32_t(p));
-      flown_[p] = dt * velocity_[c];
-      x_[p] = x_[p] + flown_[p];
-      if (periodic) x_[p] = box_.wrap(x_[p]);
-      if (walls)
-        for (int d = 0; d < box_.dimension; ++d)
-          if (x_[p][d] - radius_ < 0 || x_[p][d] + radius_ > box_.side[d]) {
-            past[w].push_back(c);
-            break;
-          }
-    }
-  });
-  if (walls) {
-    std::vector<std::uint32_t>& all = past[0];
-    for (std::size_t w = 1; w < past.size(); ++w) all.insert(all.end(), past[w].begin(), past[w].end());
-    std::sort(all.begin(), all.end());
-    all.erase(std::unique(all.begin(), all.end()), all.end());
-    for (const std::uint32_t c : all) reflect(c);
-  }
+  flights_.forget_extents();
+  fly_every_sphere(dt);
   // Within the safe time of the last detection pass (header): nothing to detect, cells updated later.
   if (settings_.quiet_flights && !jumped_ && dt < safe_left_) {
     safe_left_ -= dt;
@@ -355,6 +175,36 @@ bool TimeSteppingAggregation::flight(double dt) {
   return true;
 }
 
+void TimeSteppingAggregation::fly_every_sphere(double dt) {
+  // One streaming pass: every sphere flies (wrapped on periodic boxes) and, with walls, the clusters with a
+  // sphere past one are noted (the test is reflect's own, sphere by sphere); they are then reflected in
+  // increasing cluster order, as a walk through every cluster's members per axis would.
+  const bool walls = box_.boundary == Boundary::reflecting, periodic = box_.boundary == Boundary::periodic;
+  std::vector<Vector3>& x = flights_.x;
+  std::vector<Vector3>& flown = flights_.flown;
+  std::vector<std::vector<std::uint32_t>> past(thread_count());
+  for_ranges(x.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+    for (std::size_t p = from; p < to; ++p) {
+      const std::uint32_t c = members_.cluster_of(std::uint32_t(p));
+      flown[p] = dt * velocity_[c];
+      x[p] = x[p] + flown[p];
+      if (periodic) x[p] = box_.wrap(x[p]);
+      if (walls)
+        for (int d = 0; d < box_.dimension; ++d)
+          if (x[p][d] - radius_ < 0 || x[p][d] + radius_ > box_.side[d]) {
+            past[w].push_back(c);
+            break;
+          }
+    }
+  });
+  if (!walls) return;
+  std::vector<std::uint32_t>& all = past[0];
+  for (std::size_t w = 1; w < past.size(); ++w) all.insert(all.end(), past[w].begin(), past[w].end());
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  for (const std::uint32_t c : all) reflect(c);
+}
+
 void TimeSteppingAggregation::locate() {
   // New cells found in parallel, moved in the (order-dependent) cell list serially.
   // The spheres that changed cell are found in parallel (in increasing order within each worker's range,
@@ -362,7 +212,7 @@ void TimeSteppingAggregation::locate() {
   const std::size_t workers = thread_count();
   std::vector<double> longest(workers, 0.0);
   movers_.resize(workers);
-  for_ranges(x_.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
+  for_ranges(particles(), [&](std::size_t from, std::size_t to, std::size_t w) {
     // Locals, not longest[w] and movers_[w] in the loop: the workers' slots share cache lines (the
     // vector's storage is kept by swapping it out and back).
     std::vector<std::pair<std::uint32_t, std::uint32_t>> movers;
@@ -370,8 +220,8 @@ void TimeSteppingAggregation::locate() {
     movers.clear();
     double most = 0;
     for (std::size_t p = from; p < to; ++p) {
-      most = std::max(most, norm(flown_[p]));
-      const auto cell = std::uint32_t(grid_.index(grid_.coords_of(x_[p])));
+      most = std::max(most, norm(flights_.flown[p]));
+      const auto cell = std::uint32_t(grid_.index(grid_.coords_of(flights_.x[p])));
       if (cell != cells_.cell_of(std::uint32_t(p))) movers.push_back({std::uint32_t(p), cell});
     }
     longest[w] = most;
@@ -384,8 +234,9 @@ void TimeSteppingAggregation::locate() {
 
 double TimeSteppingAggregation::update_speeds() {
   // Live clusters only (O(clusters) per step): link() zeroes the speed of a cluster it absorbs.
-  speed_.resize(x_.size());
-  const std::vector<std::uint32_t>& alive = live();
+  speed_.resize(particles());
+  refresh_live();
+  const std::vector<std::uint32_t>& alive = live_;
   std::vector<double> fastest(thread_count(), 0.0);
   for_ranges(alive.size(), [&](std::size_t from, std::size_t to, std::size_t w) {
     double top = 0;  // a local maximum: a store to fastest[w] per cluster would alias speed_ for the compiler
@@ -417,7 +268,7 @@ void TimeSteppingAggregation::step(double dt) {
       continue;
     }
     double safe = 0;
-    auto found = detect(safe);
+    auto found = detection_.detect(spheres(), settings_.local_detection && !jumped_, fastest(), safe, counters_);
     if (found.empty()) {
       // Nothing moves before the next flight: every sphere's safe time holds that long (each with a margin
       // for the round-off of the positions flown meanwhile).
@@ -446,11 +297,25 @@ TsStop TimeSteppingAggregation::advance(double t, std::size_t target_clusters, c
   }
 }
 
+void TimeSteppingAggregation::refresh_live() {
+  if (!live_stale_) return;
+  live_.clear();
+  for (std::uint32_t c = 0; c < particles(); ++c)
+    if (members_.size(c) > 0) live_.push_back(c);
+  live_stale_ = false;
+}
+
+double TimeSteppingAggregation::fastest() const {
+  double most = 0;
+  for (const std::uint32_t c : live_) most = std::max(most, speed_[c]);
+  return most;
+}
+
 bool TimeSteppingAggregation::at_rest() const {
   const Vector3* first = nullptr;
   double scale = 0;
-  for (const std::uint32_t c : live()) scale = std::max(scale, norm(velocity_[c]));
-  for (const std::uint32_t c : live()) {
+  for (const std::uint32_t c : live_) scale = std::max(scale, norm(velocity_[c]));
+  for (const std::uint32_t c : live_) {
     if (!first) first = &velocity_[c];
     else if (norm(velocity_[c] - *first) > 1e-12 * scale) return false;
   }
@@ -458,8 +323,8 @@ bool TimeSteppingAggregation::at_rest() const {
 }
 
 std::vector<Vector3> TimeSteppingAggregation::velocities() const {
-  std::vector<Vector3> v(x_.size());
-  for (std::uint32_t p = 0; p < x_.size(); ++p) v[p] = velocity_[members_.cluster_of(p)];
+  std::vector<Vector3> v(particles());
+  for (std::uint32_t p = 0; p < particles(); ++p) v[p] = velocity_[members_.cluster_of(p)];
   return v;
 }
 
@@ -468,7 +333,7 @@ std::vector<Vector3> TimeSteppingAggregation::cluster_positions(std::uint32_t cl
   // Unwrapped along the links (breadth first from the cluster's first particle).
   std::unordered_map<std::uint32_t, Vector3> placed;
   std::vector<std::uint32_t> queue{members_.first(cluster)};
-  placed[queue[0]] = x_[queue[0]];
+  placed[queue[0]] = flights_.x[queue[0]];
   for (std::size_t k = 0; k < queue.size(); ++k) {
     const std::uint32_t i = queue[k];
     for (const std::uint32_t j : links_[i])
@@ -481,21 +346,21 @@ std::vector<Vector3> TimeSteppingAggregation::cluster_positions(std::uint32_t cl
 
 std::uint32_t TimeSteppingAggregation::largest_cluster() const {
   std::uint32_t best = 0;
-  for (std::uint32_t c = 0; c < x_.size(); ++c)
+  for (std::uint32_t c = 0; c < particles(); ++c)
     if (members_.size(c) > members_.size(best)) best = c;
   return best;
 }
 
 double TimeSteppingAggregation::kinetic_energy() const {
   double e = 0;
-  for (std::uint32_t c = 0; c < x_.size(); ++c)
+  for (std::uint32_t c = 0; c < particles(); ++c)
     if (members_.size(c) > 0) e += 0.5 * double(members_.size(c)) * dot(velocity_[c], velocity_[c]);
   return e;
 }
 
 Vector3 TimeSteppingAggregation::momentum() const {
   Vector3 p{0, 0, 0};
-  for (std::uint32_t c = 0; c < x_.size(); ++c)
+  for (std::uint32_t c = 0; c < particles(); ++c)
     if (members_.size(c) > 0) p = p + double(members_.size(c)) * velocity_[c];
   return p;
 }
@@ -504,7 +369,7 @@ double TimeSteppingAggregation::largest_overlap() const {
   sync_all();
   const double contact2 = 4.0 * radius_ * radius_;
   double worst = 0;
-  for (std::uint32_t i = 0; i < x_.size(); ++i)
+  for (std::uint32_t i = 0; i < particles(); ++i)
     for_near(i, 2.0 * radius_, [&](std::uint32_t j) {
       const Vector3 d = sep(i, j);
       worst = std::max(worst, std::sqrt(std::max(0.0, contact2 - dot(d, d))));
@@ -515,7 +380,7 @@ double TimeSteppingAggregation::largest_overlap() const {
 double TimeSteppingAggregation::largest_relative_overlap() const {
   sync_all();
   double worst = 0;
-  for (std::uint32_t i = 0; i < x_.size(); ++i)
+  for (std::uint32_t i = 0; i < particles(); ++i)
     for_near(i, 2.0 * radius_, [&](std::uint32_t j) { worst = std::max(worst, 1.0 - norm(sep(i, j)) / (2.0 * radius_)); });
   return worst;
 }

@@ -78,6 +78,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "analysis/option_rows.hpp"
@@ -86,7 +87,11 @@
 #include "particle/common/cell_list.hpp"
 #include "particle/common/cluster_membership.hpp"
 #include "particle/common/worker_pool.hpp"
+#include "particle/ts/contact_detection.hpp"
 #include "particle/ts/daha.hpp"
+#include "particle/ts/flight_log.hpp"
+#include "particle/ts/time_stepping_neighbours.hpp"
+#include "particle/ts/worker_ranges.hpp"
 
 namespace aggkit {
 
@@ -141,7 +146,7 @@ class TimeSteppingAggregation {
   // Relative penetration 1 − |Δx|/2R beyond which two spheres of one cluster that end a minimisation
   // overlapping are linked and minimised again (the constraint lists are built from the positions at the
   // start of a minimisation; a free sphere can move past them).
-  static constexpr double same_cluster_tolerance = 1e-2;
+  static constexpr double same_cluster_tolerance = ContactDetection::same_cluster_tolerance;
 
   // Positions inside the box (reflecting: at least R from every wall) not overlapping (InputError naming
   // `particles.initial` otherwise); one velocity per particle; at least one nonzero velocity.
@@ -159,14 +164,14 @@ class TimeSteppingAggregation {
   double time() const { return time_; }
   double time_step() const;  // the law's Δt^n now
   double initial_time_step() const { return dt0_; }
-  std::size_t particles() const { return x_.size(); }
+  std::size_t particles() const { return flights_.x.size(); }
   std::size_t clusters() const { return members_.clusters(); }
   const Box& box() const { return box_; }
   double radius() const { return radius_; }
   const TsCounters& counters() const { return counters_; }
   const std::vector<Vector3>& positions() const {  // wrapped into the box
     sync_all();
-    return x_;
+    return flights_.x;
   }
   std::vector<Vector3> velocities() const;
   Vector3 cluster_velocity(std::uint32_t particle) const { return velocity_[members_.cluster_of(particle)]; }
@@ -196,42 +201,54 @@ class TimeSteppingAggregation {
     std::uint32_t cluster;
     std::vector<std::uint32_t> seeds;  // ends of new links
   };
+  // A binary collision among a flight's contacts: its earliest touching pair and when it touched.
+  struct Collision {
+    std::uint32_t key;  // the lower cluster
+    double tau;         // the fraction of the flight at the first touch
+    std::pair<std::uint32_t, std::uint32_t> pair;
+  };
   // Moves every sphere (a quiet flight: logs it, header); returns whether the flight needs a detection pass
   // (then every sphere is up to date and the cell list updated).
   bool flight(double dt);
   bool quiet_flight(double dt);  // flight() within the safe time
-  // Replays the logged flights not yet applied to the spheres of one cluster / of every cluster (header).
-  void sync(std::uint32_t cluster) const;
-  void sync_all() const;
-  void replay(const std::uint32_t* particles, std::size_t count, std::size_t from) const;  // logged flights from `from`
-  void measure_extent(std::uint32_t cluster);  // extent_low_/high_ of a cluster from its spheres (up to date)
-  const std::vector<std::uint32_t>& live() const;  // the live clusters, increasing
+  void fly_every_sphere(double dt);  // an applied flight, the clusters past a wall reflected
+  void sync_all() const { flights_.sync_all(velocity_, members_, pool_.get()); }  // the logged flights replayed
+  void refresh_live();  // live_ after merges
   void reflect(std::uint32_t cluster);
-  void locate();  // cell list and longest_flight_ from x_ and flown_
+  void locate();  // cell list and longest_flight_ from the positions and flights
   double update_speeds();  // speed_ from velocity_ (on the workers); returns the largest
-  // Pairs to link: of different clusters overlapping now, or (`swept`, after a flight) whose relative
-  // path over the flight came within 2R; with `among`, those of the given spheres, same-cluster pairs
-  // overlapping by more than same_cluster_tolerance included.
-  // `bounds` (full swept pass only): also the per-sphere state of local detection, for every sphere; false
-  // when the pass took a path that does not bound the safe times.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> overlaps_between_clusters(std::span<const std::uint32_t> among,
-                                                                               bool swept = false,
-                                                                               bool* bounds = nullptr);
+  double fastest() const;  // the largest cluster speed (speed_ of the live clusters)
+  SphereView spheres() const;  // what contact detection reads
   void link(std::uint32_t a, std::uint32_t b);
   // Writes only the group's free spheres; `largest_move`: the largest displacement of one of them.
   DahaResult minimise(const Group& group, std::vector<std::uint32_t>& moved, double& largest_move);
-  void resolve(std::vector<std::pair<std::uint32_t, std::uint32_t>> new_links);
+  void resolve(SpherePairs new_links);
+  // The clusters the new links join, each with the ends of its new links.
+  std::vector<Group> groups_of(const SpherePairs& new_links) const;
+  // Counts a round's minimisations, wraps their free spheres and moves back a cluster pushed past a wall;
+  // returns the spheres to check for new contacts (cell list updated).
+  std::vector<std::uint32_t> settle(const std::vector<Group>& groups, const std::vector<DahaResult>& results,
+                                    const std::vector<std::vector<std::uint32_t>>& moved, const std::vector<double>& moves);
   // Merges the binary collisions among a flight's contacts at their contact time; returns the other
   // contacts and the overlaps of the merged clusters (for the minimisation).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> merge_binary_contacts(
-      std::vector<std::pair<std::uint32_t, std::uint32_t>> found, double dt);
-  Vector3 sep(std::uint32_t i, std::uint32_t j) const { return box_.minimum_image(x_[j] - x_[i]); }
+  SpherePairs merge_binary_contacts(SpherePairs found, double dt);
+  // The binary collisions among `found` (the earliest pair of each, in cluster order); the other pairs go
+  // to `rest`.
+  std::vector<Collision> binary_collisions(const SpherePairs& found, SpherePairs& rest);
+  // Moves the merged clusters of `collisions` back to their contact and on with the merged velocity; returns
+  // the moved spheres that can now touch another cluster.
+  std::vector<std::uint32_t> move_to_contact(const std::vector<Collision>& collisions, double dt);
+  Vector3 sep(std::uint32_t i, std::uint32_t j) const { return box_.minimum_image(flights_.x[j] - flights_.x[i]); }
   template <class F>
-  void for_near(std::uint32_t i, double reach, F&& f) const;  // every j != i within `reach` cells' span
-  // f(j, d) for every j != i in the 3^d cells around i's cell in the cell list, d = x_j − x_i as the image
-  // the stencil's offset stands for (the same bits from either sphere of a pair).
+  void for_near(std::uint32_t i, double reach, F&& f) const {  // every j != i within `reach` cells' span
+    aggkit::for_near(grid_, cells_, flights_.x, i, reach, std::forward<F>(f));
+  }
+  std::size_t thread_count() const { return pool_ ? pool_->threads() : 1; }  // threads of the parallel phases
+  // f(from, to, worker) over ranges of [0, n) on thread_count() threads (one below ts_parallel_items items).
   template <class F>
-  void for_stencil(std::uint32_t i, F&& f) const;
+  void for_ranges(std::size_t n, F&& f) const {
+    aggkit::for_ranges(pool_.get(), n, std::forward<F>(f));
+  }
 
   Box box_;
   double radius_;
@@ -240,66 +257,27 @@ class TimeSteppingAggregation {
   std::unique_ptr<WorkerPool> pool_;  // the `threads` workers, kept between steps (null for one thread)
   CellGrid grid_;
   CellList cells_;
-  // The 3^d stencil: first the half of it a pass over every cell takes (the offset 0 and one of each ± pair),
-  // then the other half; per cell, its neighbour at each offset (no_cell past a wall).
-  std::vector<CellCoords> stencil_;
-  std::size_t half_width_ = 0;
-  static constexpr std::uint32_t no_cell = 0xffffffffu;
-  static constexpr std::size_t parallel_cells = 16384;  // fewer cells or spheres: one worker (thread start-up dominates)
-  std::vector<std::uint32_t> neighbours_;
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> movers_;  // scratch of locate: (sphere, new cell) per worker
-  std::size_t thread_count() const { return pool_ ? pool_->threads() : 1; }  // threads of the parallel phases
-  // f(from, to, worker) over ranges of [0, n) on thread_count() threads (one below parallel_cells items).
-  template <class F>
-  void for_ranges(std::size_t n, F&& f) const;
   ClusterMembership members_;
-  // Positions and flights of the spheres, up to date only after sync_all() (quiet flights are logged):
-  // mutable because readers bring them up to date, which changes no state a caller can see.
-  mutable std::vector<Vector3> x_;
+  // The positions and flights of the spheres with the quiet flights logged: mutable because readers bring
+  // them up to date (sync_all), which changes no state a caller can see.
+  mutable FlightLog flights_;
+  ContactDetection detection_;     // the stencil table and the safe times
   std::vector<Vector3> velocity_;  // per cluster id
-  mutable std::vector<Vector3> flown_;  // per sphere: its displacement in the last flight (walls included)
-  mutable std::vector<double> logged_;           // Δt of the quiet flights not yet applied to every sphere
-  mutable std::vector<std::uint32_t> applied_;   // per cluster id: how many of them its spheres have had
-  mutable std::vector<std::uint32_t> partial_;   // clusters with 0 < applied_ (brought up to date at a wall)
-  std::vector<Vector3> extent_low_, extent_high_, drift_;  // per cluster id: extent at its last update, flight since
-  bool extents_ = false;                         // extent_low_/high_ hold for every live cluster
-  mutable std::vector<std::uint32_t> live_;      // live clusters, increasing (rebuilt after merges)
-  mutable bool live_stale_ = true;
+  std::vector<std::uint32_t> live_;  // live clusters, increasing (rebuilt by refresh_live after merges)
+  bool live_stale_ = true;
   std::vector<char> reflected_;    // per cluster: reflected by a wall in the last flight
   std::vector<std::uint32_t> reflected_list_;  // the clusters reflected_ marks
   std::vector<Vector3> before_;    // scratch of merge_binary_contacts: positions at the pass, then the moves
   std::vector<std::uint32_t> partner_;  // scratch of merge_binary_contacts: per cluster, the one it met (or none/several)
   static constexpr std::size_t parallel_merge = 1024;  // fewer spheres in a flight's merged clusters: one worker
-  static constexpr std::size_t parallel_scan = 1024;   // fewer spheres re-checked for contacts: one worker
   static constexpr double logged_stretch = 8;  // quiet flights logged when the safe time holds more than this many
   static constexpr std::size_t logged_clusters = 8;  // ... and at most 1/8 as many clusters as spheres remain
-  double longest_flight_ = 0;      // the largest |flown_|
+  double longest_flight_ = 0;      // the largest |flown|
   std::vector<double> speed_;      // per cluster id: |velocity_|, set at the start of a step
   double safe_left_ = 0;           // time left of the safe time of the last detection pass
   bool jumped_ = false;            // a cluster was moved by a wall other than by a specular reflection
   std::vector<std::vector<std::uint32_t>> links_;  // per sphere: its linked partners
-  // Local detection (header). Per sphere: the clock until which its safe time holds; the rate at which its
-  // distance to the spheres of other clusters can shrink (its speed plus the largest, at its examination);
-  // near_key_ − rate_ · clock_: a lower bound of that distance now (near re-check), from its examination and
-  // from the passes that examined a neighbour since; the pass that examined it. Per cluster id: the pass
-  // after which it changed. stale_: scratch of a local pass (the spheres it examines).
-  std::vector<double> expires_, near_key_, rate_;
-  std::vector<std::uint64_t> checked_pass_, changed_;
-  std::vector<char> stale_;
-  std::uint64_t passes_ = 0;       // detection passes after flights so far
-  double clock_ = 0;               // time flown (the sum of the flights)
-  bool bounds_ = false;            // the per-sphere safe times hold for every sphere
-  static constexpr double local_share = 0.25;  // a local pass when at most this share of the spheres expired
-  // The detection pass after a flight (local or over every sphere, header); `safe`: the time from now that
-  // every sphere's safe time holds (0 when a pass took a path that does not bound it).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> detect(double& safe);
-  // The local pass over the given spheres (stale_ marks them), each against its whole stencil.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> examine(std::span<const std::uint32_t> spheres, double fastest);
-  double fastest() const;       // the largest cluster speed (speed_ of the live clusters)
-  double narrowest() const;     // the narrowest cell side
-  // The contact distance 2R of the safe times, with a margin far above the round-off the positions gather
-  // over quiet flights: a gap is a distance less this.
-  double contact_margin() const { return 2.0 * radius_ * (1.0 + 1e-6); }
   double time_ = 0, dt0_ = 0;
   Vector3 wall_impulse_{0, 0, 0};
   TsCounters counters_;

@@ -7,7 +7,6 @@
 #include <unordered_map>
 
 #include "particle/ts/time_stepping_aggregation.hpp"
-#include "particle/ts/time_stepping_neighbours.hpp"
 
 namespace aggkit {
 
@@ -25,7 +24,7 @@ void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {
   velocity_[cb] = {0, 0, 0};
   if (cb < speed_.size()) speed_[cb] = 0;  // absorbed: no longer a live cluster (update_speeds skips it)
   live_stale_ = true;
-  changed_[ca] = passes_;  // its spheres are examined at the next pass (local detection)
+  detection_.changed(ca);  // its spheres are examined at the next pass (local detection)
   members_.merge(ca, cb, [](std::uint32_t) {});
   ++counters_.merges;
 }
@@ -55,7 +54,7 @@ DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std
   problem.contact = 2.0 * radius_ * scale_;
   problem.free = free;
   auto pair_of = [&](std::uint32_t i, std::uint32_t j) {
-    const Vector3 raw = x_[j] - x_[i];
+    const Vector3 raw = flights_.x[j] - flights_.x[i];
     const Vector3 image = box_.minimum_image(raw);
     const bool linked = std::find(links_[i].begin(), links_[i].end(), j) != links_[i].end();
     const bool attract = linked && (settings_.global || norm(image) <= range);  // eq. 3.30
@@ -80,24 +79,24 @@ DahaResult TimeSteppingAggregation::minimise(const Group& group, std::vector<std
     }
   }
   problem.x.resize(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) problem.x[k] = scale_ * x_[order[k]];
+  for (std::size_t k = 0; k < order.size(); ++k) problem.x[k] = scale_ * flights_.x[order[k]];
   const DahaResult result = aggkit::minimise(problem, settings_.daha);
   for (std::size_t k = 0; k < free; ++k) {
     const Vector3 to = (1.0 / scale_) * problem.x[k];
-    largest_move = std::max(largest_move, norm(to - x_[order[k]]));
-    x_[order[k]] = to;
+    largest_move = std::max(largest_move, norm(to - flights_.x[order[k]]));
+    flights_.x[order[k]] = to;
   }
   moved.assign(order.begin(), order.begin() + std::ptrdiff_t(free));
   return result;
 }
 
-std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::merge_binary_contacts(
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> found, double dt) {
+std::vector<TimeSteppingAggregation::Collision> TimeSteppingAggregation::binary_collisions(const SpherePairs& found,
+                                                                                         SpherePairs& rest) {
   const double contact2 = 4.0 * radius_ * radius_;
   // The fraction τ ∈ [0, 1] of the flight at which a swept pair first touched: |d0 + τ w| = 2R with
   // d0 = d − w the separation before the flight.
   auto first_touch = [&](std::uint32_t i, std::uint32_t j) {
-    const Vector3 d = sep(i, j), w = flown_[j] - flown_[i], d0 = d - w;
+    const Vector3 d = sep(i, j), w = flights_.flown[j] - flights_.flown[i], d0 = d - w;
     const double a = dot(w, w), b = 2.0 * dot(d0, w), c = dot(d0, d0) - contact2;
     if (c <= 0 || a <= 0) return 0.0;
     const double disc = b * b - 4.0 * a * c;
@@ -117,7 +116,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   std::sort(meets.begin(), meets.end());
   meets.erase(std::unique(meets.begin(), meets.end()), meets.end());
   constexpr std::uint32_t nobody = ClusterMembership::none, several = ClusterMembership::none - 1;
-  partner_.resize(x_.size(), nobody);
+  partner_.resize(particles(), nobody);
   for (const auto& [ci, cj] : meets) {
     partner_[ci] = partner_[ci] == nobody ? cj : several;
     partner_[cj] = partner_[cj] == nobody ? ci : several;
@@ -125,14 +124,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   auto binary = [&](std::uint32_t ci, std::uint32_t cj) {
     return partner_[ci] == cj && partner_[cj] == ci && !reflected_[ci] && !reflected_[cj];
   };
-  // Earliest touching pair of each binary collision (found is sorted: the first of equal times wins).
-  struct Collision {
-    std::uint32_t key;  // the lower cluster
-    double tau;
-    std::pair<std::uint32_t, std::uint32_t> pair;
-  };
   std::vector<Collision> collisions;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> rest;
   for (const auto& pr : found) {
     const std::uint32_t ci = members_.cluster_of(pr.first), cj = members_.cluster_of(pr.second);
     if (!binary(ci, cj)) {
@@ -142,6 +134,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     collisions.push_back({std::min(ci, cj), first_touch(pr.first, pr.second), pr});
   }
   for (const auto& [ci, cj] : meets) partner_[ci] = partner_[cj] = nobody;
+  // Earliest touching pair of each binary collision (found is sorted: the first of equal times wins).
   std::stable_sort(collisions.begin(), collisions.end(), [](const Collision& a, const Collision& b) { return a.key < b.key; });
   std::size_t kept = 0;
   for (std::size_t k = 0; k < collisions.size(); ++k) {
@@ -152,6 +145,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     }
   }
   collisions.resize(kept);
+  return collisions;
+}
+
+std::vector<std::uint32_t> TimeSteppingAggregation::move_to_contact(const std::vector<Collision>& collisions, double dt) {
   // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
   // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones. The merges
   // (velocities and membership) go first, in key order; then every merged cluster's spheres are moved, the
@@ -169,6 +166,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     spheres += members_.size(survivor[k]);
     ++counters_.contact_time_merges;
   }
+  std::vector<Vector3>& x = flights_.x;
   const bool periodic = box_.boundary == Boundary::periodic;  // wrap and minimum image: identities otherwise
   const double inf = std::numeric_limits<double>::infinity();
   std::vector<char> inside(merged, 1);
@@ -176,12 +174,12 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     const double tau = collisions[k].tau;
     Vector3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
     for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p)) {
-      before_[p] = x_[p];
-      x_[p] = x_[p] - (1.0 - tau) * flown_[p];
-      x_[p] = x_[p] + onward[k];
+      before_[p] = x[p];
+      x[p] = x[p] - (1.0 - tau) * flights_.flown[p];
+      x[p] = x[p] + onward[k];
       for (int d = 0; d < box_.dimension; ++d) {
-        lo[d] = std::min(lo[d], x_[p][d] - radius_);
-        hi[d] = std::max(hi[d], x_[p][d] + radius_);
+        lo[d] = std::min(lo[d], x[p][d] - radius_);
+        hi[d] = std::max(hi[d], x[p][d] + radius_);
       }
     }
     for (int d = 0; d < box_.dimension; ++d) inside[k] = inside[k] && lo[d] >= 0 && hi[d] <= box_.side[d];
@@ -194,10 +192,10 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     double most = 0;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> to;  // a local: the slots of changed share cache lines
     for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p)) {
-      if (periodic) x_[p] = box_.wrap(x_[p]);
-      const auto cell = std::uint32_t(grid_.index(grid_.coords_of(x_[p])));
+      if (periodic) x[p] = box_.wrap(x[p]);
+      const auto cell = std::uint32_t(grid_.index(grid_.coords_of(x[p])));
       if (cell != cells_.cell_of(p)) to.push_back({p, cell});
-      before_[p] = periodic ? box_.minimum_image(x_[p] - before_[p]) : x_[p] - before_[p];
+      before_[p] = periodic ? box_.minimum_image(x[p] - before_[p]) : x[p] - before_[p];
       most = std::max(most, norm(before_[p]));
     }
     changed[k] = std::move(to);
@@ -226,13 +224,13 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
   // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
   // same-cluster tolerance, which a full re-check of the moved spheres would link again). Per merged
   // cluster, on the workers; gathered in merge order.
-  const bool near = settings_.near_recheck && bounds_ && counters_.round_cap_hits == 0;
+  const bool near = settings_.near_recheck && detection_.bounds() && counters_.round_cap_hits == 0;
   const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
   std::vector<std::vector<std::uint32_t>> recheck(merged);
   each([&](std::size_t k) {
     std::vector<std::uint32_t> mine;  // a local: the slots of recheck share cache lines
     for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p))
-      if (!near || near_key_[p] - rate_[p] * clock_ < reach + norm(before_[p])) mine.push_back(p);
+      if (!near || detection_.nearest_bound(p) < reach + norm(before_[p])) mine.push_back(p);
     recheck[k] = std::move(mine);
   });
   std::vector<std::uint32_t> moved;
@@ -240,17 +238,77 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> TimeSteppingAggregation::me
     for (const auto& [p, cell] : changed[k]) cells_.move(p, cell);
     moved.insert(moved.end(), recheck[k].begin(), recheck[k].end());
   }
+  return moved;
+}
+
+SpherePairs TimeSteppingAggregation::merge_binary_contacts(SpherePairs found, double dt) {
+  SpherePairs rest;
+  const std::vector<std::uint32_t> moved = move_to_contact(binary_collisions(found, rest), dt);
   counters_.rechecked_spheres += moved.size();
   // What the merged clusters now overlap is left to the minimisation, with the other contacts.
   // (None left: nothing to re-check; an empty list would ask for a pass over every sphere.)
   if (!moved.empty())
-    for (const auto& pr : overlaps_between_clusters(moved)) rest.push_back(pr);
+    for (const auto& pr : detection_.overlaps(spheres(), moved)) rest.push_back(pr);
   std::sort(rest.begin(), rest.end());
   rest.erase(std::unique(rest.begin(), rest.end()), rest.end());
   return rest;
 }
 
-void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::uint32_t>> new_links) {
+std::vector<TimeSteppingAggregation::Group> TimeSteppingAggregation::groups_of(const SpherePairs& new_links) const {
+  std::vector<Group> groups;
+  std::unordered_map<std::uint32_t, std::size_t> group_of;
+  for (const auto& [a, b] : new_links) {
+    const std::uint32_t c = members_.cluster_of(a);
+    const auto [it, fresh] = group_of.emplace(c, groups.size());
+    if (fresh) groups.push_back({c, {}});
+    groups[it->second].seeds.push_back(a);
+    groups[it->second].seeds.push_back(b);
+  }
+  for (Group& g : groups) {
+    std::sort(g.seeds.begin(), g.seeds.end());
+    g.seeds.erase(std::unique(g.seeds.begin(), g.seeds.end()), g.seeds.end());
+  }
+  return groups;
+}
+
+std::vector<std::uint32_t> TimeSteppingAggregation::settle(const std::vector<Group>& groups,
+                                                           const std::vector<DahaResult>& results,
+                                                           const std::vector<std::vector<std::uint32_t>>& moved,
+                                                           const std::vector<double>& moves) {
+  std::vector<Vector3>& x = flights_.x;
+  std::vector<std::uint32_t> check;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const DahaResult& r = results[g];
+    ++counters_.minimisations;
+    counters_.minimisation_iterations += r.iterations;
+    counters_.free_spheres += moved[g].size();
+    if (!r.converged) ++counters_.iteration_cap_hits;
+    counters_.max_overlap = std::max(counters_.max_overlap, r.max_overlap);
+    counters_.largest_move = std::max(counters_.largest_move, moves[g]);
+    counters_.overlap_sum += r.mean_overlap;
+    last_mean_ = r.mean_overlap;
+    bool outside = false;
+    for (const std::uint32_t p : moved[g]) {
+      x[p] = box_.wrap(x[p]);
+      if (box_.boundary == Boundary::reflecting)
+        for (int d = 0; d < box_.dimension; ++d) outside = outside || x[p][d] < radius_ || x[p][d] > box_.side[d] - radius_;
+    }
+    if (outside) {  // pushed past a wall by the minimisation: the cluster is moved back as a whole
+      reflect(groups[g].cluster);
+      for (std::uint32_t p = members_.first(groups[g].cluster); p != ClusterMembership::none; p = members_.next(p))
+        check.push_back(p);
+    } else {
+      check.insert(check.end(), moved[g].begin(), moved[g].end());
+    }
+  }
+  for (const std::uint32_t p : check) {
+    const std::size_t cell = grid_.index(grid_.coords_of(x[p]));
+    if (cell != cells_.cell_of(p)) cells_.move(p, cell);
+  }
+  return check;
+}
+
+void TimeSteppingAggregation::resolve(SpherePairs new_links) {
   std::size_t rounds = 0;
   while (!new_links.empty()) {
     if (rounds++ >= settings_.max_rounds) {
@@ -261,19 +319,7 @@ void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::
     const std::uint64_t merges_before = counters_.merges;
     for (const auto& [a, b] : new_links) link(a, b);
     if (rounds > 1) counters_.secondary_merges += counters_.merges - merges_before;
-    std::vector<Group> groups;
-    std::unordered_map<std::uint32_t, std::size_t> group_of;
-    for (const auto& [a, b] : new_links) {
-      const std::uint32_t c = members_.cluster_of(a);
-      const auto [it, fresh] = group_of.emplace(c, groups.size());
-      if (fresh) groups.push_back({c, {}});
-      groups[it->second].seeds.push_back(a);
-      groups[it->second].seeds.push_back(b);
-    }
-    for (Group& g : groups) {
-      std::sort(g.seeds.begin(), g.seeds.end());
-      g.seeds.erase(std::unique(g.seeds.begin(), g.seeds.end()), g.seeds.end());
-    }
+    const std::vector<Group> groups = groups_of(new_links);
     std::vector<DahaResult> results(groups.size());
     std::vector<std::vector<std::uint32_t>> moved(groups.size());
     std::vector<double> moves(groups.size(), 0.0);
@@ -284,37 +330,7 @@ void TimeSteppingAggregation::resolve(std::vector<std::pair<std::uint32_t, std::
       // Separate clusters: disjoint free spheres, each group reads only its own cluster.
       pool_->run(groups.size(), [&](std::size_t g) { results[g] = minimise(groups[g], moved[g], moves[g]); });
     }
-    std::vector<std::uint32_t> check;
-    for (std::size_t g = 0; g < groups.size(); ++g) {
-      const DahaResult& r = results[g];
-      ++counters_.minimisations;
-      counters_.minimisation_iterations += r.iterations;
-      counters_.free_spheres += moved[g].size();
-      if (!r.converged) ++counters_.iteration_cap_hits;
-      counters_.max_overlap = std::max(counters_.max_overlap, r.max_overlap);
-      counters_.largest_move = std::max(counters_.largest_move, moves[g]);
-      counters_.overlap_sum += r.mean_overlap;
-      last_mean_ = r.mean_overlap;
-      bool outside = false;
-      for (const std::uint32_t p : moved[g]) {
-        x_[p] = box_.wrap(x_[p]);
-        if (box_.boundary == Boundary::reflecting)
-          for (int d = 0; d < box_.dimension; ++d)
-            outside = outside || x_[p][d] < radius_ || x_[p][d] > box_.side[d] - radius_;
-      }
-      if (outside) {  // pushed past a wall by the minimisation: the cluster is moved back as a whole
-        reflect(groups[g].cluster);
-        for (std::uint32_t p = members_.first(groups[g].cluster); p != ClusterMembership::none; p = members_.next(p))
-          check.push_back(p);
-      } else {
-        check.insert(check.end(), moved[g].begin(), moved[g].end());
-      }
-    }
-    for (const std::uint32_t p : check) {
-      const std::size_t cell = grid_.index(grid_.coords_of(x_[p]));
-      if (cell != cells_.cell_of(p)) cells_.move(p, cell);
-    }
-    new_links = overlaps_between_clusters(check);
+    new_links = detection_.overlaps(spheres(), settle(groups, results, moved, moves));
   }
 }
 
