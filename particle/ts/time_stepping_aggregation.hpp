@@ -238,6 +238,10 @@ class TimeSteppingAggregation {
   // Moves the merged clusters of `collisions` back to their contact and on with the merged velocity; returns
   // the moved spheres that can now touch another cluster.
   std::vector<std::uint32_t> move_to_contact(const std::vector<Collision>& collisions, double dt);
+  // Per merged cluster (`survivor`), its spheres to re-check after the merges moved them at most `farthest`
+  // (on `pool`, or on this thread when null).
+  std::vector<std::vector<std::uint32_t>> to_recheck(const std::vector<std::uint32_t>& survivor, double farthest,
+                                                     WorkerPool* pool) const;
   Vector3 sep(std::uint32_t i, std::uint32_t j) const { return box_.minimum_image(flights_.x[j] - flights_.x[i]); }
   template <class F>
   void for_near(std::uint32_t i, double reach, F&& f) const {  // every j != i within `reach` cells' span

@@ -10,6 +10,25 @@
 
 namespace aggkit {
 
+namespace {
+
+// job(k) for each of `merged` contact-time merges, on the pool's workers (none: in order on this thread).
+template <class Job>
+void for_merges(WorkerPool* pool, std::size_t merged, Job&& job) {
+  if (!pool) {
+    for (std::size_t k = 0; k < merged; ++k) job(k);
+    return;
+  }
+  // Runs of consecutive merges claimed by the workers: one claim per merge (most move a few spheres) would
+  // cost more than the moves.
+  const std::size_t runs = std::min(merged, 8 * pool->threads());
+  pool->run(runs, [&](std::size_t r) {
+    for (std::size_t k = merged * r / runs; k < merged * (r + 1) / runs; ++k) job(k);
+  });
+}
+
+}  // namespace
+
 void TimeSteppingAggregation::link(std::uint32_t a, std::uint32_t b) {
   if (std::find(links_[a].begin(), links_[a].end(), b) == links_[a].end()) {
     links_[a].push_back(b);
@@ -148,6 +167,24 @@ std::vector<TimeSteppingAggregation::Collision> TimeSteppingAggregation::binary_
   return collisions;
 }
 
+std::vector<std::vector<std::uint32_t>> TimeSteppingAggregation::to_recheck(const std::vector<std::uint32_t>& survivor,
+                                                                           double farthest, WorkerPool* pool) const {
+  // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
+  // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
+  // same-cluster tolerance, which a full re-check of the moved spheres would link again). Per merged
+  // cluster, on the workers.
+  const bool near = settings_.near_recheck && detection_.bounds() && counters_.round_cap_hits == 0;
+  const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
+  std::vector<std::vector<std::uint32_t>> recheck(survivor.size());
+  for_merges(pool, survivor.size(), [&](std::size_t k) {
+    std::vector<std::uint32_t> mine;  // a local: the slots of recheck share cache lines
+    for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p))
+      if (!near || detection_.nearest_bound(p) < reach + norm(before_[p])) mine.push_back(p);
+    recheck[k] = std::move(mine);
+  });
+  return recheck;
+}
+
 std::vector<std::uint32_t> TimeSteppingAggregation::move_to_contact(const std::vector<Collision>& collisions, double dt) {
   // Back to the contact, merged there, and on with the merged velocity for the rest of the flight: an
   // isolated collision is then exactly ED's, and the minimisation is left the simultaneous ones. The merges
@@ -201,38 +238,15 @@ std::vector<std::uint32_t> TimeSteppingAggregation::move_to_contact(const std::v
     changed[k] = std::move(to);
     farthest_of[k] = most;
   };
-  const bool spread = pool_ && merged > 1 && spheres >= parallel_merge;
-  auto each = [&](auto&& job) {
-    if (!spread) {
-      for (std::size_t k = 0; k < merged; ++k) job(k);
-      return;
-    }
-    // Runs of consecutive merges claimed by the workers: one claim per merge (most move a few spheres)
-    // would cost more than the moves.
-    const std::size_t runs = std::min(merged, 8 * pool_->threads());
-    pool_->run(runs, [&](std::size_t r) {
-      for (std::size_t k = merged * r / runs; k < merged * (r + 1) / runs; ++k) job(k);
-    });
-  };
+  WorkerPool* const pool = pool_ && merged > 1 && spheres >= parallel_merge ? pool_.get() : nullptr;
+  auto each = [&](auto&& job) { for_merges(pool, merged, job); };
   each(move_back);
   for (std::size_t k = 0; k < merged; ++k)
     if (!inside[k]) reflect(survivor[k]);
   each(relocate);
   double farthest = 0;
   for (std::size_t k = 0; k < merged; ++k) farthest = std::max(farthest, farthest_of[k]);
-  // Near re-check (header): only the moved spheres that can now touch a sphere that was in another
-  // cluster at the pass. Not after a round cap hit (a cluster may then hold overlaps deeper than the
-  // same-cluster tolerance, which a full re-check of the moved spheres would link again). Per merged
-  // cluster, on the workers; gathered in merge order.
-  const bool near = settings_.near_recheck && detection_.bounds() && counters_.round_cap_hits == 0;
-  const double reach = 2.0 * radius_ * (1.0 + 1e-6) + farthest;
-  std::vector<std::vector<std::uint32_t>> recheck(merged);
-  each([&](std::size_t k) {
-    std::vector<std::uint32_t> mine;  // a local: the slots of recheck share cache lines
-    for (std::uint32_t p = members_.first(survivor[k]); p != ClusterMembership::none; p = members_.next(p))
-      if (!near || detection_.nearest_bound(p) < reach + norm(before_[p])) mine.push_back(p);
-    recheck[k] = std::move(mine);
-  });
+  const std::vector<std::vector<std::uint32_t>> recheck = to_recheck(survivor, farthest, pool);
   std::vector<std::uint32_t> moved;
   for (std::size_t k = 0; k < merged; ++k) {
     for (const auto& [p, cell] : changed[k]) cells_.move(p, cell);
