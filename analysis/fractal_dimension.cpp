@@ -86,6 +86,66 @@ std::vector<std::array<double, 3>> outline_directions(int dimension) {
   return u;
 }
 
+double distance2(const std::array<double, 3>& p, const std::array<double, 3>& q, int dimension) {
+  double d2 = 0;
+  for (int a = 0; a < dimension; ++a) d2 += (p[a] - q[a]) * (p[a] - q[a]);
+  return d2;
+}
+
+// The aggregate's outline: the polygon/polyhedron of its supporting planes in fixed directions,
+// h_k = max_j u_k·X_j + R; a centre's distance to the edge is min_k (h_k - u_k·c).
+struct Outline {
+  std::vector<std::array<double, 3>> directions;
+  std::vector<double> support;
+  double radius;
+  Outline(std::span<const std::array<double, 3>> points, int dimension, double r)
+      : directions(outline_directions(dimension)),
+        support(directions.size(), -std::numeric_limits<double>::infinity()),
+        radius(r) {
+    for (const auto& p : points)
+      for (std::size_t k = 0; k < directions.size(); ++k)
+        support[k] = std::max(support[k], directions[k][0] * p[0] + directions[k][1] * p[1] + directions[k][2] * p[2]);
+  }
+  double edge_distance(const std::array<double, 3>& c) const {
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < directions.size(); ++k)
+      d = std::min(d, support[k] + radius - (directions[k][0] * c[0] + directions[k][1] * c[1] + directions[k][2] * c[2]));
+    return d;
+  }
+};
+
+// The mass within r_k = 2R 2^(k/2) of the centres, summed over the centres whose ball of that radius lies
+// within the outline (`contributors` of them per scale).
+struct MassAround {
+  std::vector<double> sum;
+  std::vector<std::size_t> contributors, histogram;
+  explicit MassAround(std::size_t levels) : sum(levels, 0.0), contributors(levels, 0), histogram(levels) {}
+  // One centre at distance `allowed` from the edge: r_k² = 4R² 2^k, so the smallest k with r_k >= d follows
+  // from the binary exponent of d²/(4R²).
+  void add(std::span<const std::array<double, 3>> points, const std::array<double, 3>& centre, double allowed,
+           int dimension, double radius) {
+    const double unit2 = 4 * radius * radius;
+    const double allowed2 = allowed * allowed;
+    const std::size_t levels = sum.size();
+    std::fill(histogram.begin(), histogram.end(), 0);
+    for (const auto& p : points) {
+      const double d2 = distance2(p, centre, dimension);
+      if (d2 > allowed2) continue;
+      int exponent = 0;
+      const double mantissa = std::frexp(d2 / unit2, &exponent);  // d²/4R² = mantissa 2^exponent
+      const int k = d2 <= unit2 ? 0 : (mantissa == 0.5 ? exponent - 1 : exponent);
+      if (std::size_t(k) < levels) ++histogram[std::size_t(k)];
+    }
+    std::size_t cumulative = 0;
+    for (std::size_t k = 0; k < levels; ++k) {
+      cumulative += histogram[k];
+      if (unit2 * std::ldexp(1.0, int(k)) > allowed2) break;  // r_k beyond this centre's ball
+      sum[k] += double(cumulative);
+      ++contributors[k];
+    }
+  }
+};
+
 }  // namespace
 
 FractalFit box_counting_dimension(std::span<const std::array<double, 3>> points, int dimension, double radius,
@@ -173,74 +233,37 @@ FractalFit mass_radius_dimension(std::span<const std::array<double, 3>> points, 
   for (const auto& p : points)
     for (int a = 0; a < dimension; ++a) centroid[a] += p[a];
   for (int a = 0; a < dimension; ++a) centroid[a] /= double(n);
-  auto distance2 = [dimension](const std::array<double, 3>& p, const std::array<double, 3>& q) {
-    double d2 = 0;
-    for (int a = 0; a < dimension; ++a) d2 += (p[a] - q[a]) * (p[a] - q[a]);
-    return d2;
-  };
   double r_max = 0;
-  for (const auto& p : points) r_max = std::max(r_max, std::sqrt(distance2(p, centroid)));
-  // The aggregate's outline: the polygon/polyhedron of its supporting planes in fixed directions,
-  // h_k = max_j u_k·X_j + R; a centre's distance to the edge is min_k (h_k - u_k·c).
-  const std::vector<std::array<double, 3>> directions = outline_directions(dimension);
-  std::vector<double> support(directions.size(), -std::numeric_limits<double>::infinity());
-  for (const auto& p : points)
-    for (std::size_t k = 0; k < directions.size(); ++k)
-      support[k] = std::max(support[k], directions[k][0] * p[0] + directions[k][1] * p[1] + directions[k][2] * p[2]);
-  auto edge_distance = [&](const std::array<double, 3>& c) {
-    double d = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < directions.size(); ++k)
-      d = std::min(d, support[k] + radius - (directions[k][0] * c[0] + directions[k][1] * c[1] + directions[k][2] * c[2]));
-    return d;
-  };
+  for (const auto& p : points) r_max = std::max(r_max, std::sqrt(distance2(p, centroid, dimension)));
+  const Outline outline(points, dimension, radius);
 
-  // Scales r_k = 2R 2^(k/2), k = 0..K with r_K <= R_max: r_k² = 4R² 2^k, so the smallest k with
-  // r_k >= d follows from the binary exponent of d²/(4R²).
-  const double unit2 = 4 * radius * radius;
+  // Scales r_k = 2R 2^(k/2), k = 0..K with r_K <= R_max.
   int scales = 0;
   while (2 * radius * std::pow(2.0, 0.5 * (scales + 1)) <= r_max) ++scales;
   const std::size_t levels = std::size_t(scales) + 1;
 
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < n; ++i)
-    if (std::sqrt(distance2(points[i], centroid)) <= 0.5 * r_max) candidates.push_back(i);
+    if (std::sqrt(distance2(points[i], centroid, dimension)) <= 0.5 * r_max) candidates.push_back(i);
   constexpr std::size_t max_centres = 256;
   const std::size_t centres = std::min(max_centres, candidates.size());
 
-  std::vector<double> sum(levels, 0.0);
-  std::vector<std::size_t> contributors(levels, 0), histogram(levels);
+  MassAround mass(levels);
   for (std::size_t c = 0; c < centres; ++c) {
     const auto& centre = points[candidates[c * candidates.size() / centres]];
-    const double allowed = edge_distance(centre);
-    if (allowed < 2 * radius) continue;
-    const double allowed2 = allowed * allowed;
-    std::fill(histogram.begin(), histogram.end(), 0);
-    for (const auto& p : points) {
-      const double d2 = distance2(p, centre);
-      if (d2 > allowed2) continue;
-      int exponent = 0;
-      const double mantissa = std::frexp(d2 / unit2, &exponent);  // d²/4R² = mantissa 2^exponent
-      const int k = d2 <= unit2 ? 0 : (mantissa == 0.5 ? exponent - 1 : exponent);
-      if (std::size_t(k) < levels) ++histogram[std::size_t(k)];
-    }
-    std::size_t cumulative = 0;
-    for (std::size_t k = 0; k < levels; ++k) {
-      cumulative += histogram[k];
-      if (unit2 * std::ldexp(1.0, int(k)) > allowed2) break;  // r_k beyond this centre's ball
-      sum[k] += double(cumulative);
-      ++contributors[k];
-    }
+    const double allowed = outline.edge_distance(centre);
+    if (!(allowed < 2 * radius)) mass.add(points, centre, allowed, dimension, radius);
   }
 
   std::vector<double> log_scale, log_count;
   std::vector<char> valid;
-  for (std::size_t k = 0; k < levels && contributors[k] > 0; ++k) {
+  for (std::size_t k = 0; k < levels && mass.contributors[k] > 0; ++k) {
     const double r = 2 * radius * std::pow(2.0, 0.5 * double(k));
     fit.scale.push_back(r);
-    fit.count.push_back(sum[k] / double(contributors[k]));
+    fit.count.push_back(mass.sum[k] / double(mass.contributors[k]));
     log_scale.push_back(std::log(r));
     log_count.push_back(std::log(fit.count.back()));
-    valid.push_back(r >= 4 * radius * (1 - 1e-12) && r <= 0.5 * r_max && contributors[k] >= 4);
+    valid.push_back(r >= 4 * radius * (1 - 1e-12) && r <= 0.5 * r_max && mass.contributors[k] >= 4);
   }
   std::size_t first = 0, last = 0;
   if (!longest_run(valid, false, first, last)) return fit;

@@ -97,6 +97,99 @@ void check_series(std::span<const double> t, std::span<const double> x) {
   }
 }
 
+// No complete cycle: a monotone relaxation x∞ + c e^{-γt} (or a drift). Its increments decay at rate γ.
+void classify_monotone(std::span<const double> t, std::span<const double> x, const OscillationCriteria& criteria,
+                       OscillationClassification& c) {
+  std::vector<double> times, logs;
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    const double dx = std::abs(x[i] - x[i - 1]);
+    if (dx > 0) {
+      times.push_back(0.5 * (t[i] + t[i - 1]));
+      logs.push_back(std::log(dx));
+    }
+  }
+  // Unweighted: ln|Δx| has about the same scatter at every time (relative noise of the increments),
+  // so ordinary least squares is the estimator, and its slope error the standard error of γ.
+  const LineFit fit = fit_line(times, logs);
+  c.decay_rate = -fit.slope;  // NaN if fewer than two increments are non-zero
+  c.decay_rate_error = fit.slope_error;
+  // Either way it does not oscillate: damped (no persistent oscillation), converged only for a clean
+  // exponential relaxation.
+  c.regime = Regime::damped;
+  c.converged = c.decay_rate * (t.back() - t.front()) > criteria.drift_tolerance;
+  c.note = c.converged ? "monotone relaxation" : "monotone drift, not yet relaxing exponentially: run longer";
+}
+
+// Cycle amplitudes (half differences of successive turning points) at the midpoint times, and periods
+// (spacing of turning points of the same kind).
+struct Cycles {
+  std::vector<double> amplitude_times, amplitudes, log_amplitudes, periods;
+  explicit Cycles(const std::vector<TurningPoint>& points) {
+    for (std::size_t j = 0; j + 1 < points.size(); ++j) {
+      amplitude_times.push_back(0.5 * (points[j].t + points[j + 1].t));
+      amplitudes.push_back(0.5 * std::abs(points[j + 1].x - points[j].x));
+      log_amplitudes.push_back(std::log(std::max(amplitudes.back(), 1e-300)));
+    }
+    for (std::size_t j = 0; j + 2 < points.size(); ++j) periods.push_back(points[j + 2].t - points[j].t);
+  }
+  // The relative standard deviation of the periods.
+  double period_scatter() const {
+    const double period_mean = mean_of(periods);
+    double variance = 0;
+    for (double p : periods) variance += (p - period_mean) * (p - period_mean);
+    return periods.size() > 1 ? std::sqrt(variance / double(periods.size() - 1)) / period_mean : 0;
+  }
+};
+
+// |second half's mean − first half's| over the second's (0 with fewer than 4 values).
+double change_between_halves(const std::vector<double>& values) {
+  if (values.size() < 4) return 0;
+  const std::size_t half = values.size() / 2;
+  const double first = mean_of(std::span<const double>(values).first(half));
+  const double second = mean_of(std::span<const double>(values).last(half));
+  return std::abs(second - first) / second;
+}
+
+// The amplitude from the RMS of x over whole cycles (from the first turning point to the last of its kind):
+// √2 times the standard deviation, exact for a sine.
+double rms_amplitude(std::span<const double> t, std::span<const double> x, const std::vector<TurningPoint>& points) {
+  const std::size_t last_same = points.size() - 1 - (points.size() - 1) % 2;  // same kind as points[0]
+  double sum = 0, squares = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (t[i] >= points.front().t && t[i] < points[last_same].t) sum += x[i], squares += x[i] * x[i], ++count;
+  const double m = sum / double(count);
+  return std::sqrt(2.0 * std::max(0.0, squares / double(count) - m * m));
+}
+
+// The regime from the scatter of the periods and the change of the envelope over the fitted span.
+void judge(double period_scatter, double envelope_change, const OscillationCriteria& criteria,
+           OscillationClassification& c) {
+  if (period_scatter > criteria.regularity_tolerance) {
+    c.regime = Regime::irregular;
+    c.note = "cycle lengths scatter by " + std::to_string(int(std::round(100 * period_scatter))) +
+             " %: noise or chaos, not a periodic or linearly damped mode";
+    return;
+  }
+  const bool enough_cycles = c.cycles >= criteria.minimum_cycles;
+  if (envelope_change > criteria.drift_tolerance) {
+    c.regime = Regime::damped;
+    c.converged = enough_cycles;
+  } else if (envelope_change < -criteria.drift_tolerance) {
+    c.regime = Regime::sustained;
+    c.converged = false;
+    c.note = "amplitude still growing (unstable steady state; limit cycle not reached): run longer";
+  } else {
+    c.regime = Regime::sustained;
+    c.converged = enough_cycles && c.amplitude_change <= criteria.drift_tolerance &&
+                  c.period_change <= criteria.period_tolerance;
+    if (!c.converged && enough_cycles) c.note = "amplitude or period not converged between the halves of the tail";
+  }
+  if (!enough_cycles)
+    c.note = "only " + std::to_string(c.cycles) + " cycles in the tail (" + std::to_string(criteria.minimum_cycles) +
+             " needed for a converged verdict): run longer";
+}
+
 }  // namespace
 
 OscillationClassification classify_oscillation(std::span<const double> t_all, std::span<const double> x_all,
@@ -124,109 +217,32 @@ OscillationClassification classify_oscillation(std::span<const double> t_all, st
   }
 
   const std::vector<TurningPoint> points = turning_points(t, x, criteria.prominence * half_swing);
-  const double span = t.back() - t.front();
-
   if (points.size() < 3) {
-    // No complete cycle: a monotone relaxation x∞ + c e^{-γt} (or a drift). Its increments decay at rate γ.
-    std::vector<double> times, logs;
-    for (std::size_t i = 1; i < x.size(); ++i) {
-      const double dx = std::abs(x[i] - x[i - 1]);
-      if (dx > 0) {
-        times.push_back(0.5 * (t[i] + t[i - 1]));
-        logs.push_back(std::log(dx));
-      }
-    }
-    // Unweighted: ln|Δx| has about the same scatter at every time (relative noise of the increments),
-    // so ordinary least squares is the estimator, and its slope error the standard error of γ.
-    const LineFit fit = fit_line(times, logs);
-    c.decay_rate = -fit.slope;  // NaN if fewer than two increments are non-zero
-    c.decay_rate_error = fit.slope_error;
-    // Either way it does not oscillate: damped (no persistent oscillation), converged only for a clean
-    // exponential relaxation.
-    c.regime = Regime::damped;
-    c.converged = c.decay_rate * span > criteria.drift_tolerance;
-    c.note = c.converged ? "monotone relaxation" : "monotone drift, not yet relaxing exponentially: run longer";
+    classify_monotone(t, x, criteria, c);
     return c;
   }
-
-  // Cycle amplitudes (half differences of successive turning points) at the midpoint times, and periods
-  // (spacing of turning points of the same kind).
-  std::vector<double> amplitude_times, amplitudes, log_amplitudes, periods;
-  for (std::size_t j = 0; j + 1 < points.size(); ++j) {
-    amplitude_times.push_back(0.5 * (points[j].t + points[j + 1].t));
-    amplitudes.push_back(0.5 * std::abs(points[j + 1].x - points[j].x));
-    log_amplitudes.push_back(std::log(std::max(amplitudes.back(), 1e-300)));
-  }
-  for (std::size_t j = 0; j + 2 < points.size(); ++j) periods.push_back(points[j + 2].t - points[j].t);
-  c.cycles = periods.size() / 2;
-
-  const double period_mean = mean_of(periods);
-  double variance = 0;
-  for (double p : periods) variance += (p - period_mean) * (p - period_mean);
-  const double period_scatter = periods.size() > 1 ? std::sqrt(variance / double(periods.size() - 1)) / period_mean : 0;
-
+  const Cycles cycles(points);
+  c.cycles = cycles.periods.size() / 2;
   // The last cycles: amplitude and period reported; the first and second halves compared.
-  const std::size_t last = std::min<std::size_t>(amplitudes.size(), 4);
-  c.amplitude = mean_of(std::span<const double>(amplitudes).last(last));
+  const std::size_t last = std::min<std::size_t>(cycles.amplitudes.size(), 4);
+  c.amplitude = mean_of(std::span<const double>(cycles.amplitudes).last(last));
   c.relative_amplitude = c.mean != 0 ? c.amplitude / std::abs(c.mean) : OscillationClassification::nan;
-  c.period = mean_of(std::span<const double>(periods).last(std::min<std::size_t>(periods.size(), 4)));
-  c.mean_period = period_mean;
-  c.mean_amplitude = mean_of(amplitudes);
-  {
-    const std::size_t last_same = points.size() - 1 - (points.size() - 1) % 2;  // same kind as points[0]
-    double sum = 0, squares = 0;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < t.size(); ++i)
-      if (t[i] >= points.front().t && t[i] < points[last_same].t) sum += x[i], squares += x[i] * x[i], ++count;
-    const double m = sum / double(count);
-    c.rms_amplitude = std::sqrt(2.0 * std::max(0.0, squares / double(count) - m * m));
-  }
-  if (amplitudes.size() >= 4) {
-    const std::size_t half = amplitudes.size() / 2;
-    const double a1 = mean_of(std::span<const double>(amplitudes).first(half));
-    const double a2 = mean_of(std::span<const double>(amplitudes).last(half));
-    c.amplitude_change = std::abs(a2 - a1) / a2;
-  }
-  if (periods.size() >= 4) {
-    const std::size_t half = periods.size() / 2;
-    const double p1 = mean_of(std::span<const double>(periods).first(half));
-    const double p2 = mean_of(std::span<const double>(periods).last(half));
-    c.period_change = std::abs(p2 - p1) / p2;
-  }
+  c.period = mean_of(std::span<const double>(cycles.periods).last(std::min<std::size_t>(cycles.periods.size(), 4)));
+  c.mean_period = mean_of(cycles.periods);
+  c.mean_amplitude = mean_of(cycles.amplitudes);
+  c.rms_amplitude = rms_amplitude(t, x, points);
+  if (cycles.amplitudes.size() >= 4) c.amplitude_change = change_between_halves(cycles.amplitudes);
+  if (cycles.periods.size() >= 4) c.period_change = change_between_halves(cycles.periods);
 
   // ln A_j against time, unweighted: the cycle amplitudes carry about the same relative error, i.e. the
   // same absolute error in ln A, whatever their size (a nonlinear fit of A0 e^{-γt} to A_j would instead
   // weight the large early cycles more and needs a start; the log-linear fit is exact for an exponential
   // envelope).
-  const LineFit fit = fit_line(amplitude_times, log_amplitudes);
+  const LineFit fit = fit_line(cycles.amplitude_times, cycles.log_amplitudes);
   c.decay_rate = -fit.slope;
   c.decay_rate_error = fit.slope_error;
-  const double fitted_span = amplitude_times.back() - amplitude_times.front();
-  const double envelope_change = c.decay_rate * fitted_span;
-
-  if (period_scatter > criteria.regularity_tolerance) {
-    c.regime = Regime::irregular;
-    c.note = "cycle lengths scatter by " + std::to_string(int(std::round(100 * period_scatter))) +
-             " %: noise or chaos, not a periodic or linearly damped mode";
-    return c;
-  }
-  const bool enough_cycles = c.cycles >= criteria.minimum_cycles;
-  if (envelope_change > criteria.drift_tolerance) {
-    c.regime = Regime::damped;
-    c.converged = enough_cycles;
-  } else if (envelope_change < -criteria.drift_tolerance) {
-    c.regime = Regime::sustained;
-    c.converged = false;
-    c.note = "amplitude still growing (unstable steady state; limit cycle not reached): run longer";
-  } else {
-    c.regime = Regime::sustained;
-    c.converged = enough_cycles && c.amplitude_change <= criteria.drift_tolerance &&
-                  c.period_change <= criteria.period_tolerance;
-    if (!c.converged && enough_cycles) c.note = "amplitude or period not converged between the halves of the tail";
-  }
-  if (!enough_cycles)
-    c.note = "only " + std::to_string(c.cycles) + " cycles in the tail (" + std::to_string(criteria.minimum_cycles) +
-             " needed for a converged verdict): run longer";
+  const double fitted_span = cycles.amplitude_times.back() - cycles.amplitude_times.front();
+  judge(cycles.period_scatter(), c.decay_rate * fitted_span, criteria, c);
   return c;
 }
 
