@@ -121,6 +121,84 @@ PackingRegion ParticleSystem::cloud_region() const {
   return region;
 }
 
+namespace {
+
+// The size of a cloud start: either size or volume fraction, or neither for a cube filling its box; in a
+// box, a sphere that fits.
+void validate_cloud(const ParticleSystem& system, const CloudStart& cloud) {
+  const bool open = system.box.boundary == Boundary::open;
+  if (cloud.size && (!(*cloud.size > 0) || !std::isfinite(*cloud.size)))
+    throw InputError("initial.size", format_value(*cloud.size), "a finite size > 0 (cube side or sphere diameter)");
+  if (cloud.volume_fraction && (!(*cloud.volume_fraction > 0) || !(*cloud.volume_fraction < 1)))
+    throw InputError("initial.volume_fraction", format_value(*cloud.volume_fraction), "a volume fraction in (0, 1)");
+  if (!open && cloud.shape == CloudShape::cube) {
+    const char* given = cloud.size ? "initial.size" : cloud.volume_fraction ? "initial.volume_fraction" : nullptr;
+    if (given)
+      throw InputError(given, format_value(cloud.size ? *cloud.size : *cloud.volume_fraction),
+                       "no size or volume fraction for cloud = \"cube\" in a box: the cloud fills the box, whose "
+                       "size comes from volume_fraction or box");
+    return;
+  }
+  if (cloud.size && cloud.volume_fraction)
+    throw InputError("initial.size", format_value(*cloud.size), "either size or volume_fraction, not both");
+  if (!cloud.size && !cloud.volume_fraction)
+    throw InputError("initial.size", "(missing)",
+                     std::string("required: the size (") + (cloud.shape == CloudShape::cube ? "side" : "diameter") +
+                         ") or volume_fraction of the cloud" + (open ? " in open space" : " sphere"));
+  if (open) return;
+  const double diameter = system.cloud_region().size;
+  double shortest = system.box.side[0];
+  for (int a = 1; a < system.box.dimension; ++a) shortest = std::min(shortest, system.box.side[a]);
+  if (diameter > shortest)
+    throw InputError(cloud.size ? "initial.size" : "initial.volume_fraction",
+                     format_value(cloud.size ? *cloud.size : *cloud.volume_fraction),
+                     "a sphere that fits in the box: its diameter " + format_value(diameter) +
+                         " exceeds the shortest box side " + format_value(shortest));
+}
+
+// A file start: inside the box (walls: at least its radius from each) and without overlaps.
+void validate_file_start(const Box& box, const StartFile& file) {
+  const ParticleStart& p = file.particles;
+  const std::string shown = quoted(file.path);
+  if (box.boundary != Boundary::open)
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (int a = 0; a < box.dimension; ++a) {
+        const double x = p.positions[i][a], r = p.radii[i], side = box.side[a];
+        const bool periodic = box.boundary == Boundary::periodic;
+        if (periodic ? (x < 0 || x >= side) : (x < r || x > side - r))
+          throw InputError("initial.file", shown,
+                           file.where(i) + ": position " + format_value(x) + " along axis " + "xyz"[a] +
+                               (periodic ? " outside the periodic box [0, " + format_value(side) + ")"
+                                         : " puts the particle (radius " + format_value(r) +
+                                               ") outside the walls: R <= x <= L - R with L = " + format_value(side)));
+      }
+  if (const auto pair = first_overlap(box, p.positions, p.radii)) {
+    const auto [i, j] = *pair;
+    const double distance = norm(box.minimum_image(p.positions[j] - p.positions[i]));
+    throw InputError("initial.file", shown,
+                     file.where(j) + ": the particle overlaps the one on line " + std::to_string(file.lines[i]) +
+                         " (centre distance " + format_value(distance) + " < R_i + R_j = " +
+                         format_value(p.radii[i] + p.radii[j]) + ")");
+  }
+}
+
+// The laws of radius and mass, or (a file start) the count the file gives.
+void validate_laws(const ParticleSystem& system, const StartFile* file) {
+  if (file) {
+    if (file->particles.size() != system.count)
+      throw InputError("count", std::to_string(system.count),
+                       "the number of particles in initial.file (" + std::to_string(file->particles.size()) + " in " +
+                           file->path.string() + "), or no count");
+    return;
+  }
+  system.radius_law.validate("radius");
+  if (!system.mass_law.density) return system.mass_law.law.validate("mass");
+  if (!(*system.mass_law.density > 0) || !std::isfinite(*system.mass_law.density))
+    throw InputError("mass.density", format_value(*system.mass_law.density), "a finite density > 0");
+}
+
+}  // namespace
+
 void ParticleSystem::validate() const {
   box.validate();
   const int d = box.dimension;
@@ -130,22 +208,8 @@ void ParticleSystem::validate() const {
   if (!(speed >= 0) || !std::isfinite(speed))
     throw InputError("initial.speed", format_value(speed), "a finite speed >= 0 (0: a cold start, every velocity zero)");
   if (realizations < 1) throw InputError("realizations", std::to_string(realizations), "an integer >= 1");
-
   const StartFile* file = file_of(*this);
-  if (file) {
-    if (file->particles.size() != count)
-      throw InputError("count", std::to_string(count),
-                       "the number of particles in initial.file (" + std::to_string(file->particles.size()) + " in " +
-                           file->path.string() + "), or no count");
-  } else {
-    radius_law.validate("radius");
-    if (mass_law.density) {
-      if (!(*mass_law.density > 0) || !std::isfinite(*mass_law.density))
-        throw InputError("mass.density", format_value(*mass_law.density), "a finite density > 0");
-    } else {
-      mass_law.law.validate("mass");
-    }
-  }
+  validate_laws(*this, file);
 
   if (start_kind() == StartKind::lattice) {
     if (open)
@@ -177,65 +241,14 @@ void ParticleSystem::validate() const {
                              " particles fit on the square/cubic lattice without overlapping (about pi/4 in 2-D, pi/6 in 3-D at most)");
       }
       break;
-    case StartKind::cloud: {
-      const CloudStart& cloud = std::get<CloudStart>(start);
-      if (cloud.size && (!(*cloud.size > 0) || !std::isfinite(*cloud.size)))
-        throw InputError("initial.size", format_value(*cloud.size), "a finite size > 0 (cube side or sphere diameter)");
-      if (cloud.volume_fraction && (!(*cloud.volume_fraction > 0) || !(*cloud.volume_fraction < 1)))
-        throw InputError("initial.volume_fraction", format_value(*cloud.volume_fraction), "a volume fraction in (0, 1)");
-      if (!open && cloud.shape == CloudShape::cube) {
-        const char* given = cloud.size ? "initial.size" : cloud.volume_fraction ? "initial.volume_fraction" : nullptr;
-        if (given)
-          throw InputError(given, format_value(cloud.size ? *cloud.size : *cloud.volume_fraction),
-                           "no size or volume fraction for cloud = \"cube\" in a box: the cloud fills the box, whose "
-                           "size comes from volume_fraction or box");
-      } else {
-        if (cloud.size && cloud.volume_fraction)
-          throw InputError("initial.size", format_value(*cloud.size), "either size or volume_fraction, not both");
-        if (!cloud.size && !cloud.volume_fraction)
-          throw InputError("initial.size", "(missing)",
-                           std::string("required: the size (") + (cloud.shape == CloudShape::cube ? "side" : "diameter") +
-                               ") or volume_fraction of the cloud" + (open ? " in open space" : " sphere"));
-        if (!open) {
-          const double diameter = cloud_region().size;
-          double shortest = box.side[0];
-          for (int a = 1; a < d; ++a) shortest = std::min(shortest, box.side[a]);
-          if (diameter > shortest)
-            throw InputError(cloud.size ? "initial.size" : "initial.volume_fraction",
-                             format_value(cloud.size ? *cloud.size : *cloud.volume_fraction),
-                             "a sphere that fits in the box: its diameter " + format_value(diameter) +
-                                 " exceeds the shortest box side " + format_value(shortest));
-        }
-      }
+    case StartKind::cloud:
+      validate_cloud(*this, std::get<CloudStart>(start));
       // The placement can only be tried: place realization 0 once (O(N) expected).
       (void)initial_state(0);
       break;
-    }
-    case StartKind::file: {
-      const ParticleStart& p = file->particles;
-      const std::string shown = quoted(file->path);
-      if (!open)
-        for (std::size_t i = 0; i < p.size(); ++i)
-          for (int a = 0; a < d; ++a) {
-            const double x = p.positions[i][a], r = p.radii[i], side = box.side[a];
-            const bool periodic = box.boundary == Boundary::periodic;
-            if (periodic ? (x < 0 || x >= side) : (x < r || x > side - r))
-              throw InputError("initial.file", shown,
-                               file->where(i) + ": position " + format_value(x) + " along axis " + "xyz"[a] +
-                                   (periodic ? " outside the periodic box [0, " + format_value(side) + ")"
-                                             : " puts the particle (radius " + format_value(r) +
-                                                   ") outside the walls: R <= x <= L - R with L = " + format_value(side)));
-          }
-      if (const auto pair = first_overlap(box, p.positions, p.radii)) {
-        const auto [i, j] = *pair;
-        const double distance = norm(box.minimum_image(p.positions[j] - p.positions[i]));
-        throw InputError("initial.file", shown,
-                         file->where(j) + ": the particle overlaps the one on line " + std::to_string(file->lines[i]) +
-                             " (centre distance " + format_value(distance) + " < R_i + R_j = " +
-                             format_value(p.radii[i] + p.radii[j]) + ")");
-      }
+    case StartKind::file:
+      validate_file_start(box, *file);
       break;
-    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "particle/dem/dem.hpp"
+#include "particle/dem/near_pair_cells.hpp"
 
 namespace aggkit {
 
@@ -17,61 +18,15 @@ inline Vector3 Dem::separation(std::size_t i, std::size_t j) const {
 
 template <class Visit>
 void Dem::for_each_near_pair(double range, std::size_t parts, Visit&& visit) const {
-  const std::size_t n = x_.size();
-  // Grid region per axis: the box for periodic/reflecting, the particles' bounding box when open.
-  Vector3 lo{0, 0, 0}, extent{0, 0, 0};
-  const bool periodic = box_.boundary == Boundary::periodic;
-  if (box_.boundary == Boundary::open) {
-    Vector3 hi = x_[0];
-    lo = x_[0];
-    for (const Vector3& p : x_)
-      for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], p[d]), hi[d] = std::max(hi[d], p[d]);
-    extent = hi - lo;
-  } else {
-    extent = box_.side;
-  }
-  double h = range;
-  std::array<std::int64_t, 3> cells{1, 1, 1};
-  for (int attempt = 0; attempt < 64; ++attempt) {
-    double total = 1;
-    for (int d = 0; d < 3; ++d) {
-      cells[d] = std::max<std::int64_t>(1, std::int64_t(std::floor(extent[d] / h)));
-      if (periodic && cells[d] < 3) cells[d] = 1;  // fewer than 3 cells: one cell, so no neighbour is met twice
-      total *= double(cells[d]);
-    }
-    if (total <= std::max(27.0, 4.0 * double(n))) break;
-    h *= std::cbrt(total / std::max(27.0, 4.0 * double(n))) * 1.01;  // sparse cloud: coarser cells
-  }
-  std::array<double, 3> inverse{};
-  for (int d = 0; d < 3; ++d) inverse[d] = extent[d] > 0 ? double(cells[d]) / extent[d] : 0.0;
-  const std::size_t total = std::size_t(cells[0] * cells[1] * cells[2]);
-  std::vector<std::uint32_t> cell_of(n), start(total + 1, 0), order(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::int64_t c[3];
-    for (int d = 0; d < 3; ++d) c[d] = std::clamp<std::int64_t>(std::int64_t(std::floor((x_[i][d] - lo[d]) * inverse[d])), 0, cells[d] - 1);
-    cell_of[i] = std::uint32_t((c[2] * cells[1] + c[1]) * cells[0] + c[0]);
-    ++start[cell_of[i] + 1];
-  }
-  for (std::size_t c = 0; c < total; ++c) start[c + 1] += start[c];
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) order[fill[cell_of[i]]++] = std::uint32_t(i);
-  }
+  const NearPairCells grid = near_pair_cells(x_, box_, range);
+  const std::array<std::int64_t, 3>& cells = grid.cells;
+  const std::vector<std::uint32_t>& start = grid.start;
+  const std::vector<std::uint32_t>& order = grid.order;
+  const std::vector<std::array<int, 3>>& forward = grid.forward;
+  const bool periodic = grid.periodic;
   // Each pair of particles once: the pairs within a cell, then those with the 13 neighbour cells of the
   // forward half of the stencil (the other 13 meet this cell from their side). With periodic images every
-  // axis has 1 or at least 3 cells, so no neighbour cell is met twice.
-  std::vector<std::array<int, 3>> forward;
-  for (int oz = -1; oz <= 1; ++oz)
-    for (int oy = -1; oy <= 1; ++oy)
-      for (int ox = -1; ox <= 1; ++ox) {
-        const int off[3] = {ox, oy, oz};
-        bool used = true;
-        for (int d = 0; d < 3; ++d) used = used && !(cells[d] == 1 && off[d] != 0);
-        // forward: the first non-zero offset (z, then y, then x) is positive
-        const int lead = oz != 0 ? oz : oy != 0 ? oy : ox;
-        if (used && lead > 0) forward.push_back({ox, oy, oz});
-      }
-  // Slabs of z cells as parts (on the worker pool when there is one).
+  // axis has 1 or at least 3 cells, so no neighbour cell is met twice. Slabs of z cells as parts (on the worker pool when there is one).
   parts = std::clamp<std::size_t>(parts, 1, std::size_t(cells[2]));
   auto slab = [&](std::size_t part) {
     const std::int64_t z0 = std::int64_t(part) * cells[2] / std::int64_t(parts), z1 = std::int64_t(part + 1) * cells[2] / std::int64_t(parts);

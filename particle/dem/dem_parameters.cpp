@@ -109,6 +109,106 @@ void DemParameters::validate() const {
   if (forces.gravity_substeps > 1 && !forces.gravity) throw InputError("gravity_substeps", std::to_string(forces.gravity_substeps), "1 without gravity");
 }
 
+namespace {
+
+// The contact law's key and value, named by a calibration that leaves the doubles (a contact time or a
+// stiffness so small that k_n, γ_n or the damping ratio overflow, or the step underflows).
+struct LawKey {
+  const char* key;
+  double value;
+  explicit LawKey(const DemParameters& p)
+      : key(p.restitution ? "contact_time" : p.stiffness ? "stiffness" : "stiffness_normalized"),
+        value(p.restitution ? *p.contact_time : p.stiffness ? *p.stiffness : *p.stiffness_normalized) {}
+  void representable(double x, const std::string& what) const {
+    if (!std::isfinite(x))
+      throw InputError(key, shortest_text(value), "a contact law whose " + what + " is a finite number (here " + shortest_text(x) + ")");
+  }
+};
+
+// A law given by restitution e and contact time t_c: k_n/m* and γ_n/m*.
+void calibrate_by_restitution(const DemParameters& p, const LawKey& law, DemCalibration& c) {
+  DemSettings& dem = c.settings;
+  const double e = *p.restitution;
+  c.contact_time = *p.contact_time;
+  const double log_e = std::log(e);
+  const double rate = (M_PI * M_PI + log_e * log_e) / (c.contact_time * c.contact_time);  // k_n / m*
+  dem.stiffness_per_mass = rate;
+  // ζ = γ/(2√(k m*)): the formula's −ln e/√(π² + ln² e), or the root of the clipped collision.
+  double zeta = 0;
+  try {
+    zeta = p.exact_calibration ? exact_damping_ratio(e) : formula_damping_ratio(e);
+  } catch (const std::invalid_argument& error) {  // a restitution below what the exact calibration reaches
+    throw InputError("restitution", shortest_text(e), std::string("a restitution the exact calibration reaches: ") + error.what());
+  }
+  dem.damping_per_mass = 2 * zeta * std::sqrt(rate);
+  law.representable(rate, "k_n/m* = (π² + ln² e)/t_c²");
+  law.representable(dem.damping_per_mass, "γ_n/m*");
+  c.realised_restitution = clipped_collision(zeta).restitution;
+  c.elastic = e == 1;
+}
+
+// A law given by stiffness (or its normalized form) and damping; `reference_reduced` the m_eff of t_c.
+void calibrate_by_stiffness(const DemParameters& p, const LawKey& law, double mean_mass, double mean_radius,
+                            double reference_reduced, DemCalibration& c) {
+  DemSettings& dem = c.settings;
+  dem.damping = *p.damping;
+  if (p.stiffness) {
+    dem.stiffness = *p.stiffness;
+  } else {
+    // k* = G m²/R³ with the mean mass and radius [Trivino2025, eqs. 14–15].
+    dem.stiffness = *p.stiffness_normalized * dem.G * mean_mass * mean_mass / (mean_radius * mean_radius * mean_radius);
+  }
+  c.contact_time = M_PI * std::sqrt(reference_reduced / dem.stiffness);  // [Trivino2025, eq. 8]
+  // The realised restitution of a pair of mean masses.
+  const double reduced = 0.5 * mean_mass;
+  const double zeta = dem.damping / (2 * std::sqrt(dem.stiffness * reduced));
+  law.representable(dem.stiffness, "k_n");
+  law.representable(zeta, "damping ratio γ_n/(2√(k_n m*))");
+  law.representable(c.contact_time, "contact time π√(m_eff/k_n)");
+  c.realised_restitution = clipped_collision(zeta).restitution;
+  c.elastic = dem.damping == 0;
+}
+
+// The step (given, or from the contact and dashpot times) with its checks, notes and warnings.
+// The dashpot's own time m_eff/γ_n (fastest for the lightest pair): the explicit dashpot relaxes a contact's
+// normal velocity by a factor 1 − γ_n dt/m* per step, which overshoots and reverses it once γ_n dt/m* > 1 —
+// an overdamped collision then rebounds instead of sticking (measured: γ_n = 2·10^4 at k̃_n = 10^6 with
+// dt = t_c/50 left the whole cloud unaggregated). `dashpot = "auto"` integrates such dashpots implicitly
+// without friction (implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50; an explicit
+// dashpot (`dashpot = "explicit"`, or auto with friction) gets a default step that resolves it with 5 steps;
+// a given step is taken as given, warned above t_c/20 or x > 1 (dashpot_scheme.hpp).
+void choose_step(const DemParameters& p, const LawKey& law, DemCalibration& c) {
+  DemSettings& dem = c.settings;
+  const double damping_time = c.damping_rate > 0 ? 1 / c.damping_rate : std::numeric_limits<double>::infinity();
+  const bool explicit_dashpot =
+      p.dashpot == DashpotScheme::explicit_verlet || (p.dashpot == DashpotScheme::automatic && dem.friction > 0);
+  const double t_c = c.contact_time;
+  dem.dt = p.dt                  ? *p.dt
+           : p.steps_per_contact ? t_c / *p.steps_per_contact
+           : explicit_dashpot    ? std::min(t_c / 50, damping_time / 5)
+                                 : t_c / 50;
+  const char* step_key = p.dt ? "dt" : p.steps_per_contact ? "steps_per_contact" : law.key;
+  const double step_value = p.dt ? *p.dt : p.steps_per_contact ? *p.steps_per_contact : law.value;
+  if (!(dem.dt > 0))
+    throw InputError(step_key, shortest_text(step_value),
+                     "a step dt > 0 (here t_c = " + shortest_text(t_c) + " gives dt = " + shortest_text(dem.dt) + ")");
+  if (dem.dt > t_c / 2)
+    throw InputError("dt", shortest_text(dem.dt), "dt <= t_c/2 = " + shortest_text(t_c / 2) + " (a contact must span several steps)");
+  const DashpotStepCheck step = check_dashpot_step(p.dashpot, c.damping_rate * dem.dt, dem.dt, t_c, dem.friction > 0);
+  c.damping_factor = step.damping_factor;
+  c.warnings = step.warnings;
+  if (dem.dt > t_c / 20) c.step_notes.push_back("dt > t_c/20 = " + shortest_text(t_c / 20) + " [Trivino2025, eq. 8]");
+  if (explicit_dashpot && dem.dt > damping_time / 5) {
+    c.step_notes.push_back("dt > m_eff/(5 γ_n) = " + shortest_text(damping_time / 5) + " (the dashpot is under-resolved)");
+    if (step.damping_factor <= 1)  // beyond 1 the stability warning says more
+      c.warnings.push_back("dt = " + shortest_text(dem.dt) + " > m_eff/(5 γ_n) = " + shortest_text(damping_time / 5) +
+                           ": the explicit dashpot is under-resolved (x = γ_n dt/m* = " + shortest_text(step.damping_factor) + ")");
+  }
+  if (!step.implicit && step.damping_factor > 1) c.step_notes.push_back("explicit dashpot above its stability limit x > 1");
+}
+
+}  // namespace
+
 DemCalibration calibrate(const DemParameters& p, const ParticleStart& start, const Box& box) {
   p.validate();
   DemCalibration c;
@@ -133,86 +233,13 @@ DemCalibration calibrate(const DemParameters& p, const ParticleStart& start, con
   mean_radius /= double(start.size());
 
   const bool by_restitution = p.restitution.has_value();
-  // The law's key, for a calibration that leaves the doubles (a contact time or a stiffness so small that
-  // k_n, γ_n or the damping ratio overflow, or the step underflows).
-  const char* law = by_restitution ? "contact_time" : p.stiffness ? "stiffness" : "stiffness_normalized";
-  const double law_value = by_restitution ? *p.contact_time : p.stiffness ? *p.stiffness : *p.stiffness_normalized;
-  const auto representable = [&](double x, const std::string& what) {
-    if (!std::isfinite(x))
-      throw InputError(law, shortest_text(law_value), "a contact law whose " + what + " is a finite number (here " + shortest_text(x) + ")");
-  };
+  const LawKey law(p);
   const double reference_reduced = 0.5 * m_min;  // [Trivino2025, eq. 8]: m_eff ≈ min(m_i)/2
-  if (by_restitution) {
-    const double e = *p.restitution;
-    c.contact_time = *p.contact_time;
-    const double log_e = std::log(e);
-    const double rate = (M_PI * M_PI + log_e * log_e) / (c.contact_time * c.contact_time);  // k_n / m*
-    dem.stiffness_per_mass = rate;
-    // ζ = γ/(2√(k m*)): the formula's −ln e/√(π² + ln² e), or the root of the clipped collision.
-    double zeta = 0;
-    try {
-      zeta = p.exact_calibration ? exact_damping_ratio(e) : formula_damping_ratio(e);
-    } catch (const std::invalid_argument& error) {  // a restitution below what the exact calibration reaches
-      throw InputError("restitution", shortest_text(e), std::string("a restitution the exact calibration reaches: ") + error.what());
-    }
-    dem.damping_per_mass = 2 * zeta * std::sqrt(rate);
-    representable(rate, "k_n/m* = (π² + ln² e)/t_c²");
-    representable(dem.damping_per_mass, "γ_n/m*");
-    c.realised_restitution = clipped_collision(zeta).restitution;
-    c.elastic = e == 1;
-  } else {
-    dem.damping = *p.damping;
-    if (p.stiffness) {
-      dem.stiffness = *p.stiffness;
-    } else {
-      // k* = G m²/R³ with the mean mass and radius [Trivino2025, eqs. 14–15].
-      dem.stiffness = *p.stiffness_normalized * dem.G * mean_mass * mean_mass / (mean_radius * mean_radius * mean_radius);
-    }
-    c.contact_time = M_PI * std::sqrt(reference_reduced / dem.stiffness);  // [Trivino2025, eq. 8]
-    // The realised restitution of a pair of mean masses.
-    const double reduced = 0.5 * mean_mass;
-    const double zeta = dem.damping / (2 * std::sqrt(dem.stiffness * reduced));
-    representable(dem.stiffness, "k_n");
-    representable(zeta, "damping ratio γ_n/(2√(k_n m*))");
-    representable(c.contact_time, "contact time π√(m_eff/k_n)");
-    c.realised_restitution = clipped_collision(zeta).restitution;
-    c.elastic = dem.damping == 0;
-  }
-  // The dashpot's own time m_eff/γ_n (fastest for the lightest pair): the explicit dashpot relaxes a contact's
-  // normal velocity by a factor 1 − γ_n dt/m* per step, which overshoots and reverses it once γ_n dt/m* > 1 —
-  // an overdamped collision then rebounds instead of sticking (measured: γ_n = 2·10^4 at k̃_n = 10^6 with
-  // dt = t_c/50 left the whole cloud unaggregated). `dashpot = "auto"` integrates such dashpots implicitly
-  // without friction (implicit_dashpot.hpp: stable at any step), so the default step stays t_c/50; an explicit
-  // dashpot (`dashpot = "explicit"`, or auto with friction) gets a default step that resolves it with 5 steps;
-  // a given step is taken as given, warned above t_c/20 or x > 1 (dashpot_scheme.hpp).
+  if (by_restitution) calibrate_by_restitution(p, law, c);
+  else calibrate_by_stiffness(p, law, mean_mass, mean_radius, reference_reduced, c);
   dem.implicit_dashpot_above = implicit_dashpot_threshold(p.dashpot);
   c.damping_rate = by_restitution ? dem.damping_per_mass : dem.damping / reference_reduced;
-  const double damping_time = c.damping_rate > 0 ? 1 / c.damping_rate : std::numeric_limits<double>::infinity();
-  const bool explicit_dashpot =
-      p.dashpot == DashpotScheme::explicit_verlet || (p.dashpot == DashpotScheme::automatic && dem.friction > 0);
-  const double t_c = c.contact_time;
-  dem.dt = p.dt                  ? *p.dt
-           : p.steps_per_contact ? t_c / *p.steps_per_contact
-           : explicit_dashpot    ? std::min(t_c / 50, damping_time / 5)
-                                 : t_c / 50;
-  const char* step_key = p.dt ? "dt" : p.steps_per_contact ? "steps_per_contact" : law;
-  const double step_value = p.dt ? *p.dt : p.steps_per_contact ? *p.steps_per_contact : law_value;
-  if (!(dem.dt > 0))
-    throw InputError(step_key, shortest_text(step_value),
-                     "a step dt > 0 (here t_c = " + shortest_text(t_c) + " gives dt = " + shortest_text(dem.dt) + ")");
-  if (dem.dt > t_c / 2)
-    throw InputError("dt", shortest_text(dem.dt), "dt <= t_c/2 = " + shortest_text(t_c / 2) + " (a contact must span several steps)");
-  const DashpotStepCheck step = check_dashpot_step(p.dashpot, c.damping_rate * dem.dt, dem.dt, t_c, dem.friction > 0);
-  c.damping_factor = step.damping_factor;
-  c.warnings = step.warnings;
-  if (dem.dt > t_c / 20) c.step_notes.push_back("dt > t_c/20 = " + shortest_text(t_c / 20) + " [Trivino2025, eq. 8]");
-  if (explicit_dashpot && dem.dt > damping_time / 5) {
-    c.step_notes.push_back("dt > m_eff/(5 γ_n) = " + shortest_text(damping_time / 5) + " (the dashpot is under-resolved)");
-    if (step.damping_factor <= 1)  // beyond 1 the stability warning says more
-      c.warnings.push_back("dt = " + shortest_text(dem.dt) + " > m_eff/(5 γ_n) = " + shortest_text(damping_time / 5) +
-                           ": the explicit dashpot is under-resolved (x = γ_n dt/m* = " + shortest_text(step.damping_factor) + ")");
-  }
-  if (!step.implicit && step.damping_factor > 1) c.step_notes.push_back("explicit dashpot above its stability limit x > 1");
+  choose_step(p, law, c);
   c.implicit_dashpot = implicit_dashpot_wanted(dem, m_min);
   return c;
 }

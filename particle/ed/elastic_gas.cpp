@@ -18,10 +18,29 @@ ElasticGasIn<D>::ElasticGasIn(const Box& box, double radius, std::span<const Vec
   if (v.size() != x.size()) throw InputError("velocities", std::to_string(v.size()), "one velocity per particle");
   if (!(particles_per_cell >= 0) || !std::isfinite(particles_per_cell))
     throw InputError("particles_per_cell", format_value(particles_per_cell), "a finite number >= 0 (0: default)");
-  // Default (bench/results/log/ed-ballistic-aggregation.md, elastic gas): about 2 particles per cell in 2-D and 1 in 3-D; cells never
-  // narrower than a diameter, so only the 3^d stencil can hold a contact partner.
+  // Default (bench/results/log/ed-ballistic-aggregation.md, elastic gas): about 2 particles per cell in 2-D and 1 in 3-D.
   const double per_cell = particles_per_cell > 0 ? particles_per_cell : (D == 2 ? 2.0 : 1.0);
-  const double wanted = std::max(sigma_, std::pow(box.volume() * per_cell / double(x.size()), 1.0 / D));
+  build_grid(box, x.size(), per_cell);
+  // Room for the crowding a gas shows (Poisson fluctuations about the mean occupancy); grown if exceeded.
+  while (capacity_ < 4 * per_cell + 8) capacity_ *= 2;
+  place(x, v);
+  fill_cells();
+  if (largest_overlap() > overlap_tolerance)
+    throw InputError("positions", "overlapping", "initial positions with no two particles closer than 2R");
+  const std::size_t n = x.size();
+  tree_.reset(n);
+  for (std::uint32_t s = 0; s < n; ++s) {
+    predict_crossing(s);
+    predict_collisions(s, -1, 0, none, false);
+    schedule(s);
+  }
+  rebase_at_ = rebase_interval();
+}
+
+template <int D>
+void ElasticGasIn<D>::build_grid(const Box& box, std::size_t n, double per_cell) {
+  // Cells never narrower than a diameter, so only the 3^d stencil can hold a contact partner.
+  const double wanted = std::max(sigma_, std::pow(box.volume() * per_cell / double(n), 1.0 / D));
   for (int d = 0; d < D; ++d) {
     side_[d] = box.side[d];
     if (periodic_ && side_[d] < 3 * sigma_)
@@ -38,12 +57,13 @@ ElasticGasIn<D>::ElasticGasIn(const Box& box, double radius, std::span<const Vec
     for (int d = 0; d < D; ++d, r /= 3) o[d] = r % 3 - 1;
     stencil_.push_back(o);
   }
+}
 
+template <int D>
+void ElasticGasIn<D>::place(std::span<const Vector3> x, std::span<const Vector3> v) {
   const std::size_t n = x.size();
   state_.resize(n);
   next_.assign(n, Next{});
-  // Room for the crowding a gas shows (Poisson fluctuations about the mean occupancy); grown if exceeded.
-  while (capacity_ < 4 * per_cell + 8) capacity_ *= 2;
   id_.resize(n);
   slot_of_.resize(n);
   // Slots in cell order from the start, for locality.
@@ -52,7 +72,7 @@ ElasticGasIn<D>::ElasticGasIn(const Box& box, double radius, std::span<const Vec
     double pos[D];
     for (int d = 0; d < D; ++d) {
       double xd = x[p][d];
-      const bool inside = periodic_ ? std::isfinite(xd) : xd >= radius && xd <= side_[d] - radius;
+      const bool inside = periodic_ ? std::isfinite(xd) : xd >= radius_ && xd <= side_[d] - radius_;
       if (!inside || !std::isfinite(v[p][d]))
         throw InputError("position", format_value(xd),
                          "finite positions and velocities inside the box (at least R from reflecting walls)");
@@ -79,16 +99,6 @@ ElasticGasIn<D>::ElasticGasIn(const Box& box, double radius, std::span<const Vec
     st.stamp = 0;
     next_[s].cell = coords_of(st.x);
   }
-  fill_cells();
-  if (largest_overlap() > overlap_tolerance)
-    throw InputError("positions", "overlapping", "initial positions with no two particles closer than 2R");
-  tree_.reset(n);
-  for (std::uint32_t s = 0; s < n; ++s) {
-    predict_crossing(s);
-    predict_collisions(s, -1, 0, none, false);
-    schedule(s);
-  }
-  rebase_at_ = rebase_interval();
 }
 
 template <int D>

@@ -123,6 +123,10 @@ class ElasticGasIn final : public ElasticGas {
   int stencil_cells(const std::array<int, D>& c, int axis, int direction, const std::uint32_t** blocks,
                     std::int8_t (*image)[D]) const;
   void build_morton();
+  // The cells (about per_cell particles each, never narrower than a diameter) and the 3^d stencil.
+  void build_grid(const Box& box, std::size_t n, double per_cell);
+  // The particles in slots in cell order (InputError for a position outside the box or a non-finite value).
+  void place(std::span<const Vector3> x, std::span<const Vector3> v);
   void grow_cells();  // doubles the capacity of every cell (a crowded cell), O(cells)
   void fill_cells();
   std::array<int, D> coords_of(const double* x) const {
