@@ -40,6 +40,48 @@ class SnapshotState final : public ObservedState {
   std::size_t size_;
 };
 
+// The statistics of an ensemble over every run (in run order); accepted events per second over `wall`.
+EngineStatistics run_summary(const dsmc::Options& options, const std::vector<dsmc::RunStatistics>& run_statistics,
+                             std::size_t threads, double wall) {
+  dsmc::RunStatistics total;
+  std::int64_t extinct = 0, frozen = 0, max_doublings = 0;
+  double first_frozen = std::numeric_limits<double>::quiet_NaN();
+  for (const dsmc::RunStatistics& s : run_statistics) {
+    total.trials += s.trials;
+    total.aggregations += s.aggregations;
+    total.shatterings += s.shatterings;
+    total.leaks += s.leaks;
+    total.doublings += s.doublings;
+    total.halvings += s.halvings;
+    max_doublings = std::max<std::int64_t>(max_doublings, std::int64_t(s.doublings));
+    extinct += s.extinct;
+    frozen += s.frozen;
+    if (s.frozen && !(first_frozen <= s.frozen_time)) first_frozen = s.frozen_time;
+  }
+  return {
+      {"method", dsmc::to_string(options.method)},
+      {"particles", std::int64_t(options.particles)},
+      {"runs", std::int64_t(options.runs)},
+      {"threads", std::int64_t(threads)},
+      {"seed", std::to_string(options.seed)},
+      {"bucket", std::int64_t(options.bucket)},
+      {"truncated", std::string(options.truncate ? "yes" : "no")},
+      {"trials", std::int64_t(total.trials)},
+      {"accepted_events", std::int64_t(total.accepted())},
+      {"aggregations", std::int64_t(total.aggregations)},
+      {"shatterings", std::int64_t(total.shatterings)},
+      {"leaked_clusters", std::int64_t(total.leaks)},
+      {"acceptance_rate", total.trials ? double(total.accepted()) / double(total.trials) : 0.0},
+      {"accepted_events_per_second", double(total.accepted()) / wall},
+      {"doublings", std::int64_t(total.doublings)},
+      {"max_doublings_per_run", max_doublings},
+      {"halvings", std::int64_t(total.halvings)},
+      {"extinct_runs", extinct},
+      {"frozen_runs", frozen},
+      {"first_frozen_time", first_frozen},
+  };
+}
+
 class DsmcEngine final : public Engine {
  public:
   DsmcEngine(std::string label, dsmc::Options options, std::function<std::string(const std::string&)> keys,
@@ -132,43 +174,7 @@ class DsmcEngine final : public Engine {
         [](StateReader& in) { return in.read<dsmc::RunStatistics>(); });
     if (!records) return {};
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    dsmc::RunStatistics total;
-    std::int64_t extinct = 0, frozen = 0, max_doublings = 0;
-    double first_frozen = std::numeric_limits<double>::quiet_NaN();
-    for (const dsmc::RunStatistics& s : run_statistics) {
-      total.trials += s.trials;
-      total.aggregations += s.aggregations;
-      total.shatterings += s.shatterings;
-      total.leaks += s.leaks;
-      total.doublings += s.doublings;
-      total.halvings += s.halvings;
-      max_doublings = std::max<std::int64_t>(max_doublings, std::int64_t(s.doublings));
-      extinct += s.extinct;
-      frozen += s.frozen;
-      if (s.frozen && !(first_frozen <= s.frozen_time)) first_frozen = s.frozen_time;
-    }
-    EngineStatistics statistics{
-        {"method", dsmc::to_string(options_.method)},
-        {"particles", std::int64_t(options_.particles)},
-        {"runs", std::int64_t(options_.runs)},
-        {"threads", std::int64_t(ensemble->threads())},
-        {"seed", std::to_string(options_.seed)},
-        {"bucket", std::int64_t(options_.bucket)},
-        {"truncated", std::string(options_.truncate ? "yes" : "no")},
-        {"trials", std::int64_t(total.trials)},
-        {"accepted_events", std::int64_t(total.accepted())},
-        {"aggregations", std::int64_t(total.aggregations)},
-        {"shatterings", std::int64_t(total.shatterings)},
-        {"leaked_clusters", std::int64_t(total.leaks)},
-        {"acceptance_rate", total.trials ? double(total.accepted()) / double(total.trials) : 0.0},
-        {"accepted_events_per_second", double(total.accepted()) / wall},
-        {"doublings", std::int64_t(total.doublings)},
-        {"max_doublings_per_run", max_doublings},
-        {"halvings", std::int64_t(total.halvings)},
-        {"extinct_runs", extinct},
-        {"frozen_runs", frozen},
-        {"first_frozen_time", first_frozen},
-    };
+    EngineStatistics statistics = run_summary(options_, run_statistics, ensemble->threads(), wall);
     if (ranks) statistics.push_back({"ranks", std::int64_t(ranks->size())});  // threads: those of rank 0
     if (first > 0) statistics.push_back({"resumed_at", outputs[first - 1]});  // a resume: the output it continued from
     return statistics;

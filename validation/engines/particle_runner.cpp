@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -159,6 +160,163 @@ class RealizationStates {
   std::vector<std::string> states_;
 };
 
+// Where a running realization stands: what its checkpoint keeps beside its partial result and the engine's
+// state.
+struct RealizationProgress {
+  std::uint64_t next_output = 0, next_ff = 0;  // the next output time and free-fall time to record
+  bool stopped = false;                          // by the engine's stop rule
+  Vector3 p0{0, 0, 0};                           // momentum plus wall impulse at the start
+  double momentum_scale = 0;                     // Σ m |v| at the start
+  double earlier_wall = 0;                       // wall seconds of the runs before a resume
+};
+
+// Realization r's start: prepared, its first trajectory frame written (r = 0), its momentum taken.
+RealizationProgress start_realization(const Scene& scene, const EngineObserver& observer, std::size_t r,
+                                      ParticleSimulation& simulation, const StatusSink& status) {
+  RealizationProgress at;
+  simulation.prepare(status);
+  if (r == 0 && scene.observe.frame_every > 0) {  // a fresh trajectory, from t = 0
+    std::filesystem::remove_all(observer.folder / "trajectory");
+    std::filesystem::create_directories(observer.folder / "trajectory");
+    write_snapshot(trajectory_frame(observer.folder, 0), simulation);
+  }
+  at.p0 = simulation.momentum() + simulation.wall_impulse();
+  const std::vector<Vector3> v = simulation.velocities();
+  const std::vector<double> m = simulation.masses();
+  for (std::size_t i = 0; i < v.size(); ++i) at.momentum_scale += m[i] * norm(v[i]);
+  return at;
+}
+
+// A running realization's state after output k - 1 (`k` the next output), for a checkpoint.
+std::string running_state(const RealizationResult& result, std::uint64_t k, const RealizationProgress& at, double wall,
+                          const ParticleSimulation& simulation) {
+  StateWriter out;
+  out.put(RealizationStage::running);
+  put_partial(out, result);
+  out.put(k);
+  out.put(at.next_ff);
+  out.put(std::uint8_t(at.stopped));
+  out.put(at.p0);
+  out.put(at.momentum_scale);
+  out.put(wall);
+  simulation.save(out);
+  return out.take();
+}
+
+// ... read back (after its stage), the engine's state restored.
+RealizationProgress read_running_state(StateReader& saved, RealizationResult& result, ParticleSimulation& simulation,
+                                       std::size_t outputs) {
+  RealizationProgress at;
+  get_partial(saved, result);
+  saved.get(at.next_output);
+  saved.get(at.next_ff);
+  at.stopped = saved.read<std::uint8_t>() != 0;
+  saved.get(at.p0);
+  saved.get(at.momentum_scale);
+  saved.get(at.earlier_wall);
+  simulation.restore(saved);
+  saved.expect_end();
+  if (at.next_output > outputs || result.series.size() != at.next_output)
+    throw CheckpointError("the checkpoint's output count does not fit this scene's output times");
+  result.resumed = true;
+  return at;
+}
+
+// The final.json entries of observe.times_ff k (the configuration's values, the engine's, the time in
+// t_ff), NaN where not `reached`.
+void add_free_fall_values(const Scene& scene, const ParticleSimulation& simulation, double k, double free_fall, bool reached,
+                          RealizationResult& result) {
+  const ParticleView state(simulation);
+  auto values = configuration_values(scene.observe.final_state, state, free_fall_suffix(k));
+  for (auto& entry : simulation.state_values()) values.emplace_back(entry.first + free_fall_suffix(k), entry.second);
+  values.emplace_back("time_ff" + free_fall_suffix(k), simulation.time() / free_fall);
+  for (auto& [key, value] : values) result.finals.emplace_back(key, reached ? value : std::numeric_limits<double>::quiet_NaN());
+}
+
+// The final.json entries and profiles of a finished realization.
+void add_final_values(const Scene& scene, ParticleSimulation& simulation, const RealizationProgress& at, double wall,
+                      RealizationResult& result) {
+  const ParticleView final(simulation);
+  std::vector<std::pair<std::string, double>> at_end = configuration_values(scene.observe.final_state, final, "");
+  result.finals.insert(result.finals.begin(), at_end.begin(), at_end.end());  // first in final.json, as before
+  for (const std::string& name : scene.observe.final_state) {
+    const Observable observable = *Observable::from_name(name);
+    if (observable.is_profile()) result.profiles.emplace_back(name, observable.profile(final));
+  }
+  for (auto& entry : simulation.final_values()) result.finals.push_back(std::move(entry));
+  const double drift = norm(simulation.momentum() + simulation.wall_impulse() - at.p0);
+  result.finals.emplace_back("wall_seconds", wall);
+  result.finals.emplace_back("momentum_drift", at.momentum_scale > 0 ? drift / at.momentum_scale : drift);
+  result.finals.emplace_back("stop_time", simulation.time());
+  result.counters = simulation.counters();
+}
+
+// What realization 0 alone writes at its end: the final configuration to the observer, the trajectory's
+// collection, the snapshot and picture.
+void write_first_realization(const Scene& scene, const EngineObserver& observer, const ParticleSimulation& simulation,
+                             RealizationResult& result) {
+  const ParticleView final(simulation);
+  if (observer.final_configuration) observer.final_configuration(final);
+  if (scene.observe.frame_every > 0) {
+    std::vector<double> times{0.0};
+    for (std::size_t k : scene.observe.frame_outputs) times.push_back(scene.time.outputs[k]);
+    write_trajectory_collection(observer.folder, times);
+  }
+  if (scene.observe.snapshots) {
+    write_snapshot(observer.folder / "final.vtu", simulation);
+    std::string error;
+    result.picture = write_cluster_picture(observer.folder / "final.png", final.configuration(), final.cluster_labels(), &error)
+                         ? "final.png"
+                         : "failed: " + error;
+  }
+}
+
+// run(k) for each pending realization on `workers` threads; the first failure is rethrown after every
+// thread has stopped (`report` also guards the failure).
+void run_on_threads(const std::vector<std::size_t>& pending, std::size_t workers, std::mutex& report,
+                    const std::function<void(std::size_t)>& run) {
+  if (workers <= 1) {
+    for (std::size_t r : pending) run(r);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::vector<std::thread> pool;
+  for (std::size_t w = 0; w < workers; ++w)
+    pool.emplace_back([&] {
+      for (std::size_t k; (k = next++) < pending.size();) {
+        try {
+          run(pending[k]);
+        } catch (...) {
+          std::lock_guard lock(report);
+          if (!failure) failure = std::current_exception();
+          next = pending.size();
+        }
+      }
+    });
+  for (auto& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+// The ensemble's series, final.json and profiles (rank 0).
+void record_ensemble(const Scene& scene, const EngineObserver& observer, std::vector<RealizationResult>& results) {
+  const std::vector<double>& outputs = scene.time.outputs;
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    std::vector<Measurement> at_k;
+    for (auto& result : results) at_k.push_back(std::move(result.series[k]));
+    observer.record(outputs[k], std::move(at_k));
+  }
+  FinalAverages finals;
+  std::vector<NamedProfiles> profiles;
+  for (const auto& result : results) {
+    for (const auto& [key, value] : result.finals) finals.add(key, value);
+    profiles.push_back(result.profiles);
+  }
+  write_file_atomically(observer.folder / "final.json", finals.json(results.size()));
+  if (observer.final_state) observer.final_state(finals.statistics());
+  write_final_profiles(observer.folder, profiles);
+}
+
 class ParticleEngine final : public Engine {
  public:
   ParticleEngine(std::string name, std::string label, ParticleEngineKind::Setup setup, std::size_t threads,
@@ -175,8 +333,7 @@ class ParticleEngine final : public Engine {
   EngineStatistics run(const Scene& scene, const EngineObserver& observer) const override {
     if (observer.warning)
       for (const std::string& warning : setup_.warnings) observer.warning(warning);
-    const ParticleSystem& system = *scene.particles;
-    const std::size_t realizations = system.realizations;
+    const std::size_t realizations = scene.particles->realizations;
     std::vector<RealizationResult> results(realizations);
     std::mutex report;  // progress and status lines come from every thread
 
@@ -185,22 +342,8 @@ class ParticleEngine final : public Engine {
     RealizationStates states(realizations);
     std::vector<std::string> resumed(realizations);
     std::vector<bool> finished(realizations, false);
-    if (observer.checkpoint && !observer.checkpoint->resumed().empty()) {
-      try {
-        resumed = RealizationStates::read(observer.checkpoint->resumed(), realizations);
-        for (std::size_t r = 0; r < realizations; ++r) {
-          StateReader in(resumed[r]);
-          if (in.read<RealizationStage>() != RealizationStage::finished) continue;
-          results[r] = get_result(in);
-          in.expect_end();
-          results[r].resumed = true;
-          finished[r] = true;
-          states.set(r, std::move(resumed[r]));
-        }
-      } catch (const CheckpointError& e) {
-        throw InputError("--resume", label(), std::string("a checkpoint this engine can continue from; ") + e.what());
-      }
-    }
+    if (observer.checkpoint && !observer.checkpoint->resumed().empty())
+      take_finished(observer.checkpoint->resumed(), results, states, resumed, finished);
     // With several ranks (rank_share.hpp) each runs its share of the realizations, and rank 0 takes every
     // result in realization order; checkpoints are then off (the harness refuses them).
     const RankGroup* ranks = shared_ranks(observer.ranks);
@@ -208,64 +351,49 @@ class ParticleEngine final : public Engine {
     std::vector<std::size_t> pending;
     for (std::size_t r : mine)
       if (!finished[r]) pending.push_back(r);
-    const auto run_realization = [&](std::size_t r) {
-      results[r] = run_one(scene, observer, r, report, resumed[r], checkpoint ? &states : nullptr, checkpoint);
-    };
-
     std::size_t workers = threads_ == 0 ? std::max(1u, std::thread::hardware_concurrency()) : threads_;
     workers = std::min(workers, mine.size());
-    const auto run_pending = [&] {
-      if (workers <= 1) {
-        for (std::size_t r : pending) run_realization(r);
-        return;
-      }
-      std::atomic<std::size_t> next{0};
-      std::exception_ptr failure;
-      std::vector<std::thread> pool;
-      for (std::size_t w = 0; w < workers; ++w)
-        pool.emplace_back([&] {
-          for (std::size_t k; (k = next++) < pending.size();) {
-            try {
-              run_realization(pending[k]);
-            } catch (...) {
-              std::lock_guard lock(report);
-              if (!failure) failure = std::current_exception();
-              next = pending.size();
-            }
-          }
-        });
-      for (auto& thread : pool) thread.join();
-      if (failure) std::rethrow_exception(failure);
-    };
     results = gather_realization_values<RealizationResult>(
         ranks, realizations,
         [&](const std::vector<std::size_t>& own) {
-          run_pending();
+          run_on_threads(pending, workers, report, [&](std::size_t r) {
+            results[r] = run_one(scene, observer, r, report, resumed[r], checkpoint ? &states : nullptr, checkpoint);
+          });
           std::vector<RealizationResult> mine;
           for (std::size_t r : own) mine.push_back(std::move(results[r]));
           return mine;
         },
         put_result, get_result);
     if (ranks && ranks->rank() != 0) return {};  // rank 0 records and writes
+    record_ensemble(scene, observer, results);
+    return statistics(scene, observer, results, workers, ranks);
+  }
 
-    const std::vector<double>& outputs = scene.time.outputs;
-    for (std::size_t k = 0; k < outputs.size(); ++k) {
-      std::vector<Measurement> at_k;
-      for (auto& result : results) at_k.push_back(std::move(result.series[k]));
-      observer.record(outputs[k], std::move(at_k));
+ private:
+  // The realizations a checkpoint holds finished, taken as they are; the states of the others kept in
+  // `resumed`.
+  void take_finished(const std::string& checkpoint, std::vector<RealizationResult>& results, RealizationStates& states,
+                     std::vector<std::string>& resumed, std::vector<bool>& finished) const {
+    try {
+      resumed = RealizationStates::read(checkpoint, results.size());
+      for (std::size_t r = 0; r < results.size(); ++r) {
+        StateReader in(resumed[r]);
+        if (in.read<RealizationStage>() != RealizationStage::finished) continue;
+        results[r] = get_result(in);
+        in.expect_end();
+        results[r].resumed = true;
+        finished[r] = true;
+        states.set(r, std::move(resumed[r]));
+      }
+    } catch (const CheckpointError& e) {
+      throw InputError("--resume", label(), std::string("a checkpoint this engine can continue from; ") + e.what());
     }
-    FinalAverages finals;
-    std::vector<NamedProfiles> profiles;
-    for (const auto& result : results) {
-      for (const auto& [key, value] : result.finals) finals.add(key, value);
-      profiles.push_back(result.profiles);
-    }
-    write_file_atomically(observer.folder / "final.json", finals.json(realizations));
-    if (observer.final_state) observer.final_state(finals.statistics());
-    write_final_profiles(observer.folder, profiles);
+  }
 
-    EngineStatistics statistics{{"particles", system.describe()},
-                                {"realizations", std::int64_t(realizations)},
+  EngineStatistics statistics(const Scene& scene, const EngineObserver& observer, const std::vector<RealizationResult>& results,
+                              std::size_t workers, const RankGroup* ranks) const {
+    EngineStatistics statistics{{"particles", scene.particles->describe()},
+                                {"realizations", std::int64_t(results.size())},
                                 {"threads", std::int64_t(workers)}};
     if (ranks) statistics.push_back({"ranks", std::int64_t(ranks->size())});  // threads: those of rank 0
     for (std::size_t c = 0; c < results.front().counters.size(); ++c) {
@@ -283,7 +411,6 @@ class ParticleEngine final : public Engine {
     return statistics;
   }
 
- private:
   // Realization r from its start, or from `resumed` (its state in a checkpoint: a stage, then what it holds).
   // With `states`, its state is kept at every output time and the checkpoint written when due.
   RealizationResult run_one(const Scene& scene, const EngineObserver& observer, std::size_t r, std::mutex& report,
@@ -292,10 +419,10 @@ class ParticleEngine final : public Engine {
     const std::string prefix =
         realizations > 1 ? "realization " + std::to_string(r + 1) + "/" + std::to_string(realizations) + ", " : "";
     const auto started = std::chrono::steady_clock::now();
+    const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
     // The wall-time budget is checked whenever the engine reports (ED: every 2^16 events and every chunk).
     const StatusSink status = [&](const std::string& what) {
-      if (max_wall_seconds_ > 0 &&
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() > max_wall_seconds_)
+      if (max_wall_seconds_ > 0 && seconds() > max_wall_seconds_)
         throw std::runtime_error("stopped: the wall-time budget of " + std::to_string(max_wall_seconds_) +
                                  " s (engine option max_wall_seconds) ran out at " + what);
       if (!observer.status) return;
@@ -304,62 +431,19 @@ class ParticleEngine final : public Engine {
     };
     RealizationResult result;
     const std::unique_ptr<ParticleSimulation> simulation = setup_.start(r);
-    Vector3 p0{0, 0, 0};
-    double momentum_scale = 0;
     const std::vector<double>& outputs = scene.time.outputs;
-    bool stopped = false;
-    std::uint64_t next_output = 0, next_ff = 0;
-    double earlier_wall = 0;  // of the runs before a resume
+    RealizationProgress at;
     StateReader saved(resumed);
     if (!resumed.empty() && saved.read<RealizationStage>() == RealizationStage::running) {
       try {
-        get_partial(saved, result);
-        saved.get(next_output);
-        saved.get(next_ff);
-        stopped = saved.read<std::uint8_t>() != 0;
-        saved.get(p0);
-        saved.get(momentum_scale);
-        saved.get(earlier_wall);
-        simulation->restore(saved);
-        saved.expect_end();
-        if (next_output > outputs.size() || result.series.size() != next_output)
-          throw CheckpointError("the checkpoint's output count does not fit this scene's output times");
-        result.resumed = true;
+        at = read_running_state(saved, result, *simulation, outputs.size());
       } catch (const CheckpointError& e) {
         throw InputError("--resume", label(), "a checkpoint this engine can continue from; realization " + std::to_string(r + 1) +
                                                   ": " + e.what());
       }
     } else {
-      simulation->prepare(status);
-      if (r == 0 && scene.observe.frame_every > 0) {  // a fresh trajectory, from t = 0
-        std::filesystem::remove_all(observer.folder / "trajectory");
-        std::filesystem::create_directories(observer.folder / "trajectory");
-        write_snapshot(trajectory_frame(observer.folder, 0), *simulation);
-      }
-      p0 = simulation->momentum() + simulation->wall_impulse();
-      const std::vector<Vector3> v = simulation->velocities();
-      const std::vector<double> m = simulation->masses();
-      for (std::size_t i = 0; i < v.size(); ++i) momentum_scale += m[i] * norm(v[i]);
+      at = start_realization(scene, observer, r, *simulation, status);
     }
-    // Keeps this realization's state after output k (when the engine can save it) and writes the checkpoint
-    // when it is due.
-    const auto keep_state = [&](std::uint64_t k) {
-      if (!states) return;
-      if (simulation->saves_state()) {
-        StateWriter out;
-        out.put(RealizationStage::running);
-        put_partial(out, result);
-        out.put(k);
-        out.put(next_ff);
-        out.put(std::uint8_t(stopped));
-        out.put(p0);
-        out.put(momentum_scale);
-        out.put(earlier_wall + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-        simulation->save(out);
-        states->set(r, out.take());
-      }
-      if (checkpoint->due()) checkpoint->save(states->payload());
-    };
     // observe.times_ff: the state at t = k t_ff, between the output times.
     const std::vector<double>& times_ff = scene.observe.times_ff;
     const double free_fall = times_ff.empty() ? 0.0 : simulation->free_fall_time();
@@ -367,63 +451,36 @@ class ParticleEngine final : public Engine {
       throw InputError("observe.times_ff", "[" + shortest_text(times_ff.front()) + ", ...]",
                        "free-fall times only with an engine that has one (dem with gravity)");
     const auto record_ff = [&](double until) {
-      for (; next_ff < times_ff.size() && (times_ff[next_ff] * free_fall <= until || until < 0); ++next_ff) {
-        const double k = times_ff[next_ff];
+      for (; at.next_ff < times_ff.size() && (times_ff[at.next_ff] * free_fall <= until || until < 0); ++at.next_ff) {
+        const double k = times_ff[at.next_ff];
         // Reached unless the run has stopped (its stop rule, or time.end: until < 0) before k t_ff.
-        const bool reached = until >= 0 && !stopped && !(stopped = simulation->advance(k * free_fall, status));
-        const ParticleView state(*simulation);
-        auto values = configuration_values(scene.observe.final_state, state, free_fall_suffix(k));
-        for (auto& entry : simulation->state_values()) values.emplace_back(entry.first + free_fall_suffix(k), entry.second);
-        values.emplace_back("time_ff" + free_fall_suffix(k), simulation->time() / free_fall);
-        for (auto& [key, value] : values) result.finals.emplace_back(key, reached ? value : std::numeric_limits<double>::quiet_NaN());
+        const bool reached = until >= 0 && !at.stopped && !(at.stopped = simulation->advance(k * free_fall, status));
+        add_free_fall_values(scene, *simulation, k, free_fall, reached, result);
       }
     };
-    for (std::uint64_t k = next_output; k < outputs.size(); ++k) {
+    for (std::uint64_t k = at.next_output; k < outputs.size(); ++k) {
       const double t = outputs[k];
       record_ff(t);
-      if (!stopped) stopped = simulation->advance(t, status);
+      if (!at.stopped) at.stopped = simulation->advance(t, status);
       result.series.push_back(observer.measure(t, ParticleView(*simulation)));
       if (r == 0) {  // the trajectory's frame of this output, if it has one
         const auto& frames = scene.observe.frame_outputs;
-        if (const auto at = std::find(frames.begin(), frames.end(), k); at != frames.end())
-          write_snapshot(trajectory_frame(observer.folder, std::size_t(at - frames.begin()) + 1), *simulation);
+        if (const auto frame = std::find(frames.begin(), frames.end(), k); frame != frames.end())
+          write_snapshot(trajectory_frame(observer.folder, std::size_t(frame - frames.begin()) + 1), *simulation);
       }
       if (r == 0 && observer.progress) {
         std::lock_guard lock(report);
         observer.progress(t);
       }
-      keep_state(k + 1);
+      if (!states) continue;
+      // This realization's state after output k (when the engine can save it); the checkpoint when due.
+      if (simulation->saves_state()) states->set(r, running_state(result, k + 1, at, at.earlier_wall + seconds(), *simulation));
+      if (checkpoint->due()) checkpoint->save(states->payload());
     }
     record_ff(-1);  // beyond time.end: not reached
-    if (!stopped) simulation->finish(scene.time.end, status);
-    const double wall = earlier_wall + std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-
-    const ParticleView final(*simulation);
-    std::vector<std::pair<std::string, double>> at_end = configuration_values(scene.observe.final_state, final, "");
-    result.finals.insert(result.finals.begin(), at_end.begin(), at_end.end());  // first in final.json, as before
-    for (const std::string& name : scene.observe.final_state) {
-      const Observable observable = *Observable::from_name(name);
-      if (observable.is_profile()) result.profiles.emplace_back(name, observable.profile(final));
-    }
-    for (auto& entry : simulation->final_values()) result.finals.push_back(std::move(entry));
-    const double drift = norm(simulation->momentum() + simulation->wall_impulse() - p0);
-    result.finals.emplace_back("wall_seconds", wall);
-    result.finals.emplace_back("momentum_drift", momentum_scale > 0 ? drift / momentum_scale : drift);
-    result.finals.emplace_back("stop_time", simulation->time());
-    result.counters = simulation->counters();
-    if (r == 0 && observer.final_configuration) observer.final_configuration(final);
-    if (r == 0 && scene.observe.frame_every > 0) {
-      std::vector<double> times{0.0};
-      for (std::size_t k : scene.observe.frame_outputs) times.push_back(outputs[k]);
-      write_trajectory_collection(observer.folder, times);
-    }
-    if (r == 0 && scene.observe.snapshots) {
-      write_snapshot(observer.folder / "final.vtu", *simulation);
-      std::string error;
-      result.picture = write_cluster_picture(observer.folder / "final.png", final.configuration(), final.cluster_labels(), &error)
-                           ? "final.png"
-                           : "failed: " + error;
-    }
+    if (!at.stopped) simulation->finish(scene.time.end, status);
+    add_final_values(scene, *simulation, at, at.earlier_wall + seconds(), result);
+    if (r == 0) write_first_realization(scene, observer, *simulation, result);
     if (states) {
       StateWriter out;
       out.put(RealizationStage::finished);

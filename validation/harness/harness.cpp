@@ -124,9 +124,12 @@ RunResult run_scene(const Scene& scene, const RunOptions& options) {
   return run_engines(scene, build_engines(scene), options);  // bad input fails before any output
 }
 
-RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engine>>& engines, const RunOptions& options) {
-  const OutputFolder folder(options.out);
-  const RankGroup* ranks = shared_ranks(options.ranks);
+namespace {
+
+// The output folder prepared (a fresh run) and the checkpoints opened: when the run or an engine asks for
+// them, or to resume.
+void prepare_run(const Scene& scene, const std::vector<std::unique_ptr<Engine>>& engines, const RunOptions& options,
+                 const OutputFolder& folder, const RankGroup* ranks, std::optional<RunCheckpoints>& checkpoints) {
   std::vector<std::pair<std::string, std::vector<std::string>>> files;
   for (const auto& engine : engines) {
     const EngineType* type = find_engine_type(engine->name());
@@ -139,7 +142,6 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
     return it != engine->settings().end() && it->is_number() && it->template get<double>() > 0;
   });
   if (ranks) refuse_checkpoints(scene, engines, options);
-  std::optional<RunCheckpoints> checkpoints;
   if (options.resume) {
     checkpoints.emplace(options.out, CheckpointedRun{options.scene_file, options.scene_fingerprint, options.checkpoint_every, options.plot},
                         true);
@@ -150,6 +152,15 @@ RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engi
                           false);
   }
   if (checkpoints && options.catch_signals) catch_stop_signals();
+}
+
+}  // namespace
+
+RunResult run_engines(const Scene& scene, const std::vector<std::unique_ptr<Engine>>& engines, const RunOptions& options) {
+  const OutputFolder folder(options.out);
+  const RankGroup* ranks = shared_ranks(options.ranks);
+  std::optional<RunCheckpoints> checkpoints;
+  prepare_run(scene, engines, options, folder, ranks, checkpoints);
 
   // The plotter's interpreter starts now: its matplotlib import overlaps the engines.
   std::optional<SeriesPlotter> plotter;

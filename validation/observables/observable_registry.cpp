@@ -158,17 +158,23 @@ double box_volume(const ParticleConfiguration& c) {
   return volume;
 }
 
-}  // namespace
-
-const std::vector<ObservableType>& observable_types() {
+// The densities' measures: moments, densities of one size, the mass leaked by truncation.
+std::vector<ObservableType> density_types() {
   using namespace need;
-  static const std::vector<ObservableType> types{
+  return {
       {"M<p>", "moment M_p = Σ_k k^p n_k, real p >= 0 (M0, M1, M1.5, ...)", sizes, moment_order, false,
        [](const ObservedState& s, double p) { return s.moment(p); }, {}, {}},
       {"n<k>", "density n_k of size k >= 1 (n1, n10, ...)", sizes, density_size, true,
        [](const ObservedState& s, double k) { return s.density(std::size_t(k)); }, {}, {}},
       {"mass_leak", "mass lost through the truncation so far (truncation = \"drop\")", need::leaked_mass,
        named("mass_leak"), false, [](const ObservedState& s, double) { return s.leaked_mass(); }, {}, {}},
+  };
+}
+
+// The clusters and contacts of a particle configuration, and its kinetic energy.
+std::vector<ObservableType> cluster_types() {
+  using namespace need;
+  return {
       {"clusters", "number of clusters", need::clusters, named("clusters"), false,
        of_particles([](const ParticleView& v) { return double(v.clusters()); }), {}, {}},
       {"mean_cluster_size", "particles per cluster N/C; M1/M0 for densities", sizes, named("mean_cluster_size"), false,
@@ -194,6 +200,13 @@ const std::vector<ObservableType>& observable_types() {
        of_particles([](const ParticleView& v) {
          return relative_contacts(v.configuration(), 2.1, ContactCounting::with_self);
        }), {}, {}},
+  };
+}
+
+// The shape of the largest cluster: gyration and fractal dimensions.
+std::vector<ObservableType> shape_types() {
+  using namespace need;
+  return {
       {"aspect_ratio", "aspect ratio of the gyration tensor of the largest cluster", positions | need::clusters,
        named("aspect_ratio"), false,
        of_particles([](const ParticleView& v) { return gyration_of_largest(v).aspect_ratio; }), {}, {}},
@@ -230,6 +243,13 @@ const std::vector<ObservableType>& observable_types() {
        "all), with _error, _fit_min, _fit_max [Trivino2025]",
        positions | masses, named("fractal_dimension_com_all"), false, {},
        [](const ParticleView& v) { return centre_of_mass_dimension(v.configuration(), v.masses(), true); }, {}},
+  };
+}
+
+// The collision statistics of a gas since t = 0.
+std::vector<ObservableType> gas_types() {
+  using namespace need;
+  return {
       {"collision_frequency",
        "ν = 2 C/(N t): pair collisions C begun since t = 0 per particle per unit time, each counted for both "
        "partners (Enskog's ν_E = χ 4nσ²√(πkT/m) for hard spheres [Chapman1970, ch. 16])",
@@ -249,6 +269,13 @@ const std::vector<ObservableType>& observable_types() {
        "[Carnahan1969]); periodic boxes",
        need::virial | positions, named("compressibility_factor"), false,
        of_collisions([](const CollisionStatistics& s, const ParticleConfiguration&) { return 1 + s.virial / s.kinetic; }), {}, {}},
+  };
+}
+
+// Final-only measures: the pair distribution profile and the oscillation of a series over observe.window.
+std::vector<ObservableType> final_only_types() {
+  using namespace need;
+  return {
       {"pair_distribution",
        "profile r, P: P(r) = (1/N) Σ_{i≠j} 1{|X_i − X_j| <= r} at 90 radii on (2R, 20R] [Degond2024] (final only)",
        positions, named("pair_distribution"), false, {}, {},
@@ -278,6 +305,17 @@ const std::vector<ObservableType>& observable_types() {
          return x.empty() ? nan : sum / double(x.size());
        }},
   };
+}
+
+}  // namespace
+
+const std::vector<ObservableType>& observable_types() {
+  static const std::vector<ObservableType> types = [] {
+    std::vector<ObservableType> all;
+    for (auto family : {density_types, cluster_types, shape_types, gas_types, final_only_types})
+      for (ObservableType& type : family()) all.push_back(std::move(type));
+    return all;
+  }();
   return types;
 }
 

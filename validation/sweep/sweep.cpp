@@ -141,6 +141,81 @@ std::string sweep_map_title(const SweepPlan& plan, const std::string& column, co
   return title;
 }
 
+namespace {
+
+// Point p's realization r run through the harness (its own folder under runs/, progress lines prefixed with
+// the rank and run); its record, or an exception naming what failed.
+SweepRecord run_point(const SweepPlan& plan, const SweepOptions& options, int rank, std::size_t p, std::size_t r) {
+  const auto started = std::chrono::steady_clock::now();
+  const Scene scene = plan.point_scene(p, r);
+  RunOptions run;
+  run.out = options.out / "runs" / run_name(p, r);
+  run.plot = false;
+  run.force = true;  // the sweep's own folder, perhaps left half-written by a killed run
+  run.report = nullptr;
+  std::optional<PrefixedLines> lines;
+  std::optional<std::ostream> prefixed;
+  if (options.progress) {
+    lines.emplace(*options.progress, "aggkit sweep: [rank " + std::to_string(rank) + "] " + run_name(p, r) + ": ");
+    prefixed.emplace(&*lines);
+  }
+  run.progress = prefixed ? &*prefixed : nullptr;
+  run.progress_interval = std::chrono::seconds(60);
+  run.warnings = run.progress;
+  const RunResult result = run_scene(scene, run);
+  for (const auto& record : result.records)
+    if (!record.completed()) throw std::runtime_error("engine " + record.label + " failed: " + *record.failure);
+  SweepRecord record;
+  record.point = p;
+  record.realization = r;
+  record.values = plan.point(p);
+  record.columns = final_columns(scene, result);
+  record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  record.rank = rank;
+  return record;
+}
+
+// The progress line of a finished run: its number among those to do, its point, the mapped columns, seconds.
+void print_finished(std::ostream& progress, const SweepPlan& plan, const SweepRecord& record, const std::string& words,
+                    std::size_t number, std::size_t todo) {
+  std::string shown;
+  for (const auto& name : plan.maps)
+    for (const auto& [n, v] : record.columns)
+      if (n == name) {
+        char value[32];
+        std::snprintf(value, sizeof value, "%.4g", v);
+        shown += ", " + n + " " + value;
+      }
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, " (%.1f s)\n", record.seconds);
+  progress << "aggkit sweep: [rank " << record.rank << "] " << number << "/" << todo << " " << words << shown << seconds
+           << std::flush;
+}
+
+// sweep.csv, the means (all keys and each grouping), timing.csv and the maps (rank 0).
+void write_sweep_outputs(const SweepPlan& plan, const SweepOptions& options, const std::vector<SweepRecord>& records) {
+  write_file_atomically(options.out / "sweep.csv", sweep_csv(plan, records));
+  write_file_atomically(options.out / "sweep_mean.csv", sweep_mean_csv(plan, records));
+  write_file_atomically(options.out / "timing.csv", sweep_timing_csv(records));
+  for (const auto& grouping : plan.groupings)
+    write_file_atomically(options.out / ("sweep_mean_by_" + grouping_word(plan, grouping) + ".csv"), sweep_pooled_csv(plan, records, grouping));
+  std::vector<std::size_t> every_key;
+  for (std::size_t a = 0; a < plan.axes.size(); ++a) every_key.push_back(a);
+  if (!options.plot || records.empty()) return;
+  for (const std::string& column : plan.maps) {
+    std::string why = plot_map(plan, options.out / "sweep_mean.csv", column, options.out / ("map_" + file_word(column) + ".png"), every_key);
+    for (const auto& grouping : plan.groupings) {
+      if (!why.empty()) break;
+      const std::string word = grouping_word(plan, grouping);
+      why = plot_map(plan, options.out / ("sweep_mean_by_" + word + ".csv"), column,
+                     options.out / ("map_" + file_word(column) + "_by_" + word + ".png"), grouping);
+    }
+    if (!why.empty() && options.progress) *options.progress << "aggkit sweep: map of " << column << " not drawn: " << why << "\n";
+  }
+}
+
+}  // namespace
+
 SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   const MpiWorld world = mpi_world();
   const std::filesystem::path points = options.out / "points";
@@ -159,48 +234,10 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& options) {
   const auto compute = [&](std::size_t i, std::size_t number, std::size_t todo) {
     const std::size_t p = i / plan.realizations, r = i % plan.realizations;
     const std::string words = point_words(plan, p, r);
-    const auto started = std::chrono::steady_clock::now();
     try {
-      const Scene scene = plan.point_scene(p, r);
-      RunOptions run;
-      run.out = options.out / "runs" / run_name(p, r);
-      run.plot = false;
-      run.force = true;  // the sweep's own folder, perhaps left half-written by a killed run
-      run.report = nullptr;
-      std::optional<PrefixedLines> lines;
-      std::optional<std::ostream> prefixed;
-      if (options.progress) {
-        lines.emplace(*options.progress, "aggkit sweep: [rank " + std::to_string(world.rank) + "] " + run_name(p, r) + ": ");
-        prefixed.emplace(&*lines);
-      }
-      run.progress = prefixed ? &*prefixed : nullptr;
-      run.progress_interval = std::chrono::seconds(60);
-      run.warnings = run.progress;
-      const RunResult result = run_scene(scene, run);
-      for (const auto& record : result.records)
-        if (!record.completed()) throw std::runtime_error("engine " + record.label + " failed: " + *record.failure);
-      SweepRecord record;
-      record.point = p;
-      record.realization = r;
-      record.values = plan.point(p);
-      record.columns = final_columns(scene, result);
-      record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      record.rank = world.rank;
+      const SweepRecord record = run_point(plan, options, world.rank, p, r);
       write_file_atomically(file(i), record_file_text(record));
-      if (options.progress) {
-        std::string shown;
-        for (const auto& name : plan.maps)
-          for (const auto& [n, v] : record.columns)
-            if (n == name) {
-              char value[32];
-              std::snprintf(value, sizeof value, "%.4g", v);
-              shown += ", " + n + " " + value;
-            }
-        char seconds[32];
-        std::snprintf(seconds, sizeof seconds, " (%.1f s)\n", record.seconds);
-        *options.progress << "aggkit sweep: [rank " << world.rank << "] " << number << "/" << todo << " " << words << shown
-                          << seconds << std::flush;
-      }
+      if (options.progress) print_finished(*options.progress, plan, record, words, number, todo);
       return true;
     } catch (const std::exception& e) {
       if (options.progress)
@@ -224,24 +261,7 @@ SweepOutcome run_sweep(const SweepPlan& plan, const SweepOptions& options) {
       if (auto r = finished(i)) records.push_back(std::move(*r));
     outcome.exit_code = outcome.failed > 0 || records.size() < runs ? 1 : 0;
     records = fill_not_aggregated(plan, std::move(records));
-    write_file_atomically(options.out / "sweep.csv", sweep_csv(plan, records));
-    write_file_atomically(options.out / "sweep_mean.csv", sweep_mean_csv(plan, records));
-    write_file_atomically(options.out / "timing.csv", sweep_timing_csv(records));
-    for (const auto& grouping : plan.groupings)
-      write_file_atomically(options.out / ("sweep_mean_by_" + grouping_word(plan, grouping) + ".csv"), sweep_pooled_csv(plan, records, grouping));
-    std::vector<std::size_t> every_key;
-    for (std::size_t a = 0; a < plan.axes.size(); ++a) every_key.push_back(a);
-    if (options.plot && !records.empty())
-      for (const std::string& column : plan.maps) {
-        std::string why = plot_map(plan, options.out / "sweep_mean.csv", column, options.out / ("map_" + file_word(column) + ".png"), every_key);
-        for (const auto& grouping : plan.groupings) {
-          if (!why.empty()) break;
-          const std::string word = grouping_word(plan, grouping);
-          why = plot_map(plan, options.out / ("sweep_mean_by_" + word + ".csv"), column,
-                         options.out / ("map_" + file_word(column) + "_by_" + word + ".png"), grouping);
-        }
-        if (!why.empty() && options.progress) *options.progress << "aggkit sweep: map of " << column << " not drawn: " << why << "\n";
-      }
+    write_sweep_outputs(plan, options, records);
     if (options.progress) {
       *options.progress << "aggkit sweep: " << records.size() << "/" << runs << " runs in " << (options.out / "sweep.csv").string();
       if (outcome.failed) *options.progress << "; " << outcome.failed << " runs failed (run again to retry them)";

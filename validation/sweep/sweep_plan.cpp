@@ -290,23 +290,11 @@ Scene SweepPlan::point_scene(std::size_t p, std::size_t r) const {
   return scene;
 }
 
-SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, const std::filesystem::path& folder) {
-  toml::table document = parse_toml_text(text, source);
-  SweepPlan plan;
-  plan.source = source;
-  plan.folder = folder;
-  plan.scene = checked_scene(std::string(text), source, folder);  // the base point, as `aggkit run` reads it
-  const SceneTable root(document, "");
-  if (!root.contains("sweep"))
-    root.fail("sweep", "required by aggkit sweep: [sweep] with \"key\" = [values] or { from, to, count } entries");
-  const toml::table sweep_table = *document.get("sweep")->as_table();
-  document.erase("sweep");
-  plan.text = toml_text(document);
+namespace {
 
-  const SceneTable sweep(sweep_table, "sweep");
-  plan.realizations = sweep.optional_count("realizations", 1).value_or(1);
-  if (plan.realizations > 100000) sweep.fail("realizations", "at most 100000 runs per point");
-  // toml++ keeps a table's keys sorted: the axes are put back in the order they are written.
+// The swept keys in the order they are written (toml++ keeps a table's keys sorted), each with its values;
+// at least one, at most max_points points in all.
+void read_axes(const SceneTable& sweep, const toml::table& sweep_table, toml::table& document, SweepPlan& plan) {
   std::vector<std::pair<toml::source_position, std::string>> written;
   for (auto&& [name, node] : sweep_table)
     if (name.str() != "realizations" && name.str() != "maps" && name.str() != "group_by" && name.str() != "where_not_aggregated")
@@ -328,22 +316,11 @@ SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, con
   for (const auto& axis : plan.axes) points *= double(axis.values.size());
   if (points > double(max_points))
     throw InputError("sweep", shortest_text(points) + " points", "at most " + std::to_string(max_points) + " points in all");
-  if (plan.realizations > 1) {
-    toml::table probe = document;
-    if (!offset_seeds(probe, 1))
-      sweep.fail("realizations", "1: the scene has no seed to vary ([particles] seed or an engine's seed option)");
-  }
+}
 
-  // The columns drawn: by default what the scene asks to observe at the end.
-  if (sweep.contains("maps")) plan.maps = sweep.strings("maps");
-  else plan.maps = plan.scene.observe.final_state;
-  if (!sweep.contains("maps") && plan.maps.empty())
-    for (const auto& o : plan.scene.observe.series) plan.maps.push_back(o.name());
-
-  read_groupings(sweep, plan);
-  read_not_aggregated(sweep, plan);
-
-  // Every value of every key alone, then every point (a few): read and built as `aggkit run` would.
+// Every value of every key alone, then every point (a few): read and built as `aggkit run` would.
+void check_points(const toml::table& document, const SweepPlan& plan, const std::string& source,
+                  const std::filesystem::path& folder) {
   for (const auto& axis : plan.axes)
     for (const auto& value : axis.values) {
       toml::table one = document;
@@ -362,6 +339,42 @@ SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, con
       throw InputError("sweep", "the point " + point_words(plan, p), std::string("the scene refuses it: ") + e.what());
     }
   }
+}
+
+}  // namespace
+
+SweepPlan parse_sweep_plan(std::string_view text, const std::string& source, const std::filesystem::path& folder) {
+  toml::table document = parse_toml_text(text, source);
+  SweepPlan plan;
+  plan.source = source;
+  plan.folder = folder;
+  plan.scene = checked_scene(std::string(text), source, folder);  // the base point, as `aggkit run` reads it
+  const SceneTable root(document, "");
+  if (!root.contains("sweep"))
+    root.fail("sweep", "required by aggkit sweep: [sweep] with \"key\" = [values] or { from, to, count } entries");
+  const toml::table sweep_table = *document.get("sweep")->as_table();
+  document.erase("sweep");
+  plan.text = toml_text(document);
+
+  const SceneTable sweep(sweep_table, "sweep");
+  plan.realizations = sweep.optional_count("realizations", 1).value_or(1);
+  if (plan.realizations > 100000) sweep.fail("realizations", "at most 100000 runs per point");
+  read_axes(sweep, sweep_table, document, plan);
+  if (plan.realizations > 1) {
+    toml::table probe = document;
+    if (!offset_seeds(probe, 1))
+      sweep.fail("realizations", "1: the scene has no seed to vary ([particles] seed or an engine's seed option)");
+  }
+
+  // The columns drawn: by default what the scene asks to observe at the end.
+  if (sweep.contains("maps")) plan.maps = sweep.strings("maps");
+  else plan.maps = plan.scene.observe.final_state;
+  if (!sweep.contains("maps") && plan.maps.empty())
+    for (const auto& o : plan.scene.observe.series) plan.maps.push_back(o.name());
+
+  read_groupings(sweep, plan);
+  read_not_aggregated(sweep, plan);
+  check_points(document, plan, source, folder);
 
   // Results depend on the scene (its name aside) and on which keys are swept; the values are matched per run.
   toml::table fingerprint = document;
