@@ -69,6 +69,9 @@
 // others finds the same pairs as re-checking every moved sphere, for O(those spheres) instead of
 // O(size of the merged cluster) neighbour searches.
 //
+// Types: the detection passes and their safe times are ContactDetection's (contact_detection.hpp); the
+// positions with the logged quiet flights and the clusters' extents are FlightLog's (flight_log.hpp).
+//
 // Time step: Δt^n = Δt(0) (2 − ln M^n / ln N), Δt(0) = dt_factor · L / max_i |V_i(0)| (L the largest box
 // side) [Degond2024, Table 1]: Δt(0) with N clusters, 2Δt(0) with one, growing with ln of the number of
 // merges so far (the cluster count falls like a power of t in ballistic aggregation, so the step grows
