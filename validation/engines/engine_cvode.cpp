@@ -82,7 +82,11 @@ class CvodeEngine final : public Engine {
       observer.warning(std::to_string(s.negative_beyond_tolerance) +
                        " densities below -atol_k at one output; the most negative n_k = " +
                        shortest_text(s.most_negative_beyond_tolerance) + " at k = " + std::to_string(s.most_negative_size) +
-                       ", t = " + shortest_text(s.most_negative_time) + " (tighten rtol or atol)");
+                       ", t = " + shortest_text(s.most_negative_time) +
+                       (sizes.empty() || scene.model.grid.scheme == GridScheme::fixed_pivot
+                            ? " (tighten rtol or atol)"
+                            : " (tighten rtol or atol; on a graded grid, shares that keep x² undershoot at a steep front: "
+                              "a smaller grid.ratio, or grid.scheme = \"fixed-pivot\", keeps n_k >= 0)"));
     EngineStatistics statistics{
         {"method", to_string(options_.method)},
         {"rhs", to_string(options_.rates)},
