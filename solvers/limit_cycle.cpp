@@ -164,6 +164,7 @@ class Shooting {
   double period() const { return T_; }
   const std::vector<double>& scale() const { return s_; }
   std::size_t mass_row() const { return m_; }
+  const std::vector<double>& sizes() const { return flow_.sizes(); }
 
  private:
   Flow& flow_;
@@ -235,6 +236,16 @@ long krylov_step(Shooting& shooting, const std::vector<double>& F, std::vector<d
   return long(iterations);
 }
 
+// Where the largest entry of the residual sits: a class (its size), the mass row or the phase row.
+std::string where_largest(const Shooting& shooting, const std::vector<double>& F) {
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < F.size(); ++i)
+    if (std::abs(F[i]) > std::abs(F[k])) k = i;
+  if (k + 1 == F.size()) return " (in the phase condition)";
+  if (k == shooting.mass_row()) return " (in the mass row)";
+  return " (at size " + format_value(shooting.sizes()[k]) + ")";
+}
+
 // Newton on the shooting equations with a halving line search on max|F|.
 void newton(Shooting& shooting, std::vector<double> x0, double T, const LimitCycleOptions& options, LimitCycle& cycle) {
   std::vector<double> F = shooting.residual_at(x0, T);
@@ -263,7 +274,7 @@ void newton(Shooting& shooting, std::vector<double> x0, double T, const LimitCyc
       }
     }
     if (!improved) {
-      cycle.note = "Newton stalled at scaled residual " + format_value(norm);
+      cycle.note = "Newton stalled at scaled residual " + format_value(norm) + where_largest(shooting, F);
       break;
     }
   }
@@ -423,7 +434,8 @@ LimitCycle find_limit_cycle(const AggregationModel& model, std::span<const doubl
   return cycle;
 }
 
-std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing, double rtol) {
+std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing, double rtol,
+                                               std::span<const double> from) {
   if (!(t_end > 0.0) || !std::isfinite(t_end)) throw InputError("t_end", format_value(t_end), "a finite time > 0");
   if (!(spacing > 0.0 && spacing < t_end)) throw InputError("spacing", format_value(spacing), "a spacing in (0, t_end)");
   std::vector<double> times;
@@ -436,6 +448,11 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
   constexpr std::size_t kept = 4000;
   std::vector<double> m0;
   std::deque<std::vector<double>> states;
+  IntegratorRestart restart;
+  if (!from.empty()) {
+    check_start(model, from, t_end);
+    restart.densities.assign(from.begin(), from.end());
+  }
   integrate(model, times, options, [&](double t, std::span<const double> n, double) {
     if (t < 0.5 * t_end) return;
     double sum = 0.0;
@@ -443,7 +460,7 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
     m0.push_back(sum);
     states.emplace_back(n.begin(), n.end());
     if (states.size() > kept) states.pop_front();
-  });
+  }, from.empty() ? nullptr : &restart);
   const std::size_t first = times.size() - m0.size();
   double mean = 0.0;
   for (double v : m0) mean += v;

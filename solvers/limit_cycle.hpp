@@ -75,13 +75,14 @@ LimitCycle find_limit_cycle(const AggregationModel& model, std::span<const doubl
 // A start for find_limit_cycle from the model's own run: the state at the last upward crossing of M0 through
 // its mean over the second half of [0, t_end] (outputs every `spacing`), and the mean spacing of the last
 // crossings as the period. nullopt where the run's second half shows fewer than three crossings, or none among its
-// last 4000 outputs (states further back are not kept).
+// last 4000 outputs (states further back are not kept). The run starts from the model's initial state, or
+// from `from` (one density per class) where given.
 struct CycleStart {
   std::vector<double> state;
   double period = 0;
   int crossings = 0;
 };
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing,
-                                               double rtol = 1e-8);
+                                               double rtol = 1e-8, std::span<const double> from = {});
 
 }  // namespace aggkit

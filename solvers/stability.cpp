@@ -25,6 +25,7 @@
 
 #include "analysis/input_error.hpp"
 #include "solvers/mass_constrained_system.hpp"
+#include "solvers/mass_shell.hpp"
 #include "solvers/petsc_session.hpp"
 #include "solvers/petsc_shell.hpp"
 
@@ -38,19 +39,6 @@ void sort_rightmost(std::vector<Complex>& values) {
   std::sort(values.begin(), values.end(), [](Complex x, Complex y) {
     return x.real() != y.real() ? x.real() > y.real() : x.imag() > y.imag();
   });
-}
-
-// A = J_{<m,<m} + J_{<m,m} t^T (the Jacobian on the mass shell, t_k = -x_k/x_m) from the discretisation's
-// dense Jacobian (on a graded grid from its pair table, built once per analysis).
-Eigen::MatrixXd mass_shell_jacobian(const Discretisation& grid, std::span<const double> n, std::size_t m) {
-  const std::size_t N = grid.unknowns();
-  const std::vector<double>& x = grid.sizes();
-  std::vector<double> jacobian(N * N);
-  grid.dense_jacobian(0.0, n, jacobian);
-  Eigen::MatrixXd A(m, m);
-  for (std::size_t i = 0; i < m; ++i)
-    for (std::size_t k = 0; k < m; ++k) A(i, k) = jacobian[i * N + k] - jacobian[i * N + m] * x[k] / x[m];
-  return A;
 }
 
 // All eigenvalues of A.
@@ -183,6 +171,19 @@ std::vector<Complex> krylov_spectrum(MassConstrainedSystem& system, std::span<co
 }
 
 }  // namespace
+
+// A = J_{<m,<m} + J_{<m,m} t^T (the Jacobian on the mass shell, t_k = -x_k/x_m) from the discretisation's
+// dense Jacobian (on a graded grid from its pair table, built once per analysis).
+Eigen::MatrixXd mass_shell_jacobian(const Discretisation& grid, std::span<const double> n, std::size_t m) {
+  const std::size_t N = grid.unknowns();
+  const std::vector<double>& x = grid.sizes();
+  std::vector<double> jacobian(N * N);
+  grid.dense_jacobian(0.0, n, jacobian);
+  Eigen::MatrixXd A(m, m);
+  for (std::size_t i = 0; i < m; ++i)
+    for (std::size_t k = 0; k < m; ++k) A(i, k) = jacobian[i * N + k] - jacobian[i * N + m] * x[k] / x[m];
+  return A;
+}
 
 std::complex<double> rightmost_complex_pair(std::span<const std::complex<double>> eigenvalues) {
   const double nan = std::numeric_limits<double>::quiet_NaN();

@@ -48,6 +48,7 @@ class SteadyBranch {
   BranchSteadyState at(double lambda);
 
   double anchor_lambda() const { return anchor_; }
+  double step() const { return step_; }  // h: the ladder's nodes are anchor_lambda() e^{-k h}
 
  private:
   struct Node {

@@ -9,48 +9,13 @@
 #include "analysis/input_error.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/limit_cycle.hpp"
+#include "tests/solvers/cycle_fixture.hpp"
 
 using namespace aggkit;
+using aggkit::testing::time_series_period;
+using aggkit::testing::graded_brownian;
 
 namespace {
-
-// Graded grid K = 32, r = 1.1 up to N = 2^20 (about 140 classes): the tail e^{-0.65 λ k} is resolved for
-// λ ≥ 1e-3 (λN ≥ 8).
-AggregationModel brownian(double a, double lambda) {
-  AggregationModel model;
-  model.kernel = Kernel::brownian(a);
-  model.lambda = ShatteringRate::constant(lambda);
-  model.size = std::size_t(1) << 20;
-  model.truncation = Truncation::drop;
-  model.initial = {1.0};
-  model.grid.resolved = 32;
-  model.grid.ratio = 1.1;
-  return model;
-}
-
-// The period of M0 in a long CVODE run, independently of the shooting code: the mean spacing of the upward
-// crossings of M0 through its mean over the last `cycles` cycles, each crossing linearly interpolated between
-// outputs 1/400 of a period apart (interpolation error ~1e-6 of a period per crossing).
-double time_series_period(const AggregationModel& model, double period, double settle, int cycles) {
-  const double spacing = period / 400.0, end = settle + cycles * period;
-  std::vector<double> times, m0;
-  for (double t = settle; t <= end; t += spacing) times.push_back(t);
-  IntegratorOptions options;
-  options.rtol = 1e-10;
-  integrate(model, times, options, [&](double, std::span<const double> n, double) {
-    double sum = 0.0;
-    for (double v : n) sum += v;
-    m0.push_back(sum);
-  });
-  double mean = 0.0;
-  for (double v : m0) mean += v;
-  mean /= double(m0.size());
-  std::vector<double> up;
-  for (std::size_t i = 1; i < m0.size(); ++i)
-    if (m0[i - 1] < mean && m0[i] >= mean) up.push_back(times[i - 1] + spacing * (mean - m0[i - 1]) / (m0[i] - m0[i - 1]));
-  REQUIRE(up.size() >= 3);
-  return (up.back() - up.front()) / double(up.size() - 1);
-}
 
 std::string describe(const LimitCycle& cycle) {
   std::ostringstream text;
@@ -67,7 +32,7 @@ TEST_CASE("limit cycles by shooting: the period of a long time series to 1e-3, a
   // Both points lie below λ_crit (0.0127 at a = 0.95, 0.0041 at a = 0.8 on the converged curve) where the run
   // settles on an attracting cycle. The time series' period is measured over 40 cycles after the transient.
   const auto [a, lambda, settle] = GENERATE(std::make_tuple(0.95, 0.01, 3000.0), std::make_tuple(0.8, 0.0025, 8000.0));
-  const AggregationModel model = brownian(a, lambda);
+  const AggregationModel model = graded_brownian(a, lambda);
   const std::optional<CycleStart> start = cycle_start_from_run(model, settle, 0.5);
   REQUIRE(start);
   // A period guess 1 % off: Newton must find T itself (the run's own estimate is already within 1e-5).
@@ -93,7 +58,7 @@ TEST_CASE("limit cycles by shooting: the period of a long time series to 1e-3, a
 }
 
 TEST_CASE("limit cycle: bad options and starts are refused with the key", "[cycle]") {
-  const AggregationModel model = brownian(0.95, 0.01);
+  const AggregationModel model = graded_brownian(0.95, 0.01);
   const std::vector<double> start(model.unknowns(), 1e-3);
   LimitCycleOptions options;
   options.rtol = 1.0;
