@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "analysis/input_error.hpp"
+#include "solvers/hopf_normal_form.hpp"
 #include "solvers/limit_cycle.hpp"
 #include "solvers/size_grid.hpp"
 #include "solvers/stability.hpp"
@@ -301,6 +302,32 @@ AggregationModel model_of(const std::string& scene_text, py::object kernel) {
   return scene.model;
 }
 
+// The Hopf normal form at a steady state (solvers/hopf_normal_form.hpp) as a dict.
+py::dict normal_form(const std::string& scene_text, py::object kernel,
+                     const py::array_t<double, py::array::c_style | py::array::forcecast>& state) {
+  const AggregationModel model = model_of(scene_text, kernel);
+  if (state.ndim() != 1 || std::size_t(state.shape(0)) != model.unknowns())
+    throw InputError("state", std::to_string(state.size()) + " entries",
+                     "a 1-D array of one density per size class (" + std::to_string(model.unknowns()) + ")");
+  const std::vector<double> n(state.data(), state.data() + state.shape(0));
+  HopfNormalForm form;
+  {
+    py::gil_scoped_release release;
+    form = hopf_normal_form(model, n);
+  }
+  py::dict d;
+  d["mu"] = form.mu;
+  d["c1"] = form.c1;
+  d["lyapunov"] = form.lyapunov;
+  d["supercritical"] = form.supercritical();
+  d["radius"] = form.radius();
+  d["frequency"] = form.frequency();
+  d["m0_half_range"] = form.m0_half_range();
+  d["eigen_residual"] = form.eigen_residual;
+  d["q"] = py::array_t<std::complex<double>>(py::ssize_t(form.q.size()), form.q.data());
+  return d;
+}
+
 py::array_t<std::complex<double>> rightmost_eigenvalues(const std::string& scene_text, py::object kernel,
                                                         const py::array_t<double, py::array::c_style | py::array::forcecast>& state,
                                                         int count) {
@@ -443,6 +470,7 @@ void bind_runs(py::module_& m) {
   });
   m.def("rightmost_eigenvalues", &rightmost_eigenvalues, py::arg("scene_text"), py::arg("kernel"), py::arg("state"),
         py::arg("count"));
+  m.def("hopf_normal_form", &normal_form, py::arg("scene_text"), py::arg("kernel"), py::arg("state"));
   m.def("limit_cycle", &limit_cycle, py::arg("scene_text"), py::arg("kernel"), py::arg("start"), py::arg("period"),
         py::arg("settle"), py::arg("options"));
   m.def("locate_hopf", &hopf, py::arg("scene_text"), py::arg("a"), py::arg("lambda_lo"), py::arg("lambda_hi"),

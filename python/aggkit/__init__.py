@@ -25,7 +25,7 @@ from . import _scene  # noqa: E402
 from . import analysis  # noqa: E402
 
 __all__ = ["EngineWarning", "Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
-           "ed", "ts", "dem", "run", "analysis", "engine_options", "rightmost_eigenvalues", "spectrum", "limit_cycle", "locate_hopf"]
+           "ed", "ts", "dem", "run", "analysis", "engine_options", "rightmost_eigenvalues", "spectrum", "limit_cycle", "locate_hopf", "hopf_normal_form"]
 
 
 class EngineWarning(RuntimeWarning):
@@ -298,6 +298,18 @@ def rightmost_eigenvalues(model, state, count=6):
     shift-invert Arnoldi (Spectra) for large N. A positive real part means the state is unstable."""
     state = np.ascontiguousarray(state.n if isinstance(state, SteadyState) else state, dtype=float)
     return _aggkit.rightmost_eigenvalues(model._text(), model.kernel if callable(model.kernel) else None, state, count)
+
+
+def hopf_normal_form(model, state):
+    """The Hopf bifurcation's normal form at a steady state near lambda_crit (solvers/hopf_normal_form.hpp):
+    a dict with mu (the rightmost complex eigenvalue), q (its eigenvector on the size classes, norm 1 on the
+    mass shell), c1 (the cubic coefficient of dz/dt = mu z + c1 z|z|^2), lyapunov (the first Lyapunov
+    coefficient Re c1 / Im mu), supercritical (lyapunov < 0: a stable cycle is born where the steady state
+    loses stability), and the cycle it predicts where Re mu > 0: radius, frequency (angular) and
+    m0_half_range (half the range of M0 over the cycle). Raises ValueError for a state of the wrong length and
+    RuntimeError where the spectrum has no complex pair."""
+    state = np.ascontiguousarray(state.n if isinstance(state, SteadyState) else state, dtype=float)
+    return _aggkit.hopf_normal_form(model._text(), model.kernel if callable(model.kernel) else None, state)
 
 
 def spectrum(model, state, count=6):

@@ -290,6 +290,23 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
   CHECK(sustained.at("regime_refined").empty());
   CHECK(!fs::exists(folder / "out" / "points" / "a0.9_lambda0.001_N2097152_refined.csv"));
 
+  // The Hopf bifurcation's criticality on the scan's own grid: its crossing lies between the unstable
+  // (0.9, 0.001) and the stable (0.9, 0.004) of this grid (0.0027, far from the converged 0.0096), and the first
+  // Lyapunov coefficient there is negative: supercritical, as on the converged grid (bench/results/RESULTS.md).
+  const auto crit_rows = aggkit::testing::read_csv(folder / "out" / "lambda_crit.csv");
+  REQUIRE(crit_rows.size() == 2);
+  for (const auto& row : crit_rows) {
+    INFO("a = " << row.at("a") << ": " << row.at("note"));
+    CHECK(row.at("criticality") == "supercritical");
+    CHECK(std::stod(row.at("lyapunov")) < 0);
+    CHECK(std::stod(row.at("m0_half_range_predicted")) > 0);
+    if (row.at("a") == "0.9") {
+      CHECK(std::stod(row.at("lambda_crit_scan_grid")) > 0.001);
+      CHECK(std::stod(row.at("lambda_crit_scan_grid")) < 0.004);
+    }
+  }
+  CHECK(fs::exists(folder / "out" / "points" / "hopf_criticality_a0.9_N1048576.csv"));  // what a resumed scan reads
+
   // Every point has a steady state reached by continuation from λ = 0.1 and a converged spectrum; the verdict
   // comes from the spectrum and the cycle, the run confirming: (0.9, 0.001) unstable, oscillating in the run and
   // with a stable cycle: sustained; (0.85, 0.001) unstable, the run too short to show a cycle (one period in its

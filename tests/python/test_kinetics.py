@@ -135,6 +135,22 @@ def test_spectrum_and_limit_cycle_at_a_sustained_point():
         aggkit.limit_cycle(model, start=np.ones(3), period=30.0)
 
 
+def test_hopf_normal_form_predicts_the_cycle_near_the_curve():
+    # a = 0.95 at λ = 0.012, 5 % below λ_crit = 0.01268 on this grid: supercritical (l1 = -31.6), and the
+    # normal form's M0 half-range (0.0400) within 3 % of the cycle shot from a run (0.0397; C++:
+    # tests/solvers/test_hopf_normal_form.cpp), its angular frequency within 2e-3 of 2 pi / period.
+    model = aggkit.Model("brownian", a=0.95, lam=0.012, size=2**20, grid={"resolved": 32, "ratio": 1.1})
+    form = aggkit.hopf_normal_form(model, aggkit.steady_state(model))
+    assert form["mu"].real > 0 and form["supercritical"] and form["lyapunov"] < 0
+    assert form["q"].ndim == 1 and len(form["q"]) > 32  # one entry per size class of the graded grid
+    cycle = aggkit.limit_cycle(model, settle=3000.0, floquet_count=0)
+    assert cycle["converged"], cycle["note"]
+    assert form["m0_half_range"] == pytest.approx(0.5 * (cycle["m0_max"] - cycle["m0_min"]), rel=0.03)
+    assert 2 * np.pi / form["frequency"] == pytest.approx(cycle["period"], rel=2e-3)
+    with pytest.raises(ValueError, match="state"):
+        aggkit.hopf_normal_form(model, np.ones(3))
+
+
 def test_locate_hopf_finds_where_the_rightmost_pair_crosses():
     model = aggkit.Model("brownian", a=0.95, lam=0.01, size=512, truncation="cutoff")
     h = aggkit.locate_hopf(model, a=0.95, lambda_lo=0.005, lambda_hi=0.5)

@@ -13,6 +13,7 @@
 #include "analysis/input_error.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/progress.hpp"
+#include "validation/scan/scan_criticality.hpp"
 #include "validation/scan/scan_lambda_crit.hpp"
 #include "validation/runs/run_store.hpp"
 #include "validation/runs/mpi_ranks.hpp"
@@ -520,6 +521,7 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   outcome.failed = cache.failed();
   outcome.exit_code = outcome.failed > 0 || records.size() < plan.point_count() ? 1 : 0;
 
+  if (plan.stability) add_hopf_criticality(plan, points, crit, options.progress);
   if (world.rank == 0) {
     write_scan_csv(options.out / "scan.csv", records);
     write_timing_csv(options.out / "timing.csv", records);

@@ -40,7 +40,8 @@ void write_timing_csv(const std::filesystem::path& file, const std::vector<ScanR
 void write_lambda_crit_csv(const std::filesystem::path& file, const std::vector<LambdaCritRow>& rows) {
   std::string text =
       "a,lambda_crit,lambda_crit_error,method,lambda_sustained,lambda_relaxing,period,N,lambda_crit_2N,change_2N,note,"
-      "resolved,ratio,lambda_crit_2K,change_2K,lambda_crit_half_ratio,change_half_ratio,converged\n";
+      "resolved,ratio,lambda_crit_2K,change_2K,lambda_crit_half_ratio,change_half_ratio,converged,lambda_crit_scan_grid,"
+      "lyapunov,criticality,m0_half_range_predicted\n";
   for (const auto& r : rows) {
     std::string note = r.note;
     for (char& c : note)
@@ -50,7 +51,7 @@ void write_lambda_crit_csv(const std::filesystem::path& file, const std::vector<
             std::to_string(r.size) + "," + number(r.lambda_crit_2N) + "," + number(r.change_2N) + "," + note + "," +
             std::to_string(r.resolved) + "," + number(r.ratio) + "," + number(r.lambda_crit_2K) + "," +
             number(r.change_2K) + "," + number(r.lambda_crit_half_ratio) + "," + number(r.change_half_ratio) + "," +
-            r.converged + "\n";
+            r.converged + "," + number(r.lambda_crit_model_grid) + "," + number(r.lyapunov) + "," + r.criticality + "," + number(r.m0_half_range) + "\n";
   }
   write_file_atomically(file, text);
 }

@@ -29,6 +29,13 @@ struct LambdaCritRow {
   double ratio = nan;
   double lambda_crit_2K = nan, change_2K = nan, lambda_crit_half_ratio = nan, change_half_ratio = nan;
   std::string converged;  // "yes", "no" or "" (not a converged curve)
+  // The Hopf bifurcation's criticality (validation/scan/scan_criticality.hpp): the first Lyapunov coefficient
+  // 5 % below the crossing on the scan's own grid (eigenvector norm 1), "supercritical" or "subcritical", and the M0
+  // half-range of the cycle the normal form predicts there.
+  double lambda_crit_model_grid = nan;  // the crossing on the scan's own model grid
+  double lyapunov = nan;
+  std::string criticality;
+  double m0_half_range = nan;
 };
 
 // One row of truncation_check.csv: a point at N and at 2N.
