@@ -1,5 +1,7 @@
 #include "validation/runs/run_store.hpp"
 
+#include <cmath>
+#include <exception>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -17,6 +19,31 @@ std::string read_text_file(const std::filesystem::path& file) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+std::optional<std::vector<std::string>> one_row_record(const std::string& text, const std::string& header) {
+  std::istringstream in(text);
+  std::string line, row, rest;
+  if (!std::getline(in, line) || line != header) return std::nullopt;
+  if (!std::getline(in, row) || std::getline(in, rest)) return std::nullopt;
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream cells(row);
+  while (std::getline(cells, field, ',')) fields.push_back(field);
+  if (!row.empty() && row.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+std::optional<double> record_number(const std::string& field, bool empty_is_nan) {
+  if (field.empty()) return empty_is_nan ? std::optional<double>(std::nan("")) : std::nullopt;
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(field, &used);
+    if (used != field.size()) return std::nullopt;
+    return value;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
 }
 
 void prepare_points_folder(const std::filesystem::path& out, const std::filesystem::path& points) {

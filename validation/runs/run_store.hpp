@@ -8,13 +8,25 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace aggkit {
 
 // The whole text of a file; "" if it is missing or unreadable.
 std::string read_text_file(const std::filesystem::path& file);
+
+// A record file of one CSV row under a header (the scan's points, its Hopf and criticality caches): the
+// row's fields (a trailing comma gives a trailing empty field), or nullopt unless the text is exactly the
+// header line, one row and nothing after it — a damaged, truncated or foreign file is not a record, and its run
+// is done again.
+std::optional<std::vector<std::string>> one_row_record(const std::string& text, const std::string& header);
+
+// A record's number field: the whole field read as a double ("" is NaN where `empty_is_nan`); nullopt for
+// anything else (trailing characters, out of range, empty).
+std::optional<double> record_number(const std::string& field, bool empty_is_nan = false);
 
 // Every rank: creates `points` (under the output folder `out`) and checks that every rank can write files
 // there; otherwise InputError (key "--out") on every rank.

@@ -149,17 +149,12 @@ struct HopfRecord {
   double lambda_crit = 0, tolerance = 0, omega = 0;
   std::string note;
 };
-// The fields of the one row under `header` in a cached Hopf file, if the file is whole: the header first, at
+// The fields of the one row under `header` in a cached Hopf file, if the file is whole (one_row_record): at
 // least `fields` fields, the second "yes" or "no" (found or converged).
 std::optional<std::vector<std::string>> cached_hopf_row(const std::string& text, const std::string& header,
                                                         std::size_t fields) {
-  std::istringstream in(text);
-  std::string line, field;
-  if (!std::getline(in, line) || line != header || !std::getline(in, line)) return std::nullopt;
-  std::vector<std::string> f;
-  std::istringstream cells(line);
-  while (std::getline(cells, field, ',')) f.push_back(field);
-  if (f.size() < fields || (f[1] != "yes" && f[1] != "no")) return std::nullopt;
+  auto f = one_row_record(text, header);
+  if (!f || f->size() < fields || ((*f)[1] != "yes" && (*f)[1] != "no")) return std::nullopt;
   return f;
 }
 
@@ -167,17 +162,9 @@ std::optional<HopfRecord> parse_hopf_file(const std::string& text, const std::st
   const auto row = cached_hopf_row(text, header, 5);
   if (!row) return std::nullopt;
   const std::vector<std::string>& f = *row;
-  try {
-    std::size_t used = 0;
-    const auto number = [&](const std::string& x) {
-      const double v = std::stod(x, &used);
-      if (used != x.size()) throw std::invalid_argument(x);
-      return v;
-    };
-    return HopfRecord{f[1] == "yes", number(f[2]), number(f[3]), number(f[4]), f.size() > 5 ? f[5] : ""};
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
+  const auto lambda_crit = record_number(f[2]), tolerance = record_number(f[3]), omega = record_number(f[4]);
+  if (!lambda_crit || !tolerance || !omega) return std::nullopt;
+  return HopfRecord{f[1] == "yes", *lambda_crit, *tolerance, *omega, f.size() > 5 ? f[5] : ""};
 }
 
 // λ_crit(a) by locate_hopf over the scan's λ range at truncation `size`; cached in DIR/points like the runs
@@ -274,14 +261,8 @@ std::optional<std::vector<std::string>> read_hopf_curve_file(const ScanPlan& pla
   if (!row) return std::nullopt;
   std::vector<std::string>& f = *row;
   f.resize(15);
-  for (std::size_t i = 2; i < 14; ++i) {  // numbers (empty: NaN); a damaged file is computed again
-    std::size_t used = 0;
-    try {
-      if (!f[i].empty() && (std::stod(f[i], &used), used != f[i].size())) return std::nullopt;
-    } catch (const std::exception&) {
-      return std::nullopt;
-    }
-  }
+  for (std::size_t i = 2; i < 14; ++i)  // numbers (empty: NaN); a damaged file is computed again
+    if (!record_number(f[i], /*empty_is_nan=*/true)) return std::nullopt;
   return f;
 }
 

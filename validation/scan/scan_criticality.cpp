@@ -3,7 +3,6 @@
 #include <cmath>
 #include <exception>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "solvers/cycle_branch.hpp"
@@ -44,26 +43,21 @@ std::string file_text(double a, const Criticality& c) {
 
 // The cached result, if the file is whole and was computed on `grid`.
 std::optional<Criticality> parse_file(const std::string& text, const std::string& grid) {
-  std::istringstream in(text);
-  std::string line, field;
-  if (!std::getline(in, line) || line != header || !std::getline(in, line)) return std::nullopt;
-  std::vector<std::string> f;
-  std::istringstream cells(line);
-  while (std::getline(cells, field, ',')) f.push_back(field);
-  if (f.size() < 7 || (f[1] != "yes" && f[1] != "no") || f[6] != csv_safe(grid)) return std::nullopt;
-  try {
-    Criticality c;
-    c.found = f[1] == "yes";
-    c.lambda_crit = std::stod(f[2]);
-    c.lyapunov = std::stod(f[3]);
-    c.criticality = f[4];
-    c.m0_half_range = std::stod(f[5]);
-    c.grid = grid;
-    c.note = f.size() > 7 ? f[7] : "";
-    return c;
-  } catch (const std::exception&) {
+  const auto fields = one_row_record(text, header);
+  if (!fields || fields->size() < 7) return std::nullopt;
+  const std::vector<std::string>& f = *fields;
+  const auto lambda_crit = record_number(f[2]), lyapunov = record_number(f[3]), half_range = record_number(f[5]);
+  if ((f[1] != "yes" && f[1] != "no") || f[6] != csv_safe(grid) || !lambda_crit || !lyapunov || !half_range)
     return std::nullopt;
-  }
+  Criticality c;
+  c.found = f[1] == "yes";
+  c.lambda_crit = *lambda_crit;
+  c.lyapunov = *lyapunov;
+  c.criticality = f[4];
+  c.m0_half_range = *half_range;
+  c.grid = grid;
+  c.note = f.size() > 7 ? f[7] : "";
+  return c;
 }
 
 Criticality compute(const ScanPlan& plan, double a) {

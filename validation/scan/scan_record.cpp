@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "validation/io/text.hpp"
+#include "validation/runs/run_store.hpp"
 
 namespace aggkit {
 
@@ -21,15 +22,6 @@ const char* const point_columns = ",seconds,rank";
 std::string clean(std::string text) {
   std::replace_if(text.begin(), text.end(), [](char c) { return c == ',' || c == '\n' || c == '\r' || c == '"'; }, ';');
   return text;
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> fields;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) fields.push_back(field);
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
 }
 
 }  // namespace
@@ -70,12 +62,9 @@ std::string point_file_text(const ScanRecord& r) {
 }
 
 std::optional<ScanRecord> parse_point_file(const std::string& text) {
-  std::istringstream in(text);
-  std::string header, row, rest;
-  if (!std::getline(in, header) || header != scan_csv_header() + point_columns) return std::nullopt;
-  if (!std::getline(in, row) || std::getline(in, rest)) return std::nullopt;
-  const std::vector<std::string> f = split(row);
-  if (f.size() != 29) return std::nullopt;
+  const auto fields = one_row_record(text, scan_csv_header() + point_columns);
+  if (!fields || fields->size() != 29) return std::nullopt;
+  const std::vector<std::string>& f = *fields;
   try {
     ScanRecord r;
     r.a = std::stod(f[0]);
