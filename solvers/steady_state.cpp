@@ -18,23 +18,6 @@
 
 namespace aggkit {
 
-void SteadyStateOptions::validate() const {
-  auto positive = [](const char* key, double v) {
-    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(key, format_value(v), "a finite number > 0");
-  };
-  positive("tolerance", relative_tolerance);
-  positive("balance_tolerance", balance_tolerance);
-  positive("start_time", start_time);
-  positive("start_rtol", start_rtol);
-  positive("linear_tolerance", linear_tolerance);
-  if (max_newton_iterations < 1)
-    throw InputError("max_newton_iterations", std::to_string(max_newton_iterations), "an integer >= 1");
-  if (krylov_restart < 1) throw InputError("krylov_restart", std::to_string(krylov_restart), "an integer >= 1");
-  if (max_krylov_iterations < 1)
-    throw InputError("max_krylov_iterations", std::to_string(max_krylov_iterations), "an integer >= 1");
-  if (start_retries < 0) throw InputError("start_retries", std::to_string(start_retries), "an integer >= 0");
-}
-
 namespace {
 
 struct NewtonContext {
