@@ -164,7 +164,7 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
     check_petsc(SNESCreate(PETSC_COMM_SELF, &snes), "SNESCreate");
     // The user's PETSc options (scene, then command line): a database of this SNES and its KSP, PC and line
     // search, read by SNESSetFromOptions after aggkit's settings.
-    const std::string user_options = options.petsc_options + " " + command_line_petsc_options();
+    const std::string user_options = options.petsc_options + " " + options.command_line_petsc_options;
     if (user_options.find_first_not_of(' ') != std::string::npos) database.emplace(user_options, "petsc_options");
     if (user_options.find("-snes_ksp_ew") != std::string::npos) context.first_forcing = false;  // theirs rules
     check_petsc(SNESSetType(snes, SNESNEWTONLS), "SNESSetType");

@@ -170,6 +170,9 @@ struct Scene {
   std::vector<EngineSpec> engines;  // in run order
   Observation observe;
   std::optional<ComparisonPlan> compare;
+  // Not a scene key: the PETSc options of `aggkit run SCENE --out DIR -- OPTIONS`, which each snes engine
+  // of this scene's run hands its own solve after its petsc_options (solvers/petsc_options.hpp).
+  std::string command_line_petsc_options;
 
   const EngineSpec* find_engine(std::string_view label) const;  // nullptr if absent
 };
