@@ -27,6 +27,16 @@ AggregationModel brownian_model(double a, double lambda, std::size_t N, Truncati
   return model;
 }
 
+// The solve without PETSc options or CVODE retries (`options` keeps start_retries = 0), which must take
+// more than one Newton step for the options under test to change it.
+SteadyStateResult plain_solve(const AggregationModel& model, SteadyStateOptions& options) {
+  options.start_retries = 0;
+  SteadyStateResult plain = solve_steady_state(model, options);
+  REQUIRE(plain.converged);
+  REQUIRE(plain.newton_iterations >= 2);
+  return plain;
+}
+
 }  // namespace
 
 TEST_CASE("K = 2 with shattering: n1 = λ/(1+λ) and M0 = 2λ/(1+2λ)", "[snes][steady]") {
@@ -141,10 +151,7 @@ TEST_CASE("PETSc options change the solve: -snes_rtol stops earlier, the command
   // 4.7e-11), so stopping at a relative decrease of 1e-2 saves one.
   const AggregationModel model = brownian_model(0.9, 0.1, 1024);
   SteadyStateOptions options;
-  options.start_retries = 0;
-  const SteadyStateResult plain = solve_steady_state(model, options);
-  REQUIRE(plain.converged);
-  REQUIRE(plain.newton_iterations >= 2);
+  const SteadyStateResult plain = plain_solve(model, options);
   // A relative decrease of 1e-2 of the start's residual is reached after fewer Newton steps than aggkit's
   // absolute 1e-10 test (PETSc's tolerance, applied after aggkit's settings).
   options.petsc_options = "-snes_rtol 1e-2";
@@ -190,10 +197,7 @@ TEST_CASE("concurrent SNES solves each read only their own PETSc options", "[sne
   // other), two with none: each result is the one it gives alone, whatever the others were given.
   const AggregationModel model = brownian_model(0.9, 0.1, 256);
   SteadyStateOptions options;
-  options.start_retries = 0;
-  const SteadyStateResult alone = solve_steady_state(model, options);
-  REQUIRE(alone.converged);
-  REQUIRE(alone.newton_iterations >= 2);
+  const SteadyStateResult alone = plain_solve(model, options);
   std::vector<SteadyStateOptions> given(4, options);
   given[0].petsc_options = "-snes_max_it 1";
   given[2].command_line_petsc_options = "-snes_max_it 1 -snes_rtol_misspelled 3";
