@@ -82,6 +82,7 @@ struct OptionRow {
   std::function<void(S&, const nlohmann::json&, const std::string& key)> set;  // a value check_option passed
   std::vector<OptionRow<S>> rows;                                               // table: its keys
   std::function<bool(const S&)> present;  // table: whether the settings hold it (then its rows are checked)
+  bool required = false;  // in a sub-table: must be given (no default, though the field has a value)
 };
 
 // The rows of settings S; the defaults are read from S{}.
@@ -108,7 +109,7 @@ class OptionRows {
   static std::string join_key(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
   static void fill_defaults(std::vector<OptionRow<S>>& rows, const S& defaults) {
     for (OptionRow<S>& row : rows) {
-      if (row.get) row.spec.fallback = row.get(defaults);
+      if (row.get && !row.required) row.spec.fallback = row.get(defaults);
       fill_defaults(row.rows, defaults);
       row.spec.rows = specs(row.rows);
     }
@@ -221,6 +222,11 @@ struct Bind {
     OptionRow<S> row = make(std::move(key), OptionSpec::Type::custom, std::move(doc), std::move(default_note));
     row.spec.forms = std::move(forms);
     row.get = std::move(get), row.set = std::move(set);
+    return row;
+  }
+  // `row` as a key a sub-table must give: no default is printed or assumed.
+  static OptionRow<S> required(OptionRow<S> row) {
+    row.required = true;
     return row;
   }
   // A sub-table of options (key = { a = .., b = .. }); `on` is called when it is given (before its rows are

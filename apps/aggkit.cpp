@@ -66,7 +66,7 @@ struct RunArguments {
 };
 
 // The PETSc options after `--` go to every snes engine of the scene (after the scene's petsc_options).
-void use_petsc_options(const aggkit::Scene& scene, const std::string& options) {
+void use_petsc_options(aggkit::Scene& scene, const std::string& options) {
   if (options.empty()) return;
   const bool has_snes = std::any_of(scene.engines.begin(), scene.engines.end(),
                                     [](const aggkit::EngineSpec& e) { return e.name == "snes"; });
@@ -76,7 +76,7 @@ void use_petsc_options(const aggkit::Scene& scene, const std::string& options) {
     return;
   }
   aggkit::check_petsc_options(options, "-- (PETSc options on the command line)");
-  aggkit::set_command_line_petsc_options(options);
+  scene.command_line_petsc_options = options;
 }
 
 // A wall-time duration: seconds, or a number with the unit s, m, h or d ("10m", "1.5h").

@@ -22,6 +22,7 @@
 
 #include "analysis/input_error.hpp"
 #include "solvers/hopf_normal_form.hpp"
+#include "solvers/kernels.hpp"
 #include "solvers/limit_cycle.hpp"
 #include "solvers/size_grid.hpp"
 #include "solvers/stability.hpp"
@@ -431,11 +432,10 @@ py::dict hopf(const std::string& scene_text, double a, double lambda_lo, double 
   return d;
 }
 
-py::list engine_option_table(const std::string& engine) {
-  const EngineType* type = find_engine_type(engine);
-  if (!type) throw InputError("engine", "\"" + engine + "\"", "one of " + join(engine_names()));
+// An option table as Python lists it: key, default (as text), allowed, doc and value.
+py::list option_list(const OptionTable& table) {
   py::list rows;
-  for (const OptionSpec& o : type->options) {
+  for (const OptionSpec& o : table) {
     py::dict row;
     row["key"] = o.key, row["default"] = o.default_text(), row["allowed"] = o.allowed(), row["doc"] = o.doc;
     // The value a run uses without the key (None: none, or computed as `default` says): the keyword's default.
@@ -449,6 +449,30 @@ py::list engine_option_table(const std::string& engine) {
     rows.append(row);
   }
   return rows;
+}
+
+py::list engine_option_table(const std::string& engine) {
+  const EngineType* type = find_engine_type(engine);
+  if (!type) throw InputError("engine", "\"" + engine + "\"", "one of " + join(engine_names()));
+  return option_list(type->options);
+}
+
+// The kernel registry (solvers/kernels.hpp): name, formula and parameters (name, allowed, default or None).
+py::list kernel_list() {
+  py::list kernels;
+  for (const KernelEntry& entry : kernel_registry()) {
+    py::list parameters;
+    for (const KernelParameter& p : entry.parameters) {
+      py::dict parameter;
+      parameter["name"] = p.name, parameter["allowed"] = p.allowed;
+      parameter["default"] = p.fallback ? py::object(py::float_(*p.fallback)) : py::object(py::none());
+      parameters.append(parameter);
+    }
+    py::dict kernel;
+    kernel["name"] = entry.name, kernel["formula"] = entry.formula, kernel["parameters"] = parameters;
+    kernels.append(kernel);
+  }
+  return kernels;
 }
 
 }  // namespace
@@ -476,4 +500,6 @@ void bind_runs(py::module_& m) {
   m.def("locate_hopf", &hopf, py::arg("scene_text"), py::arg("a"), py::arg("lambda_lo"), py::arg("lambda_hi"),
         py::arg("tolerance"));
   m.def("engine_names", &engine_names);
+  m.def("kernels", &kernel_list);
+  m.def("grid_options", [] { return option_list(size_grid_option_rows().table()); });
 }

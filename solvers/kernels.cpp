@@ -103,50 +103,66 @@ Kernel Kernel::brownian(double a) {
 
 Kernel Kernel::user(std::string name, Function f) { return Kernel(std::move(name), {}, std::move(f)); }
 
+// Formulas as in the README's tour; ballistic kernel from [Kalinov2022], ballistic2d from [Carnevale1990].
+const std::vector<KernelEntry>& kernel_registry() {
+  using P = std::map<std::string, double>;
+  static const std::vector<KernelEntry> registry{
+      {"constant", "K_ij = 1", {}, [](const P&) { return Kernel::constant(); }},
+      {"sum", "K_ij = i + j", {}, [](const P&) { return Kernel::sum(); }},
+      {"product", "K_ij = i j  (gels at t = 1)", {}, [](const P&) { return Kernel::product(); }},
+      {"linear", "K_ij = 1 + A (i + j) + B i j", {{"A", "A >= 0", 0.0}, {"B", "B >= 0", 0.0}},
+       [](const P& p) { return Kernel::linear(p.at("A"), p.at("B")); }},
+      {"genproduct", "K_ij = (i j)^mu", {{"mu", "0 <= mu <= 1", std::nullopt}},
+       [](const P& p) { return Kernel::generalized_product(p.at("mu")); }},
+      {"ballistic", "K_ij = (i^(1/3) + j^(1/3))^2 sqrt(1/i + 1/j)", {}, [](const P&) { return Kernel::ballistic(); }},
+      {"brownian", "K_ij = (i/j)^a + (j/i)^a", {{"a", "0 <= a <= 1", std::nullopt}},
+       [](const P& p) { return Kernel::brownian(p.at("a")); }},
+      {"ballistic2d", "K_ij = (i^(1/2) + j^(1/2)) sqrt(1/i + 1/j)  (2-D discs)", {},
+       [](const P&) { return Kernel::ballistic2d(); }},
+  };
+  return registry;
+}
+
+const KernelEntry* find_kernel_entry(std::string_view name) {
+  for (const KernelEntry& entry : kernel_registry())
+    if (entry.name == name) return &entry;
+  return nullptr;
+}
+
+std::vector<std::string> KernelEntry::parameter_names() const {
+  std::vector<std::string> names;
+  for (const KernelParameter& p : parameters) names.push_back(p.name);
+  return names;
+}
+
 std::vector<std::string> Kernel::names() {
-  return {"constant", "sum", "product", "linear", "genproduct", "ballistic", "brownian", "ballistic2d"};
+  std::vector<std::string> names;
+  for (const KernelEntry& entry : kernel_registry()) names.push_back(entry.name);
+  return names;
 }
 
 Kernel Kernel::from_name(const std::string& name, const std::map<std::string, double>& parameters) {
-  struct Entry {
-    std::vector<std::string> keys;
-    std::function<Kernel(const std::map<std::string, double>&)> make;
-  };
-  auto get = [](const std::map<std::string, double>& p, const std::string& key, double fallback) {
-    auto it = p.find(key);
-    return it == p.end() ? fallback : it->second;
-  };
-  const std::map<std::string, Entry> table = {
-      {"constant", {{}, [](auto&) { return constant(); }}},
-      {"sum", {{}, [](auto&) { return sum(); }}},
-      {"product", {{}, [](auto&) { return product(); }}},
-      {"linear", {{"A", "B"}, [&](auto& p) { return linear(get(p, "A", 0.0), get(p, "B", 0.0)); }}},
-      {"genproduct", {{"mu"}, [&](auto& p) {
-         if (!p.count("mu")) throw InputError("kernel.mu", "(missing)", "genproduct needs mu in [0, 1]");
-         return generalized_product(p.at("mu"));
-       }}},
-      {"ballistic", {{}, [](auto&) { return ballistic(); }}},
-      {"ballistic2d", {{}, [](auto&) { return ballistic2d(); }}},
-      {"brownian", {{"a"}, [&](auto& p) {
-         if (!p.count("a")) throw InputError("kernel.a", "(missing)", "brownian needs a in [0, 1]");
-         return brownian(p.at("a"));
-       }}},
-  };
-  auto it = table.find(name);
-  if (it == table.end()) {
+  const KernelEntry* entry = find_kernel_entry(name);
+  if (!entry) {
     std::string allowed = "one of";
     for (const auto& n : names()) allowed += " " + n;
     throw InputError("kernel.name", "\"" + name + "\"", allowed);
   }
+  const std::vector<std::string> keys = entry->parameter_names();
   for (const auto& [key, value] : parameters) {
-    if (std::find(it->second.keys.begin(), it->second.keys.end(), key) == it->second.keys.end()) {
-      std::string allowed = it->second.keys.empty() ? "kernel '" + name + "' takes no parameters"
-                                                     : "kernel '" + name + "' takes:";
-      for (const auto& k : it->second.keys) allowed += " " + k;
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      std::string allowed = keys.empty() ? "kernel '" + name + "' takes no parameters" : "kernel '" + name + "' takes:";
+      for (const auto& k : keys) allowed += " " + k;
       throw InputError("kernel." + key, format_value(value), allowed);
     }
   }
-  return it->second.make(parameters);
+  std::map<std::string, double> values = parameters;
+  for (const KernelParameter& p : entry->parameters)
+    if (!values.count(p.name)) {
+      if (!p.fallback) throw InputError("kernel." + p.name, "(missing)", name + " needs " + p.allowed);
+      values[p.name] = *p.fallback;
+    }
+  return entry->make(values);
 }
 
 std::string Kernel::describe() const {

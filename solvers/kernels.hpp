@@ -7,7 +7,9 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "solvers/separable_form.hpp"
@@ -37,10 +39,10 @@ class Kernel {
   // A user kernel (symmetric, positive); it has no exact factorisation and is approximated like ballistic.
   static Kernel user(std::string name, Function k);
 
-  // Builds a kernel from its scene name and parameters; throws InputError naming the bad key.
-  // Names: constant, sum, product, linear (A, B), genproduct (mu), ballistic, brownian (a).
+  // Builds a kernel from its scene name and parameters (kernel_registry()); throws InputError naming the
+  // bad key.
   static Kernel from_name(const std::string& name, const std::map<std::string, double>& parameters);
-  static std::vector<std::string> names();
+  static std::vector<std::string> names();  // the registry's, in order
 
   double operator()(std::size_t i, std::size_t j) const { return function_(double(i), double(j)); }
   double at(double x, double y) const { return function_(x, y); }  // at any sizes (pivots of a graded grid)
@@ -62,5 +64,22 @@ class Kernel {
   // Exact factorisation builder: fills features/coupling for sizes 1..N.
   std::function<SeparableForm(std::size_t N)> exact_form_;
 };
+
+// The named kernels, declared once: the scene parser (Kernel::from_name), its error messages, `aggkit
+// kernels` and Python's aggkit.kernels() all read this list.
+struct KernelParameter {
+  std::string name;
+  std::string allowed;             // e.g. "0 <= a <= 1"
+  std::optional<double> fallback;  // none: the kernel needs it
+};
+struct KernelEntry {
+  std::string name;
+  std::string formula;
+  std::vector<KernelParameter> parameters;
+  std::function<Kernel(const std::map<std::string, double>& values)> make;  // every parameter present
+  std::vector<std::string> parameter_names() const;
+};
+const std::vector<KernelEntry>& kernel_registry();
+const KernelEntry* find_kernel_entry(std::string_view name);  // nullptr if unknown
 
 }  // namespace aggkit

@@ -2,7 +2,6 @@
 
 #include <petscsnes.h>
 
-#include <mutex>
 #include <stdexcept>
 
 #include "analysis/input_error.hpp"
@@ -10,21 +9,6 @@
 #include "solvers/petsc_database.hpp"
 
 namespace aggkit {
-
-namespace {
-std::mutex command_line_mutex;
-std::string command_line_options;
-}  // namespace
-
-void set_command_line_petsc_options(const std::string& options) {
-  std::lock_guard lock(command_line_mutex);
-  command_line_options = options;
-}
-
-std::string command_line_petsc_options() {
-  std::lock_guard lock(command_line_mutex);
-  return command_line_options;
-}
 
 void check_petsc(PetscErrorCode code, const char* what) {
   if (code != 0)

@@ -20,16 +20,30 @@ const char* scheme_name(GridScheme scheme) {
 }
 
 GridScheme scheme_from_name(const std::string& name) {
-  for (GridScheme scheme : {GridScheme::four_moment, GridScheme::three_moment, GridScheme::fixed_pivot})
-    if (name == scheme_name(scheme)) return scheme;
-  throw InputError("grid.scheme", name, "\"four-moment\" (the default), \"three-moment\" or \"fixed-pivot\"");
+  SizeGrid grid;
+  check_option(*find_option(size_grid_option_rows().table(), "scheme"), name, "grid.scheme");
+  size_grid_option_rows().apply(nlohmann::json{{"scheme", name}}, grid, "grid");
+  return grid.scheme;
+}
+
+const OptionRows<SizeGrid>& size_grid_option_rows() {
+  using B = Bind<SizeGrid>;
+  static const std::vector<std::pair<std::string, GridScheme>> schemes = [] {
+    std::vector<std::pair<std::string, GridScheme>> named;
+    for (GridScheme scheme : {GridScheme::four_moment, GridScheme::three_moment, GridScheme::fixed_pivot})
+      named.emplace_back(scheme_name(scheme), scheme);
+    return named;
+  }();
+  static const OptionRows<SizeGrid> rows{{
+      B::required(B::integer("resolved", &SizeGrid::resolved, at_least(2), "K: sizes 1..K one by one")),
+      B::required(B::number("ratio", &SizeGrid::ratio, closed(1.0, 4.0), "r: the pivots beyond K grow by this ratio")),
+      B::word("scheme", &SizeGrid::scheme, schemes, "how an aggregate between two pivots is shared"),
+  }};
+  return rows;
 }
 
 void SizeGrid::validate() const {
-  if (uniform()) return;
-  if (resolved < 2) throw InputError("grid.resolved", std::to_string(resolved), "an integer >= 2 (or 0: the uniform grid)");
-  if (!(ratio >= 1.0 && ratio <= 4.0) || !std::isfinite(ratio))
-    throw InputError("grid.ratio", format_value(ratio), "a number in [1, 4]");
+  if (!uniform()) size_grid_option_rows().check(*this, "grid");
 }
 
 std::string SizeGrid::describe() const {

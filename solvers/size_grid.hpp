@@ -37,6 +37,8 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/option_rows.hpp"
+
 namespace aggkit {
 
 // How an aggregate between two pivots is shared (see above).
@@ -49,7 +51,8 @@ struct SizeGrid {
   double ratio = 1.0;        // r ≥ 1 of the pivots beyond K (graded grid only)
   GridScheme scheme = GridScheme::four_moment;
   bool uniform() const { return resolved == 0; }
-  // Throws InputError (keys grid.resolved, grid.ratio) unless K ≥ 2 and 1 ≤ r ≤ 4 on a graded grid.
+  // Throws InputError (keys grid.resolved, grid.ratio) on a graded grid outside its option rows' ranges
+  // (K ≥ 2, 1 ≤ r ≤ 4).
   void validate() const;
   // "uniform", "graded(K=64, r=1.02)" (four-moment) or "graded(K=64, r=1.02, fixed-pivot)"
   std::string describe() const;
@@ -59,6 +62,11 @@ struct SizeGrid {
   // The grid with r - 1 halved (a graded grid's refinement in r at fixed K; the uniform grid is its own).
   SizeGrid refined() const;
 };
+
+// The keys of a graded grid, `grid = { resolved = K, ratio = r, scheme = ".." }` (analysis/option_rows.hpp):
+// resolved and ratio must be given, scheme defaults to SizeGrid's. A scene's [model] grid and a scan's
+// hopf_grid are read through these rows, and SizeGrid::validate checks their ranges.
+const OptionRows<SizeGrid>& size_grid_option_rows();
 
 // The pivots x_1 < ... < x_M = N of `grid` on sizes 1..N (x_i = i on the uniform grid).
 std::vector<double> grid_pivots(const SizeGrid& grid, std::size_t N);

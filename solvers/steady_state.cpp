@@ -18,23 +18,6 @@
 
 namespace aggkit {
 
-void SteadyStateOptions::validate() const {
-  auto positive = [](const char* key, double v) {
-    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(key, format_value(v), "a finite number > 0");
-  };
-  positive("tolerance", relative_tolerance);
-  positive("balance_tolerance", balance_tolerance);
-  positive("start_time", start_time);
-  positive("start_rtol", start_rtol);
-  positive("linear_tolerance", linear_tolerance);
-  if (max_newton_iterations < 1)
-    throw InputError("max_newton_iterations", std::to_string(max_newton_iterations), "an integer >= 1");
-  if (krylov_restart < 1) throw InputError("krylov_restart", std::to_string(krylov_restart), "an integer >= 1");
-  if (max_krylov_iterations < 1)
-    throw InputError("max_krylov_iterations", std::to_string(max_krylov_iterations), "an integer >= 1");
-  if (start_retries < 0) throw InputError("start_retries", std::to_string(start_retries), "an integer >= 0");
-}
-
 namespace {
 
 struct NewtonContext {
@@ -181,7 +164,7 @@ void newton(MassConstrainedSystem& system, const SteadyStateOptions& options, st
     check_petsc(SNESCreate(PETSC_COMM_SELF, &snes), "SNESCreate");
     // The user's PETSc options (scene, then command line): a database of this SNES and its KSP, PC and line
     // search, read by SNESSetFromOptions after aggkit's settings.
-    const std::string user_options = options.petsc_options + " " + command_line_petsc_options();
+    const std::string user_options = options.petsc_options + " " + options.command_line_petsc_options;
     if (user_options.find_first_not_of(' ') != std::string::npos) database.emplace(user_options, "petsc_options");
     if (user_options.find("-snes_ksp_ew") != std::string::npos) context.first_forcing = false;  // theirs rules
     check_petsc(SNESSetType(snes, SNESNEWTONLS), "SNESSetType");

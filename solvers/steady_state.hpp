@@ -55,9 +55,12 @@ struct SteadyStateOptions {
   // 0 disables.
   std::size_t coarse_start_above = 4096;
   // PETSc options-database entries for the SNES and its KSP/PC ("-snes_rtol 1e-12 -ksp_type bcgs"),
-  // applied after the settings above (they override them); the command line's (solvers/petsc_options.hpp)
-  // come after these.
+  // applied after the settings above (they override them), then those of the command line
+  // (`aggkit run ... -- OPTIONS`, not an engine option). Both belong to this solve alone: each solve reads
+  // them from a database of its own (solvers/petsc_database.hpp), as PETSc's per-object options do, so
+  // solves at the same time never see each other's.
   std::string petsc_options;
+  std::string command_line_petsc_options;
   void validate() const;  // throws InputError
 };
 

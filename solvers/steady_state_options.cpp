@@ -30,4 +30,25 @@ const OptionRows<SteadyStateOptions>& steady_state_option_rows() {
   return rows;
 }
 
+// The settings a scene does not give (the library's own tuning): rows too, so that validate() checks every
+// bound from one declaration, though no engine table lists them.
+const OptionRows<SteadyStateOptions>& steady_state_tuning_rows() {
+  using O = SteadyStateOptions;
+  using B = Bind<O>;
+  static const OptionRows<O> rows{{
+      B::number("start_rtol", &O::start_rtol, greater_than(0.0), "rtol of the CVODE start"),
+      B::number("linear_tolerance", &O::linear_tolerance, greater_than(0.0),
+                "relative GMRES tolerance when eisenstat_walker is false"),
+      B::integer("krylov_restart", &O::krylov_restart, at_least(1), "GMRES restart"),
+      B::integer("max_krylov_iterations", &O::max_krylov_iterations, at_least(1), "most GMRES iterations per Newton step"),
+      B::integer("start_retries", &O::start_retries, at_least(0), "CVODE start retries, each 10x longer"),
+  }};
+  return rows;
+}
+
+void SteadyStateOptions::validate() const {
+  steady_state_option_rows().check(*this);
+  steady_state_tuning_rows().check(*this);
+}
+
 }  // namespace aggkit

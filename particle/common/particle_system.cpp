@@ -207,7 +207,7 @@ void ParticleSystem::validate() const {
   if (count >= 0xffffffffu) throw InputError("count", std::to_string(count), "fewer than 2^32 - 1 particles");
   if (!(speed >= 0) || !std::isfinite(speed))
     throw InputError("initial.speed", format_value(speed), "a finite speed >= 0 (0: a cold start, every velocity zero)");
-  if (realizations < 1) throw InputError("realizations", std::to_string(realizations), "an integer >= 1");
+  particle_system_option_rows().check(*this);
   const StartFile* file = file_of(*this);
   validate_laws(*this, file);
 

@@ -14,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "analysis/option_rows.hpp"
 #include "particle/common/box.hpp"
 #include "particle/common/initial_state.hpp"
 #include "particle/common/particle_start.hpp"
@@ -61,8 +62,10 @@ struct ParticleSystem {
   std::variant<LatticeStart, CloudStart, FileStart> start;
   VelocityLaw velocities = VelocityLaw::fixed_speed;
   double speed = 1.0;          // fixed speed, or half-width of the uniform components; 0: cold start
+  // The scalar keys of [particles], declared with their ranges and defaults once, as option rows
+  // (particle_system_option_rows): these initial values are the defaults a scene and a sweep use.
   std::size_t thermalize = 0;  // elastic collisions per particle before sticking (0: none; an ED setting)
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;      // realization r runs on run_seed(seed, r) (seeds.hpp)
   std::size_t realizations = 1;
 
   enum class StartKind { lattice, cloud, file };
@@ -110,5 +113,10 @@ struct ParticleSystem {
   std::vector<Vector3> initial_velocities(std::size_t realization) const;
   std::string describe() const;  // one line
 };
+
+// The rows of [particles]' scalar keys (thermalize, seed, realizations), bound to ParticleSystem's fields
+// (analysis/option_rows.hpp): the scene reads them through these rows and ParticleSystem::validate checks
+// their ranges, so key, range and default are declared here alone.
+const OptionRows<ParticleSystem>& particle_system_option_rows();
 
 }  // namespace aggkit

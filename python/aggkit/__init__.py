@@ -24,7 +24,7 @@ from . import _aggkit  # noqa: E402
 from . import _scene  # noqa: E402
 from . import analysis  # noqa: E402
 
-__all__ = ["EngineWarning", "Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
+__all__ = ["EngineWarning", "kernels", "Model", "Solution", "SteadyState", "EnsembleSolution", "ParticleRun", "integrate", "steady_state", "dsmc",
            "ed", "ts", "dem", "run", "analysis", "engine_options", "rightmost_eigenvalues", "spectrum", "limit_cycle", "locate_hopf", "hopf_normal_form"]
 
 
@@ -46,6 +46,21 @@ def _run_engine(text, kernel, initial, lam, progress):
     raw = _aggkit.run_engine(text, 0, kernel, initial, lam, progress)
     _warn_engine(raw["engine"], raw["warnings"], stacklevel=4)
     return raw
+
+
+def kernels():
+    """The named kernels, from the core's registry (what a scene and Model accept): a list of dicts with
+    name, formula and parameters (each a dict with name, allowed and default; default None: required)."""
+    return _aggkit.kernels()
+
+
+def _kernel_lines():
+    lines = []
+    for k in kernels():
+        parameters = ", ".join(p["allowed"] + ("" if p["default"] is None else f" (default {p['default']:g})")
+                               for p in k["parameters"])
+        lines.append(f"        {k['name']}: {k['formula']}" + (f"; {parameters}" if parameters else ""))
+    return "\n".join(lines)
 
 
 def engine_options(engine):
@@ -78,9 +93,9 @@ def _engine_keywords(function, engine):
 class Model:
     """A truncated aggregation–shattering model.
 
-    kernel: a name ("constant", "sum", "product", "linear" with A, B, "genproduct" with mu, "ballistic",
-        "brownian" with a) or a Python callable K(i, j) -> float (called pair by pair on floats: the core
-        samples it to build a low-rank factorisation; K must be symmetric and >= 0).
+    kernel: a name of aggkit.kernels() (listed below, with their parameters) or a Python callable
+        K(i, j) -> float (called pair by pair on floats: the core samples it to build a low-rank
+        factorisation; K must be symmetric and >= 0).
     lam: the shattering rate λ: a number, {"initial": λ0, "slope": s} (λ0 + s t),
         {"times": [...], "values": [...]} (piecewise linear) or a callable λ(t) >= 0 (called at every rate
         evaluation; checked at 1001 points of [0, t_end]).
@@ -97,10 +112,12 @@ class Model:
     def __init__(self, kernel, lam=0.0, size=None, truncation="drop", initial=None, grid=None, **kernel_parameters):
         if size is None:
             raise ValueError("size = None: the truncation N, an integer >= 2, is required")
-        if grid is not None and (not isinstance(grid, dict) or not {"resolved", "ratio"} <= set(grid)
-                                 or not set(grid) <= {"resolved", "ratio", "scheme"}):
-            raise ValueError(f"grid = {grid!r}: None or a dict {{'resolved': K, 'ratio': r}} with an optional "
-                             "'scheme' ('four-moment', 'three-moment' or 'fixed-pivot')")
+        rows = _aggkit.grid_options()  # the core's grid keys: required ones have no value
+        if grid is not None and (not isinstance(grid, dict) or not {r["key"] for r in rows if r["value"] is None} <= set(grid)
+                                 or not set(grid) <= {r["key"] for r in rows}):
+            keys = "; ".join(f"'{r['key']}': {r['allowed']}" + ("" if r["value"] is None else f" (default {r['default']})")
+                             for r in rows)
+            raise ValueError(f"grid = {grid!r}: None or a dict {{{keys}}}")
         self.grid = None if grid is None else dict(grid)
         self.kernel = kernel
         self.lam = lam
@@ -136,6 +153,9 @@ class Model:
         k = "callable" if callable(self.kernel) else self.kernel
         grid = "" if self.grid is None else f", grid={self.grid!r}"
         return f"Model({k!r}, lam={self.lam!r}, size={self.size}, truncation={self.truncation!r}{grid})"
+
+
+Model.__doc__ += "\n    Kernels (aggkit.kernels()):\n" + _kernel_lines() + "\n"
 
 
 def _sizes(raw):

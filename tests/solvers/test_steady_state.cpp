@@ -2,6 +2,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "analysis/input_error.hpp"
@@ -23,6 +25,16 @@ AggregationModel brownian_model(double a, double lambda, std::size_t N, Truncati
   model.truncation = truncation;
   model.initial = monodisperse(N);
   return model;
+}
+
+// The solve without PETSc options or CVODE retries (`options` keeps start_retries = 0), which must take
+// more than one Newton step for the options under test to change it.
+SteadyStateResult plain_solve(const AggregationModel& model, SteadyStateOptions& options) {
+  options.start_retries = 0;
+  SteadyStateResult plain = solve_steady_state(model, options);
+  REQUIRE(plain.converged);
+  REQUIRE(plain.newton_iterations >= 2);
+  return plain;
 }
 
 }  // namespace
@@ -139,10 +151,7 @@ TEST_CASE("PETSc options change the solve: -snes_rtol stops earlier, the command
   // 4.7e-11), so stopping at a relative decrease of 1e-2 saves one.
   const AggregationModel model = brownian_model(0.9, 0.1, 1024);
   SteadyStateOptions options;
-  options.start_retries = 0;
-  const SteadyStateResult plain = solve_steady_state(model, options);
-  REQUIRE(plain.converged);
-  REQUIRE(plain.newton_iterations >= 2);
+  const SteadyStateResult plain = plain_solve(model, options);
   // A relative decrease of 1e-2 of the start's residual is reached after fewer Newton steps than aggkit's
   // absolute 1e-10 test (PETSc's tolerance, applied after aggkit's settings).
   options.petsc_options = "-snes_rtol 1e-2";
@@ -158,9 +167,9 @@ TEST_CASE("PETSc options change the solve: -snes_rtol stops earlier, the command
   CHECK(one.newton_iterations == 1);
   CHECK_THAT(one.note, Catch::Contains("DIVERGED_MAX_IT"));
   // The command line's options come last and override the scene's.
-  set_command_line_petsc_options("-snes_max_it 50");
+  options.command_line_petsc_options = "-snes_max_it 50";
   const SteadyStateResult overridden = solve_steady_state(model, options);
-  set_command_line_petsc_options("");
+  options.command_line_petsc_options.clear();
   CHECK(overridden.converged);
   CHECK(overridden.newton_iterations == plain.newton_iterations);
   // Unread options are reported, not silently dropped.
@@ -169,11 +178,49 @@ TEST_CASE("PETSc options change the solve: -snes_rtol stops earlier, the command
   CHECK(misspelled.converged);
   REQUIRE(misspelled.unused_petsc_options.size() == 1);
   CHECK(misspelled.unused_petsc_options[0] == "-snes_rtl 3");
+  // The command line's options are the solve's own too, not the process's: a solve without them after one
+  // with them runs with none.
+  options.petsc_options.clear();
+  options.command_line_petsc_options = "-snes_max_it 1";
+  CHECK_FALSE(solve_steady_state(model, options).converged);
+  options.command_line_petsc_options.clear();
+  CHECK(solve_steady_state(model, options).newton_iterations == plain.newton_iterations);
   // Bad options: InputError with PETSc's reason.
   CHECK_THROWS_WITH(check_petsc_options("-ksp_type foo", "petsc_options"), Catch::Contains("KSP type foo"));
   CHECK_THROWS_WITH(check_petsc_options("-snes_rtol abc", "petsc_options"), Catch::Contains("abc"));
   CHECK_THROWS_AS(check_petsc_options("snes_rtol 1e-3", "petsc_options"), InputError);
   CHECK_NOTHROW(check_petsc_options("-snes_monitor_cancel -ksp_type bcgs -snes_linesearch_type basic", "petsc_options"));
+}
+
+TEST_CASE("concurrent SNES solves each read only their own PETSc options", "[snes][steady][petsc]") {
+  // Four solves at once, two with one Newton step allowed (scene options on one, command-line options on the
+  // other), two with none: each result is the one it gives alone, whatever the others were given.
+  const AggregationModel model = brownian_model(0.9, 0.1, 256);
+  SteadyStateOptions options;
+  const SteadyStateResult alone = plain_solve(model, options);
+  std::vector<SteadyStateOptions> given(4, options);
+  given[0].petsc_options = "-snes_max_it 1";
+  given[2].command_line_petsc_options = "-snes_max_it 1 -snes_rtol_misspelled 3";
+  for (int round = 0; round < 3; ++round) {
+    std::vector<SteadyStateResult> results(given.size());
+    std::vector<std::thread> threads;
+    for (std::size_t i = 0; i < given.size(); ++i)
+      threads.emplace_back([&, i] { results[i] = solve_steady_state(model, given[i]); });
+    for (std::thread& t : threads) t.join();
+    for (std::size_t i : {std::size_t(0), std::size_t(2)}) {
+      INFO("solve " << i << ", round " << round);
+      CHECK_FALSE(results[i].converged);
+      CHECK(results[i].newton_iterations == 1);
+    }
+    CHECK(results[2].unused_petsc_options == std::vector<std::string>{"-snes_rtol_misspelled 3"});
+    for (std::size_t i : {std::size_t(1), std::size_t(3)}) {
+      INFO("solve " << i << ", round " << round);
+      CHECK(results[i].converged);
+      CHECK(results[i].newton_iterations == alone.newton_iterations);
+      CHECK(results[i].n == alone.n);
+      CHECK(results[i].unused_petsc_options.empty());
+    }
+  }
 }
 
 TEST_CASE("the coarse-to-fine start finds the steady state of the direct solve", "[snes][steady][coarse]") {

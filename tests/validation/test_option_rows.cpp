@@ -12,8 +12,12 @@
 #include "analysis/option_rows.hpp"
 #include "analysis/text.hpp"
 #include "particle/dsmc/options.hpp"
+#include "particle/ed/ed_options.hpp"
 #include "solvers/cvode_integrator.hpp"
+#include "solvers/size_grid.hpp"
+#include "solvers/steady_state_options.hpp"
 #include "validation/engines/engine.hpp"
+#include "validation/scene/scene_table.hpp"
 
 using namespace aggkit;
 
@@ -107,34 +111,44 @@ void check_defaults(const std::string& engine, const OptionTable& rows, const nl
   }
 }
 
-// Just outside and just inside each finite bound of every number and integer row (sub-tables included).
+struct Probe {
+  double value;
+  bool allowed;
+};
+
+// Just outside and just inside each finite bound of a number or integer row.
+std::vector<Probe> probes_of(const OptionSpec& row) {
+  const bool integer = row.type == OptionSpec::Type::integer;
+  const Range& r = row.range;
+  std::vector<Probe> probes;
+  const double inf = std::numeric_limits<double>::infinity();
+  if (std::isfinite(r.minimum) && std::abs(r.minimum) < largest_integer) {
+    if (integer) probes.push_back({r.minimum - 1, false}), probes.push_back({r.minimum, true});
+    // Inside an excluded bound by one part in 10^9 (the next double above 0 would overflow the physics:
+    // k_n = m*(π² + ln² e)/t_c² at t_c = 5e-324).
+    else if (r.above) probes.push_back({r.minimum, false}), probes.push_back({r.minimum + 1e-9 * std::max(1.0, std::abs(r.minimum)), true});
+    else probes.push_back({std::nextafter(r.minimum, -inf), false}), probes.push_back({r.minimum, true});
+  }
+  if (std::isfinite(r.maximum) && std::abs(r.maximum) < largest_integer) {
+    if (integer) probes.push_back({r.maximum + 1, false}), probes.push_back({r.maximum, true});
+    else if (r.below) probes.push_back({r.maximum, false}), probes.push_back({std::nextafter(r.maximum, -inf), true});
+    else probes.push_back({std::nextafter(r.maximum, inf), false}), probes.push_back({r.maximum, true});
+  }
+  return probes;
+}
+
+nlohmann::json probe_value(const OptionSpec& row, const Probe& probe) {
+  return row.type == OptionSpec::Type::integer ? nlohmann::json(std::int64_t(probe.value)) : nlohmann::json(probe.value);
+}
+
+// Each bound of every number and integer row (sub-tables included), through a scene.
 void check_ranges(const std::string& engine, const OptionTable& rows, const std::string& path) {
   for (const OptionSpec& row : rows) {
     const std::string key = path + row.key;
     if (row.type == OptionSpec::Type::table) check_ranges(engine, row.rows, key + ".");
     if (row.type != OptionSpec::Type::number && row.type != OptionSpec::Type::integer) continue;
-    const bool integer = row.type == OptionSpec::Type::integer;
-    const Range& r = row.range;
-    struct Probe {
-      double value;
-      bool allowed;
-    };
-    std::vector<Probe> probes;
-    const double inf = std::numeric_limits<double>::infinity();
-    if (std::isfinite(r.minimum) && std::abs(r.minimum) < largest_integer) {
-      if (integer) probes.push_back({r.minimum - 1, false}), probes.push_back({r.minimum, true});
-      // Inside an excluded bound by one part in 10^9 (the next double above 0 would overflow the physics:
-      // k_n = m*(π² + ln² e)/t_c² at t_c = 5e-324).
-      else if (r.above) probes.push_back({r.minimum, false}), probes.push_back({r.minimum + 1e-9 * std::max(1.0, std::abs(r.minimum)), true});
-      else probes.push_back({std::nextafter(r.minimum, -inf), false}), probes.push_back({r.minimum, true});
-    }
-    if (std::isfinite(r.maximum) && std::abs(r.maximum) < largest_integer) {
-      if (integer) probes.push_back({r.maximum + 1, false}), probes.push_back({r.maximum, true});
-      else if (r.below) probes.push_back({r.maximum, false}), probes.push_back({std::nextafter(r.maximum, -inf), true});
-      else probes.push_back({std::nextafter(r.maximum, inf), false}), probes.push_back({r.maximum, true});
-    }
-    for (const Probe& probe : probes) {
-      const nlohmann::json value = integer ? nlohmann::json(std::int64_t(probe.value)) : nlohmann::json(probe.value);
+    for (const Probe& probe : probes_of(row)) {
+      const nlohmann::json value = probe_value(row, probe);
       const std::string text = scene_text(engine, options_for(engine, key, value));
       INFO(engine << " " << key << " = " << option_text(value) << " (" << row.allowed() << ")\n" << text);
       try {
@@ -147,6 +161,30 @@ void check_ranges(const std::string& engine, const OptionTable& rows, const std:
                                    std::string(e.what()).find("a size this machine can hold") != std::string::npos;
         CHECK((!probe.allowed || machine_limit));
         if (!probe.allowed) CHECK(e.key() == "engine[0]." + key);
+      }
+    }
+  }
+}
+
+// A library's validate() against its rows, without a scene: each bound of every number and integer row of
+// `rows`, set through the row on `base`, is refused (naming the row's key) just outside and accepted just
+// inside, so validate() and the rows cannot disagree. Values the field cannot hold are skipped.
+template <class S>
+void check_validate(const OptionRows<S>& rows, const S& base, const std::string& what) {
+  for (const OptionRow<S>& row : rows.rows()) {
+    if (row.spec.type != OptionSpec::Type::number && row.spec.type != OptionSpec::Type::integer) continue;
+    for (const Probe& probe : probes_of(row.spec)) {
+      S settings = base;
+      row.set(settings, probe_value(row.spec, probe), row.spec.key);
+      if (option_number(row.get(settings)) != probe.value) continue;
+      INFO(what << " " << row.spec.key << " = " << option_text(row.get(settings)) << " (" << row.spec.allowed() << ")");
+      try {
+        settings.validate();
+        CHECK(probe.allowed);
+      } catch (const InputError& e) {
+        INFO(e.what());
+        CHECK(!probe.allowed);
+        CHECK(leaf_key(e.key()) == row.spec.key);
       }
     }
   }
@@ -186,6 +224,17 @@ TEST_CASE("option rows: the library's own validate() is the rows' range check", 
   CHECK_THROWS_AS(d.validate(), InputError);
   d.bucket = 1u << 26;
   CHECK_NOTHROW(d.validate());
+}
+
+TEST_CASE("option rows: validate() refuses exactly what the rows' ranges refuse, at each bound", "[options]") {
+  check_validate(steady_state_option_rows(), SteadyStateOptions{}, "snes");
+  check_validate(steady_state_tuning_rows(), SteadyStateOptions{}, "snes (tuning)");
+  check_validate(integrator_option_rows(), IntegratorOptions{}, "cvode");
+  check_validate(dsmc::option_rows(), dsmc::Options{}, "dsmc");
+  check_validate(ed_option_rows(), EdSettings{}, "ed");
+  SizeGrid graded;
+  graded.resolved = 64, graded.ratio = 1.05;
+  check_validate(size_grid_option_rows(), graded, "grid");
 }
 
 TEST_CASE("option rows: a sub-table's keys, types and required keys are checked", "[options]") {

@@ -6,7 +6,7 @@
 
 #include "analysis/input_error.hpp"
 #include "tests/validation/scene_fixture.hpp"
-#include "validation/scene/kernel_catalogue.hpp"
+#include "solvers/kernels.hpp"
 #include "validation/scan/scan_plan.hpp"
 #include "validation/sweep/sweep_plan.hpp"
 #include "validation/scene/scene.hpp"
@@ -201,17 +201,31 @@ TEST_CASE("scene: a missing, unreadable or malformed scene file is an InputError
   CHECK_THROWS_WITH(load_scene(empty), Contains("name"));
 }
 
-TEST_CASE("scene: the kernel catalogue lists exactly the kernels the solvers know") {
-  std::vector<std::string> catalogued;
-  for (const auto& entry : kernel_catalogue()) catalogued.push_back(entry.name);
-  CHECK(catalogued == Kernel::names());
-  // Each catalogued parameter is one the kernel accepts: a valid value is taken.
-  for (const auto& entry : kernel_catalogue()) {
-    std::map<std::string, double> parameters;
-    for (const auto& p : entry.parameters) parameters[p.name] = 0.5;
+TEST_CASE("scene: the kernel registry is what the parser accepts and what its messages list") {
+  // Every registered kernel is read from a scene with each declared parameter, refused without a required
+  // one (naming it) and with an undeclared one; an unknown name is refused listing exactly the registry.
+  for (const KernelEntry& entry : kernel_registry()) {
+    std::string parameters;
+    for (const KernelParameter& p : entry.parameters) parameters += ", " + p.name + " = 0.5";
     INFO(entry.name);
-    CHECK(Kernel::from_name(entry.name, parameters).name() == entry.name);
+    SceneText text;
+    text.engines = "[[engine]]\nname = \"cvode\"\n", text.compare = "";
+    text.model = "kernel = { name = \"" + entry.name + "\"" + parameters + " }\nsize = 64\n";
+    CHECK(aggkit::testing::parse_checked(text.text()).model.kernel.name() == entry.name);
+    for (const KernelParameter& p : entry.parameters) {
+      if (p.fallback) continue;
+      text.model = "kernel = { name = \"" + entry.name + "\" }\nsize = 64\n";
+      CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Contains("model.kernel." + p.name) && Contains(p.allowed));
+    }
+    text.model = "kernel = { name = \"" + entry.name + "\"" + parameters + ", zeta = 1.0 }\nsize = 64\n";
+    CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Contains("model.kernel.zeta"));
   }
+  std::string listed = "one of";
+  for (const KernelEntry& entry : kernel_registry()) listed += " " + entry.name;
+  SceneText text;
+  text.model = "kernel = { name = \"gaussian\" }\nsize = 64\n";
+  CHECK_THROWS_WITH(aggkit::testing::parse_checked(text.text()), Contains("model.kernel.name") && Contains(listed));
+  CHECK(Kernel::names().size() == kernel_registry().size());
 }
 
 TEST_CASE("scene: compare.final values against stated values need no reference, other forms still do") {

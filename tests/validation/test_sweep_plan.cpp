@@ -77,6 +77,12 @@ TEST_CASE("sweep plan: realization r raises every seed by r, an integer key gets
     CHECK(scene.particles->seed == 7 + r);
   }
   CHECK(plan.maps == std::vector<std::string>{"kinetic_energy"});
+  // Without particles.seed the realizations start from the seed a scene without it runs with.
+  std::string text = particles("\"particles.count\" = [20]\nrealizations = 2\n");
+  text.erase(text.find("seed = 7\n"), 9);
+  const SweepPlan unseeded = parse_sweep_plan(text);
+  REQUIRE_FALSE(unseeded.scene.particles->seed == 7);
+  for (std::size_t r = 0; r < 2; ++r) CHECK(unseeded.point_scene(0, r).particles->seed == unseeded.scene.particles->seed + r);
   // Nothing random to vary: more than one realization is refused.
   CHECK_THAT(error_of(kinetic("\"model.lambda\" = [0.0]\nrealizations = 2\n")), Contains("sweep.realizations") && Contains("no seed"));
 }

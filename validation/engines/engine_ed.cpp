@@ -15,6 +15,7 @@
 
 #include "analysis/input_error.hpp"
 #include "particle/ed/ed_configuration.hpp"
+#include "particle/ed/ed_options.hpp"
 #include "particle/common/box_configuration.hpp"
 #include "particle/ed/elastic_gas.hpp"
 #include "validation/io/machine.hpp"
@@ -25,43 +26,33 @@ namespace aggkit {
 
 namespace {
 
-struct EdSettings {
+// The physics' options (particle/ed/ed_options.hpp) and the runner's cluster target.
+struct Settings {
+  EdSettings ed;
   std::size_t target_clusters = 0;  // 0: stop at time.end
-  std::size_t cells = 0;
-  std::size_t thermalize = 0;
-  bool elastic = false;
 };
 
-const OptionRows<EdSettings>& ed_rows() {
-  using B = Bind<EdSettings>;
-  static const OptionRows<EdSettings> rows{{
-      cluster_stop_row(&EdSettings::target_clusters),
-      B::integer("cells", &EdSettings::cells, closed(0, 4294967295.0), "wanted number of broad-phase cells (0: about one per particle)"),
-      B::integer("thermalize", &EdSettings::thermalize, closed(0, 1e9),
-                 "elastic collisions per particle before sticking (collisions = \"elastic\": before the clock starts)",
-                 "particles.thermalize or 0"),
-      B::word("collisions", &EdSettings::elastic, std::vector<std::pair<std::string, bool>>{{"sticking", false}, {"elastic", true}},
-              "sticking: aggregation; elastic: a hard-sphere gas (no clusters form; collision and virial observables)"),
-  }};
+const OptionRows<Settings>& stop_rows() {
+  static const OptionRows<Settings> rows{{cluster_stop_row(&Settings::target_clusters)}};
   return rows;
 }
 
 const OptionTable& ed_options() {
-  static const OptionTable table = option_table(ed_rows());
+  static const OptionTable table = option_table(stop_rows(), ed_option_rows());  // stop first, as --help has always listed it
   return table;
 }
 
 class EdSimulation final : public ParticleSimulation {
  public:
-  EdSimulation(const ParticleSystem& system, const ParticleStart& start, const EdSettings& settings)
-      : ed_(system.box, system.mean_radius(), start.positions, start.velocities, true, settings.cells),
+  EdSimulation(const ParticleSystem& system, const ParticleStart& start, const Settings& settings)
+      : ed_(system.box, system.mean_radius(), start.positions, start.velocities, true, settings.ed.cells),
         settings_(settings),
         mass_(system.mean_mass()) {}
 
   void prepare(const StatusSink& status) override {
-    ed_.thermalize(settings_.thermalize, [&](std::size_t pending) {
+    ed_.thermalize(settings_.ed.thermalize, [&](std::size_t pending) {
       status("thermalising: " + std::to_string(ed_.particles() - pending) + " of " + std::to_string(ed_.particles()) +
-             " particles have " + std::to_string(settings_.thermalize) + " collisions");
+             " particles have " + std::to_string(settings_.ed.thermalize) + " collisions");
     });
     thermal_collisions_ = double(ed_.counters().elastic_collisions);
   }
@@ -98,7 +89,7 @@ class EdSimulation final : public ParticleSimulation {
 
   std::vector<std::pair<std::string, double>> final_values() const override {
     std::vector<std::pair<std::string, double>> values{{"events", double(ed_.counters().events())}};
-    if (settings_.thermalize > 0) values.emplace_back("thermalization_collisions", thermal_collisions_);
+    if (settings_.ed.thermalize > 0) values.emplace_back("thermalization_collisions", thermal_collisions_);
     return values;
   }
   bool saves_state() const override { return true; }
@@ -128,7 +119,7 @@ class EdSimulation final : public ParticleSimulation {
   }
 
   mutable EventDrivenAggregation ed_;  // exhausted() skips stale events: a const query that pops the queue
-  EdSettings settings_;
+  Settings settings_;
   double mass_;
   double thermal_collisions_ = 0;
 };
@@ -238,24 +229,26 @@ void check_particles(const ParticleSystem& system) {
 ParticleEngineKind::Setup setup_ed(const EngineOptions& given, const Scene& scene) {
   const ParticleSystem& system = *scene.particles;
   check_particles(system);
-  EdSettings settings;
-  settings.thermalize = system.thermalize;
+  Settings settings;
+  settings.ed.thermalize = system.thermalize;
   if (given.has("thermalize") && system.thermalize > 0)
     given.fail("thermalize", "thermalize given once: [particles] thermalize = " + std::to_string(system.thermalize) +
                                  " is also set (the engine's key is the one to keep)");
-  given.read(ed_rows(), settings);
+  given.read(ed_option_rows(), settings.ed);
+  given.read(stop_rows(), settings);
   check_cluster_stop(given, settings.target_clusters, system.count);
-  const nlohmann::json values = ed_rows().values(settings);
-  if (settings.elastic) {
+  nlohmann::json values = ed_option_rows().values(settings.ed);
+  values.update(stop_rows().values(settings));
+  if (settings.ed.elastic) {
     if (settings.target_clusters > 0)
       given.fail("stop", "no cluster target with collisions = \"elastic\" (no clusters form): leave stop out to run to time.end");
     if (given.has("cells"))
       given.fail("cells", "no cells with collisions = \"elastic\" (the hard-sphere gas sizes its own grid): leave cells out");
     return {[system, settings](std::size_t r) {
-              return std::make_unique<ElasticGasSimulation>(system, system.initial_state(r), settings);
+              return std::make_unique<ElasticGasSimulation>(system, system.initial_state(r), settings.ed);
             },
             "event-driven elastic hard-sphere gas" +
-                (settings.thermalize > 0 ? ", after " + std::to_string(settings.thermalize) + " collisions per particle" : std::string()) +
+                (settings.ed.thermalize > 0 ? ", after " + std::to_string(settings.ed.thermalize) + " collisions per particle" : std::string()) +
                 ", stop at time.end",
             values, {}};
   }

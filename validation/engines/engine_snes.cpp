@@ -8,7 +8,6 @@
 
 #include "analysis/input_error.hpp"
 #include "solvers/discretisation.hpp"
-#include "solvers/petsc_options.hpp"
 #include "solvers/steady_state_options.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/io/atomic_file.hpp"
@@ -28,8 +27,8 @@ class SnesEngine final : public Engine {
     std::string line = "Newton-Krylov (PETSc SNES), rhs " + to_string(options_.rates) + ", tolerance " +
                        shortest_text(options_.relative_tolerance);
     if (!options_.petsc_options.empty()) line += ", PETSc options \"" + options_.petsc_options + "\"";
-    const std::string command_line = command_line_petsc_options();
-    if (!command_line.empty()) line += ", command-line PETSc options \"" + command_line + "\"";
+    if (!options_.command_line_petsc_options.empty())
+      line += ", command-line PETSc options \"" + options_.command_line_petsc_options + "\"";
     return line;
   }
 
@@ -90,6 +89,7 @@ std::unique_ptr<Engine> build_snes(const EngineOptions& given, const EngineSpec&
   SteadyStateOptions options;
   given.read(steady_state_option_rows(), options);
   under_key(rekey, [&] { options.validate(); });
+  options.command_line_petsc_options = scene.command_line_petsc_options;
   if (!scene.model.lambda.is_constant())
     throw InputError("model.lambda", scene.model.lambda.describe(), "a constant shattering rate for engine snes");
   if (scene.model.lambda.is_zero())

@@ -157,12 +157,8 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   plan.cycles = scan.optional_boolean("cycles").value_or(true);
   plan.cycle_run = scan.optional_number("cycle_run", Bound::positive).value_or(plan.cycle_run);
   plan.hopf_grid = scene.model.grid;
-  if (const auto grid = scan.optional_table("hopf_grid")) {
-    grid->allow_only({"resolved", "ratio", "scheme"});
-    plan.hopf_grid.resolved = grid->count("resolved", 2);
-    plan.hopf_grid.ratio = grid->number("ratio", Bound::any);
+  if (scan.read_table("hopf_grid", size_grid_option_rows(), plan.hopf_grid)) {  // scheme: the model's unless given
     const auto key = [&](const std::string& k) { return scan.key("hopf_grid") + "." + k.substr(k.find('.') + 1); };
-    if (grid->find("scheme")) plan.hopf_grid.scheme = under_key(key, [&] { return scheme_from_name(grid->string("scheme")); });
     under_key(key, [&] { plan.hopf_grid.validate(); });
   }
 

@@ -5,13 +5,15 @@
 //   tier = "fast"                                  fast | full (default fast): `aggkit validate --tier fast`
 //                                                  runs the fast scenes, `--tier full` every scene
 //   [model]                                        required by the kinetic engines (cvode, exact, ...)
-//   kernel = { name = "ballistic" }                constant | sum | product | linear (A, B) |
-//                                                  genproduct (mu) | ballistic | brownian (a)
+//   kernel = { name = "ballistic" }                a kernel of the registry and its parameters
+//                                                  (solvers/kernels.hpp; `aggkit kernels` lists them)
 //   lambda = 0.01                                  or { initial = .., slope = .. } (λ = initial + slope t)
 //                                                  or { times = [..], values = [..] } (piecewise linear);
 //                                                  default 0
 //   size = 5000                                    truncation N >= 2 (required)
 //   truncation = "drop"                            drop | cutoff (default drop)
+//   grid = { resolved = 64, ratio = 1.05 }         optional graded size grid (its rows: solvers/size_grid.hpp;
+//                                                  scheme = "four-moment" by default); absent: uniform
 //   initial = { kind = "monodisperse" }            optional density (default 1);
 //                                                  or { kind = "table", n = [n_1, n_2, ...] }
 //   [particles]                                    required by the particle engines (ed, ...); see
@@ -170,6 +172,9 @@ struct Scene {
   std::vector<EngineSpec> engines;  // in run order
   Observation observe;
   std::optional<ComparisonPlan> compare;
+  // Not a scene key: the PETSc options of `aggkit run SCENE --out DIR -- OPTIONS`, which each snes engine
+  // of this scene's run hands its own solve after its petsc_options (solvers/petsc_options.hpp).
+  std::string command_line_petsc_options;
 
   const EngineSpec* find_engine(std::string_view label) const;  // nullptr if absent
 };

@@ -17,25 +17,6 @@ bool is_folder_name(const std::string& label) {
   });
 }
 
-// A TOML value as JSON; dates and times, which no engine takes, are refused under `key`.
-nlohmann::json to_json(const toml::node& node, const std::string& key) {
-  if (const auto* t = node.as_table()) {
-    nlohmann::json object = nlohmann::json::object();
-    for (auto&& [k, v] : *t) object[std::string(k.str())] = to_json(v, key + "." + std::string(k.str()));
-    return object;
-  }
-  if (const auto* a = node.as_array()) {
-    nlohmann::json array = nlohmann::json::array();
-    for (std::size_t i = 0; i < a->size(); ++i) array.push_back(to_json(*a->get(i), key + "[" + std::to_string(i) + "]"));
-    return array;
-  }
-  if (const auto* s = node.as_string()) return s->get();
-  if (const auto* i = node.as_integer()) return i->get();
-  if (const auto* f = node.as_floating_point()) return f->get();
-  if (const auto* b = node.as_boolean()) return b->get();
-  throw InputError(key, scene_text(node), "a number, string, boolean, array or table");
-}
-
 }  // namespace
 
 void read_engines(const SceneTable& root, Scene& scene) {
@@ -55,7 +36,7 @@ void read_engines(const SceneTable& root, Scene& scene) {
                  "engine labels must be unique; \"" + spec.label + "\" is taken: give this engine a label = \"...\"");
     spec.options = nlohmann::json::object();
     for (auto&& [key, value] : table.raw())
-      if (key.str() != "name" && key.str() != "label") spec.options[std::string(key.str())] = to_json(value, table.key(key.str()));
+      if (key.str() != "name" && key.str() != "label") spec.options[std::string(key.str())] = toml_json(value, table.key(key.str()));
     scene.engines.push_back(std::move(spec));
   }
 }

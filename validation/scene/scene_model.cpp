@@ -8,17 +8,11 @@ namespace aggkit {
 
 namespace {
 
-// grid = { resolved = K, ratio = r, scheme = "four-moment" | "three-moment" | "fixed-pivot" } (solvers/size_grid.hpp);
-// absent: the uniform grid.
+// grid = { resolved = K, ratio = r, scheme = "four-moment" | "three-moment" | "fixed-pivot" }: the rows of
+// solvers/size_grid.hpp; absent: the uniform grid.
 SizeGrid read_grid(const SceneTable& model) {
   SizeGrid grid;
-  if (!model.find("grid")) return grid;
-  const SceneTable table = model.table("grid");
-  table.allow_only({"resolved", "ratio", "scheme"});
-  grid.resolved = table.count("resolved", 2);
-  grid.ratio = table.number("ratio", Bound::any);
-  if (table.find("scheme")) grid.scheme = under_key(model_key, [&] { return scheme_from_name(table.string("scheme")); });
-  under_key(model_key, [&] { grid.validate(); });
+  if (model.read_table("grid", size_grid_option_rows(), grid)) under_key(model_key, [&] { grid.validate(); });
   return grid;
 }
 

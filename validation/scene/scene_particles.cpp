@@ -41,10 +41,12 @@
 //                                       of fixed speed in uniformly random directions (directions = "uniform",
 //                                       the default) or with independent uniform components in [-speed, speed],
 //                                       total momentum removed (components = "uniform")
-//   thermalize = 10                     elastic collisions per particle before sticking (default 0; an ED setting)
-//   seed = 1                            (default 1)
+//   thermalize = 10                     elastic collisions per particle before sticking (an ED setting)
+//   seed = 7                            realization r runs on the seed mixed with r
 //   realizations = 10                   independent runs (different velocities, and radii, masses and cloud
-//                                       positions where those are random), default 1
+//                                       positions where those are random)
+//                                       (these three: option rows with their ranges and defaults,
+//                                       particle/common/particle_system_options.cpp)
 #include <cmath>
 #include <limits>
 
@@ -221,9 +223,7 @@ ParticleSystem read_particles(const SceneTable& particles, const std::filesystem
     system.mass_law = read_mass(particles);
   }
   read_box(particles, system);
-  system.thermalize = particles.optional_count("thermalize", 0).value_or(0);
-  system.seed = particles.optional_count("seed", 0).value_or(1);
-  system.realizations = particles.optional_count("realizations", 1).value_or(1);
+  particles.read_rows(particle_system_option_rows(), system);
   in_section(particles, [&] { system.validate(); });
   return system;
 }

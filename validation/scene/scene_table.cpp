@@ -150,6 +150,24 @@ double SceneTable::number(std::string_view name, Bound bound) const {
   return value;
 }
 
+nlohmann::json toml_json(const toml::node& node, const std::string& key) {
+  if (const auto* t = node.as_table()) {
+    nlohmann::json object = nlohmann::json::object();
+    for (auto&& [k, v] : *t) object[std::string(k.str())] = toml_json(v, key + "." + std::string(k.str()));
+    return object;
+  }
+  if (const auto* a = node.as_array()) {
+    nlohmann::json array = nlohmann::json::array();
+    for (std::size_t i = 0; i < a->size(); ++i) array.push_back(toml_json(*a->get(i), key + "[" + std::to_string(i) + "]"));
+    return array;
+  }
+  if (const auto* s = node.as_string()) return s->get();
+  if (const auto* i = node.as_integer()) return i->get();
+  if (const auto* f = node.as_floating_point()) return f->get();
+  if (const auto* b = node.as_boolean()) return b->get();
+  throw InputError(key, scene_text(node), "a number, string, boolean, array or table");
+}
+
 std::size_t SceneTable::count(std::string_view name, std::size_t minimum) const {
   const std::string expected = "an integer >= " + std::to_string(minimum);
   const auto& node = require(name, expected);

@@ -16,7 +16,10 @@
 
 #include <toml++/toml.h>
 
+#include <nlohmann/json.hpp>
+
 #include "analysis/input_error.hpp"
+#include "analysis/option_rows.hpp"
 #include "validation/io/text.hpp"
 
 namespace aggkit {
@@ -34,6 +37,10 @@ enum class Bound {
 toml::table parse_toml_text(std::string_view text, const std::string& source);
 // The text of a scene file; InputError (key "scene") for a folder, a missing or an unreadable file.
 std::string read_scene_file(const std::filesystem::path& path);
+
+// A TOML value as JSON, the form option rows read; dates and times, which no option takes, are refused
+// under `key`.
+nlohmann::json toml_json(const toml::node& node, const std::string& key);
 
 class SceneTable {
  public:
@@ -65,6 +72,32 @@ class SceneTable {
   std::optional<std::size_t> optional_count(std::string_view name, std::size_t minimum) const;
   std::optional<bool> optional_boolean(std::string_view name) const;
   std::optional<SceneTable> optional_table(std::string_view name) const;
+
+  // The entries of this table that `rows` declare (analysis/option_rows.hpp), each checked against its row
+  // (type, range) and set in `settings`; entries the rows do not declare are left to the caller.
+  template <class S>
+  void read_rows(const OptionRows<S>& rows, S& settings) const {
+    nlohmann::json given = nlohmann::json::object();
+    for (const OptionRow<S>& row : rows.rows())
+      if (const toml::node* node = find(row.spec.key)) {
+        nlohmann::json& value = given[row.spec.key] = toml_json(*node, key(row.spec.key));
+        check_option(row.spec, value, key(row.spec.key));
+      }
+    rows.apply(given, settings, path_);
+  }
+  // Entry `name` as a sub-table of the keys `rows` declare: unknown keys refused, required ones demanded,
+  // each value checked against its row and set in `settings`. False (nothing read) when it is absent.
+  template <class S>
+  bool read_table(std::string_view name, const OptionRows<S>& rows, S& settings) const {
+    const toml::node* node = find(name);
+    if (!node) return false;
+    OptionSpec spec;
+    spec.key = std::string(name), spec.type = OptionSpec::Type::table, spec.rows = rows.table();
+    const nlohmann::json value = toml_json(*node, key(name));
+    check_option(spec, value, key(name));
+    rows.apply(value, settings, key(name));
+    return true;
+  }
 
   // Throws InputError for entry `name` with its value as written.
   [[noreturn]] void fail(std::string_view name, const std::string& allowed) const;

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <sstream>
 
+#include "particle/common/particle_system.hpp"
 #include "validation/engines/engine.hpp"
 #include "validation/scene/scene_table.hpp"
 #include "validation/scene/value_range.hpp"
@@ -131,7 +132,8 @@ bool offset_seeds(toml::table& document, std::size_t r) {
   bool any = false;
   if (toml::node* particles = document.get("particles"); particles && particles->is_table()) {
     toml::table& p = *particles->as_table();
-    p.insert_or_assign("seed", integer_or(p.get("seed"), 1) + std::int64_t(r));
+    const std::int64_t fallback = find_option(particle_system_option_rows().table(), "seed")->fallback.get<std::int64_t>();
+    p.insert_or_assign("seed", integer_or(p.get("seed"), fallback) + std::int64_t(r));
     any = true;
   }
   if (toml::node* engines = document.get("engine"); engines && engines->is_array())

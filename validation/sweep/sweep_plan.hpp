@@ -8,7 +8,7 @@
 //   "particles.initial.volume_fraction" = [0.05, 0.1]                      or a list of values (numbers,
 //                                        strings, booleans), in the order given
 //   realizations = 3                     runs per point (default 1): realization r (0-based) runs the point with
-//                                        every seed of the scene — particles.seed (default 1) and an engine's
+//                                        every seed of the scene — particles.seed (its default if absent) and an engine's
 //                                        `seed` option — increased by r
 //   maps = ["components_fraction"]       the columns drawn (default: the scene's observe.final, else
 //                                        observe.series): a heat map over the first two keys, one curve per
