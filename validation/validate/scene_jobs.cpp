@@ -60,6 +60,9 @@ pid_t start_child(const std::vector<std::string>& argv, const std::vector<std::s
   if (pid != 0) return pid;
   ::prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (::getppid() != parent) ::_exit(127);  // the parent died before prctl
+  // A new file, not the old one truncated: a process left from an earlier, killed validation (a scan's MPI
+  // daemon reporting its parent's end) may still hold the old log open and would write into this one.
+  ::unlink(log.c_str());
   const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   const int in = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
   if (out < 0 || in < 0) ::_exit(127);
