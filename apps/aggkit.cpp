@@ -198,6 +198,7 @@ int validate(const ValidateArguments& arguments) {
   options.plot = !arguments.no_plot;
   options.rerun = arguments.rerun;
   options.program = std::filesystem::read_symlink("/proc/self/exe");
+  options.mpiexec = aggkit::default_mpiexec();
   options.progress = arguments.quiet ? nullptr : &std::cerr;
   options.table = &std::cout;
   return aggkit::run_validation(options).exit_code;
@@ -263,7 +264,9 @@ CLI::App* add_validate_command(CLI::App& app, ValidateArguments& validate_argume
                                "fast: the scenes of tier fast (default); full: every scene");
   validate_command->add_option("--out,-o", validate_arguments.out,
                                "output folder (default ./validation; a rerun resumes)");
-  validate_command->add_option("--jobs,-j", validate_arguments.jobs, "scenes run at once, each in a child process (default 1)");
+  validate_command->add_option("--jobs,-j", validate_arguments.jobs,
+                               "cores (job slots) for the scenes, each in a child process: a run scene holds one, a "
+                               "scan scene the free ones (default 1)");
   validate_command->add_flag("--quiet,-q", validate_arguments.quiet, "no progress lines on stderr");
   validate_command->add_flag("--no-plot", validate_arguments.no_plot, "no plots (report.html without images)");
   validate_command->add_flag("--rerun", validate_arguments.rerun, "rerun the scenes an earlier validation into DIR finished");
@@ -273,9 +276,11 @@ CLI::App* add_validate_command(CLI::App& app, ValidateArguments& validate_argume
       "are recorded in DIR/finished/: an interrupted validation rerun into the same DIR runs only the rest\n"
       "(a changed scene file is rerun). Prints a pass/fail table (scene, engines, worst comparison, its error,\n"
       "tolerance and share of the tolerance used, wall time); writes DIR/validation.json and DIR/report.html.\n"
-      "Not under mpirun: --jobs K runs K scenes at once on this machine. On a cluster, spread one scene's\n"
-      "realizations over MPI ranks by running it alone: mpirun -np K aggkit run SCENE --out DIR/<scene>\n"
-      "(examples/slurm-run.sh).\n"
+      "Not under mpirun: --jobs K gives the scenes K cores on this machine, one each, except a scan scene:\n"
+      "the scans start first, each on the cores free then, as `mpiexec -np S aggkit scan` (the same outputs;\n"
+      "$AGGKIT_MPIEXEC names the launcher, empty: none). The progress lines say how many cores each scene\n"
+      "holds. On a cluster, spread one scene's realizations over MPI ranks by running it alone:\n"
+      "mpirun -np K aggkit run SCENE --out DIR/<scene> (examples/slurm-run.sh).\n"
       "Exit status 0: every scene passes; 1: a scene failed; 2: bad input (option, scene, output folder).");
   return validate_command;
 }

@@ -2,7 +2,7 @@
 """kill -9 at random moments of `aggkit scan`, `aggkit sweep` and `aggkit validate`, then a rerun into the
 same folder (their resume), against one uninterrupted run: every output file must be byte-identical.
 
-    kill_and_rerun.py AGGKIT --out DIR [--seed S] [--kills K] [--only scan|sweep|validate]
+    kill_and_rerun.py AGGKIT --out DIR [--seed S] [--kills K] [--only scan|sweep|validate] [--jobs J]
 
 For each command on its small scene (1-3 s): one uninterrupted run, then K times a run killed with SIGKILL
 (of the command's process, as `kill -9 PID` does; `aggkit validate` arranges for its running scenes to end
@@ -14,11 +14,15 @@ left-over *.partial, a missing file, an extra one are all differences) with the 
 
 Only what a run records about itself rather than about the physics may differ, and only in those fields:
 wall times and rates per wall second (any JSON key ending in wall_seconds or _per_second: summary.json,
-final.json, finished/*.json, validation.json), the seconds and MPI rank of each scan or sweep run (timing.csv,
+final.json, finished/*.json, validation.json), validate's --jobs (validation.json "jobs", report.html), the seconds and MPI rank of each scan or sweep run (timing.csv,
 the `seconds,rank` columns of a scan's points/*.csv, a sweep point's "seconds"/"rank"), whether a scene was
 finished in an earlier run (validation.json "resumed", report.html), and the wall-time cells of report.html and
 of each scene's log. Those fields are blanked in both folders before the byte comparison (normalise() below);
 everything else is compared as written.
+
+With --jobs J (default 1) the killed validations and their reruns run `aggkit validate --jobs J`, against the
+uninterrupted `--jobs 1`: with J > 1 its scan scene runs first as J MPI ranks (mpiexec), and a kill lands in
+the middle of that MPI job too.
 
 Exit 0: every rerun identical; 1: a difference (each differing file named, with its first differing line);
 2: the harness itself failed (a reference run that did not succeed).
@@ -147,7 +151,7 @@ def normalise(relative, data):
         # seconds and rank; validation.json whether a scene was resumed (and how many were).
         keys = {"seconds", "rank"} if "points/" in name else set()
         if name == "validation.json":
-            keys = {"resumed"}
+            keys = {"resumed", "jobs"}  # --jobs: how it was run (the same outputs on any count)
         return json.dumps(blank_run_fields(json.loads(data), keys), sort_keys=True, indent=1).encode()
     if name.endswith("timing.csv"):
         # point/realization columns are the results' identity; seconds and rank are the run's.
@@ -165,6 +169,7 @@ def normalise(relative, data):
         text = data.decode()
         text = text.replace(" (finished in an earlier run)", "")
         text = re.sub(r"wall time " + NUMBER + " s", "wall time * s", text)
+        text = re.sub(r" · [0-9]+ jobs? · ", " · * jobs · ", text)
         # the scene's wall time, the cell before its verdict; an engine's, the cell after its status
         text = re.sub(r'<td class="num">' + NUMBER + r'( \(earlier run\))?</td>(?=<td class="(?!num))',
                       '<td class="num">*</td>', text)
@@ -211,10 +216,10 @@ def compare(reference, rerun):
     return problems
 
 
-def command_line(aggkit, command, target, out):
+def command_line(aggkit, command, target, out, jobs=1):
     line = [aggkit, command, str(target), "--out", str(out), "--no-plot"]
     if command == "validate":
-        line = [aggkit, "validate", "--jobs", "1", "--out", str(out), "--no-plot"] + [str(t) for t in target]
+        line = [aggkit, "validate", "--jobs", str(jobs), "--out", str(out), "--no-plot"] + [str(t) for t in target]
     return line
 
 
@@ -244,6 +249,7 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--kills", type=int, default=3)
     parser.add_argument("--only", choices=["scan", "sweep", "validate"], action="append")
+    parser.add_argument("--jobs", type=int, default=1, help="--jobs of the killed validations and their reruns")
     args = parser.parse_args()
     shutil.rmtree(args.out, ignore_errors=True)
     scenes = args.out / "scenes"
@@ -271,6 +277,7 @@ def main():
         if expected not in (0, 1):
             print(f"kill_and_rerun: {command}: the uninterrupted run exited {expected} (log {log})")
             return 2
+        line = command_line(args.aggkit, command, targets[command], work, args.jobs)
         for k in range(args.kills):
             moment = rng.uniform(0.02, 0.98) * wall
             landed = killed_run(line, log, moment)

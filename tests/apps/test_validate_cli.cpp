@@ -1,7 +1,8 @@
 // `aggkit validate` end to end on a folder of small scenes: a passing one, one that fails by an impossible
 // tolerance, a full-tier one, a scan scene and two that check nothing (no [compare]; a comparison without a
 // tolerance), reported "ran (no check)" and counted apart from the passes — exit codes 0/1/2, the table,
-// validation.json, report.html with every image it references present, and resumption after a kill without rerunning finished scenes.
+// validation.json, report.html with every image it references present, and resumption after a kill without rerunning finished scenes;
+// with --jobs 2 the scan first, on both cores as MPI ranks, with the outputs of --jobs 1.
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -110,13 +111,41 @@ std::vector<std::string> image_sources(const std::string& html) {
   return sources;
 }
 
+// The page of the five fast scenes of write_scenes: escaped description, every scene, and every image it
+// references present beside it.
+void check_report_page(const fs::path& out) {
+  const std::string html = aggkit::testing::read_text(out / "report.html");
+  CHECK_THAT(html, Contains("A constant-kernel check &lt;exact&gt; &amp; small: &quot;pass-scene&quot;.\nSecond line"));
+  CHECK_THAT(html, Contains("id=\"scene-pass-scene\"") && Contains("id=\"scene-fail-scene\"") &&
+                       Contains("id=\"scene-tiny-scan\""));
+  CHECK(html.find("<table>") < html.find("<section"));  // the summary table first
+  CHECK_THAT(html, Contains("1 of 5 scenes pass, 3 ran (no check)") && Contains("<td class=\"nocheck\">ran (no check)</td>"));
+  const auto sources = image_sources(html);
+  for (const auto& source : sources) {
+    INFO(source);
+    CHECK(fs::is_regular_file(out / source));
+  }
+  // ... and every plot the scenes made is on the page (report.png of each run scene and the scan's phase
+  // diagram where matplotlib is installed: the harness says whether it drew one).
+  std::set<std::string> pngs;
+  for (const auto& entry : fs::recursive_directory_iterator(out))
+    if (entry.path().extension() == ".png") pngs.insert(entry.path().lexically_relative(out).generic_string());
+  CHECK(std::set<std::string>(sources.begin(), sources.end()) == pngs);
+  if (json_of(out / "pass-scene" / "summary.json")["plot"]["status"] == "written") {
+    CHECK(pngs.count("pass-scene/report.png") == 1);
+    CHECK(pngs.count("tiny-scan/phase_diagram.png") == 1);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("validate cli: a passing and a failing scene give exit 1, the table, validation.json and report.html") {
   const auto folder = aggkit::testing::scratch_folder("validate-cli");
   const fs::path scenes = write_scenes(folder);
   const fs::path out = folder / "out";
-  const Outcome result = validate({"--tier", "fast", "--jobs", "2", "--out", out.string(), scenes.string()}, folder);
+  // No MPI launcher (this tier starts no mpirun): the scan holds one core like the others.
+  const Outcome result =
+      validate({"--tier", "fast", "--jobs", "2", "--out", out.string(), scenes.string()}, folder, "AGGKIT_MPIEXEC=");
   INFO(result.out << result.err);
   REQUIRE(result.exit_code == 1);
   // The table: a header and a row per scene run (the full-tier scene is left out under --tier fast).
@@ -131,6 +160,11 @@ TEST_CASE("validate cli: a passing and a failing scene give exit 1, the table, v
   CHECK_THAT(result.out, !Contains("full-scene"));
   CHECK_THAT(result.err, Contains("5 scenes (tier fast), 0 finished earlier, 5 to run, 2 at a time") &&
                              Contains("fail-scene: FAIL") && Contains("alone-scene: ran (no check)"));
+  // The scan first (on one core without a launcher), and each line says the cores its scene holds.
+  CHECK_THAT(result.err, Contains("no MPI launcher (set AGGKIT_MPIEXEC): scan scenes start first, on one core each") &&
+                             Contains("started tiny-scan on 1 core\n") && Contains("started pass-scene on 1 core\n") &&
+                             Contains(" s on 1 core)\n"));
+  CHECK(result.err.find("started tiny-scan") < result.err.find("started pass-scene"));
 
   const nlohmann::json validation = json_of(out / "validation.json");
   CHECK(validation["exit_code"] == 1);
@@ -164,61 +198,48 @@ TEST_CASE("validate cli: a passing and a failing scene give exit 1, the table, v
   CHECK(scan["scan_points"] == 4);
   CHECK(json_of(out / "pass-scene" / "summary.json")["pass"] == true);  // each scene ran into DIR/<scene>/
 
-  // The page: escaped description, every scene, and every image it references present beside it.
-  const std::string html = aggkit::testing::read_text(out / "report.html");
-  CHECK_THAT(html, Contains("A constant-kernel check &lt;exact&gt; &amp; small: &quot;pass-scene&quot;.\nSecond line"));
-  CHECK_THAT(html, Contains("id=\"scene-pass-scene\"") && Contains("id=\"scene-fail-scene\"") &&
-                       Contains("id=\"scene-tiny-scan\""));
-  CHECK(html.find("<table>") < html.find("<section"));  // the summary table first
-  CHECK_THAT(html, Contains("1 of 5 scenes pass, 3 ran (no check)") && Contains("<td class=\"nocheck\">ran (no check)</td>"));
-  const auto sources = image_sources(html);
-  for (const auto& source : sources) {
-    INFO(source);
-    CHECK(fs::is_regular_file(out / source));
-  }
-  // ... and every plot the scenes made is on the page (report.png of each run scene and the scan's phase
-  // diagram where matplotlib is installed: the harness says whether it drew one).
-  std::set<std::string> pngs;
-  for (const auto& entry : fs::recursive_directory_iterator(out))
-    if (entry.path().extension() == ".png") pngs.insert(entry.path().lexically_relative(out).generic_string());
-  CHECK(std::set<std::string>(sources.begin(), sources.end()) == pngs);
-  if (json_of(out / "pass-scene" / "summary.json")["plot"]["status"] == "written") {
-    CHECK(pngs.count("pass-scene/report.png") == 1);
-    CHECK(pngs.count("tiny-scan/phase_diagram.png") == 1);
-  }
+  check_report_page(out);
+}
 
-  {  // exit 0 when every scene passes; a scene file named explicitly runs whatever its tier
-    const Outcome passing = validate({"--out", (folder / "out-pass").string(), (scenes / "a-pass.toml").string(),
-                                      (scenes / "c-full.toml").string()}, folder);
-    INFO(passing.out << passing.err);
-    CHECK(passing.exit_code == 0);
-    CHECK(json_of(folder / "out-pass" / "validation.json")["counts"]["pass"] == 2);
-  }
-  {  // exit 2 for bad input, naming the option, the value and what is allowed, before anything runs
-    const fs::path bad = folder / "out-bad";
-    Outcome refused = validate({"--tier", "medium", "--out", bad.string(), scenes.string()}, folder);
-    CHECK(refused.exit_code == 2);
-    CHECK_THAT(refused.err, Contains("--tier = medium") && Contains("fast") && Contains("full"));
-    refused = validate({"--out", bad.string(), (folder / "no-such-scene.toml").string()}, folder);
-    CHECK(refused.exit_code == 2);
-    CHECK_THAT(refused.err, Contains("SCENE = ") && Contains("no-such-scene.toml") && Contains("shipped scene"));
-    refused = validate({"--jobs", "0", "--out", bad.string(), scenes.string()}, folder);
-    CHECK(refused.exit_code == 2);
-    CHECK_THAT(refused.err, Contains("--jobs = 0"));
-    aggkit::testing::write_text(folder / "broken" / "x.toml", constant_scene("broken", "-1"));
-    refused = validate({"--out", bad.string(), (folder / "broken").string()}, folder);
-    CHECK(refused.exit_code == 2);
-    CHECK_THAT(refused.err, Contains("tolerance"));
-    // Under mpirun every rank would run every scene into the same folder: refused (Open MPI's variable).
-    refused = validate({"--out", bad.string(), scenes.string()}, folder, "OMPI_COMM_WORLD_SIZE=2");
-    CHECK(refused.exit_code == 2);
-    CHECK_THAT(refused.err, Contains("mpirun") && Contains("--jobs"));
-    CHECK_FALSE(fs::exists(bad));
-    aggkit::testing::write_text(folder / "someone-elses" / "notes.txt", "mine\n");
-    refused = validate({"--out", (folder / "someone-elses").string(), scenes.string()}, folder);
-    CHECK(refused.exit_code == 2);
-    CHECK_THAT(refused.err, Contains("--out = ") && Contains("holds other files"));
-  }
+TEST_CASE("validate cli: exit 0 when every scene passes, and a scene file named explicitly runs whatever its tier") {
+  const auto folder = aggkit::testing::scratch_folder("validate-cli-pass");
+  const fs::path scenes = write_scenes(folder);
+  const Outcome passing = validate({"--out", (folder / "out-pass").string(), (scenes / "a-pass.toml").string(),
+                                    (scenes / "c-full.toml").string()}, folder);
+  INFO(passing.out << passing.err);
+  CHECK(passing.exit_code == 0);
+  CHECK(json_of(folder / "out-pass" / "validation.json")["counts"]["pass"] == 2);
+}
+
+TEST_CASE("validate cli: bad input is exit 2, naming the option, the value and what is allowed, before anything runs") {
+  const auto folder = aggkit::testing::scratch_folder("validate-cli-bad");
+  const fs::path scenes = write_scenes(folder);
+  const fs::path bad = folder / "out-bad";
+  Outcome refused = validate({"--tier", "medium", "--out", bad.string(), scenes.string()}, folder);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("--tier = medium") && Contains("fast") && Contains("full"));
+  refused = validate({"--out", bad.string(), (folder / "no-such-scene.toml").string()}, folder);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("SCENE = ") && Contains("no-such-scene.toml") && Contains("shipped scene"));
+  refused = validate({"--jobs", "0", "--out", bad.string(), scenes.string()}, folder);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("--jobs = 0"));
+  refused = validate({"--jobs", "2", "--out", bad.string(), scenes.string()}, folder, "AGGKIT_MPIEXEC=/no/such/mpiexec");
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("AGGKIT_MPIEXEC = /no/such/mpiexec") && Contains("MPI launcher"));
+  aggkit::testing::write_text(folder / "broken" / "x.toml", constant_scene("broken", "-1"));
+  refused = validate({"--out", bad.string(), (folder / "broken").string()}, folder);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("tolerance"));
+  // Under mpirun every rank would run every scene into the same folder: refused (Open MPI's variable).
+  refused = validate({"--out", bad.string(), scenes.string()}, folder, "OMPI_COMM_WORLD_SIZE=2");
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("mpirun") && Contains("--jobs"));
+  CHECK_FALSE(fs::exists(bad));
+  aggkit::testing::write_text(folder / "someone-elses" / "notes.txt", "mine\n");
+  refused = validate({"--out", (folder / "someone-elses").string(), scenes.string()}, folder);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("--out = ") && Contains("holds other files"));
 }
 
 TEST_CASE("validate cli: a validation killed midway continues without rerunning its finished scenes") {
@@ -273,4 +294,42 @@ TEST_CASE("validate cli: a validation killed midway continues without rerunning 
   CHECK_THAT(rerun.err, Contains("0 finished earlier, 1 to run"));
   CHECK(aggkit::testing::read_text(summary) != "");
   CHECK(scene_named(json_of(out / "validation.json"), "pass-scene")["resumed"] == false);
+}
+
+// With --jobs 2 and an MPI launcher the scan starts first and takes both cores as two MPI ranks; its outputs,
+// the run scene's and the verdicts are those of --jobs 1, where the scan runs in one process.
+TEST_CASE("validate cli: --jobs 2 runs a scan scene first on both cores as MPI ranks, with the outputs of --jobs 1", "[mpi]") {
+  const auto folder = aggkit::testing::scratch_folder("validate-cli-slots");
+  const fs::path scenes = write_scenes(folder);
+  const std::vector<std::string> chosen{(scenes / "a-pass.toml").string(), (scenes / "d-scan.toml").string()};
+  const auto validate_into = [&](const fs::path& out, const std::string& jobs) {
+    std::vector<std::string> arguments{"--jobs", jobs, "--no-plot", "--out", out.string()};
+    arguments.insert(arguments.end(), chosen.begin(), chosen.end());
+    // The launcher the tests use (root and more ranks than cores are allowed by validate itself).
+    return validate(arguments, folder, "AGGKIT_MPIEXEC=" + quoted(AGGKIT_MPIEXEC));
+  };
+  const Outcome one = validate_into(folder / "one", "1");
+  INFO(one.err);
+  REQUIRE(one.exit_code == 0);
+  CHECK_THAT(one.err, Contains("started tiny-scan on 1 core\n") && !Contains("MPI ranks"));
+  const Outcome two = validate_into(folder / "two", "2");
+  INFO(two.err << aggkit::testing::read_text(folder / "two" / "logs" / "tiny-scan.log"));
+  REQUIRE(two.exit_code == 0);
+  CHECK_THAT(two.err, Contains("scan scenes start first, each on the free cores as MPI ranks") &&
+                          Contains("started tiny-scan on 2 cores (2 MPI ranks)\n") &&
+                          Contains("started pass-scene on 1 core\n") && Contains(" s on 2 cores)\n"));
+  CHECK(two.err.find("started tiny-scan") < two.err.find("started pass-scene"));
+  for (const char* file : {"tiny-scan/scan.csv", "tiny-scan/lambda_crit.csv", "pass-scene/cvode/series.csv",
+                           "pass-scene/exact/series.csv"}) {
+    INFO(file);
+    REQUIRE(fs::exists(folder / "one" / file));
+    CHECK(aggkit::testing::read_text(folder / "one" / file) == aggkit::testing::read_text(folder / "two" / file));
+  }
+  nlohmann::json a = json_of(folder / "one" / "validation.json"), b = json_of(folder / "two" / "validation.json");
+  for (nlohmann::json* v : {&a, &b}) {  // what may differ: wall times and the job count
+    v->erase("wall_seconds");
+    v->erase("jobs");
+    for (auto& scene : (*v)["scenes"]) scene.erase("wall_seconds");
+  }
+  CHECK(a == b);
 }

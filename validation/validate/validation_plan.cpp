@@ -44,7 +44,14 @@ PlannedScene read_planned(const std::filesystem::path& file, bool plot) {
   PlannedScene planned;
   planned.file = file;
   planned.kind = document.contains("scan") ? SceneKind::scan : SceneKind::run;
-  const Scene scene = planned.kind == SceneKind::scan ? load_scan_plan(file).scene : load_scene(file);
+  Scene scene;
+  if (planned.kind == SceneKind::scan) {
+    ScanPlan scan = load_scan_plan(file);
+    planned.runs = scan.point_count() + 2 * scan.check_points.size();
+    scene = std::move(scan.scene);
+  } else {
+    scene = load_scene(file);
+  }
   planned.name = scene.name;
   planned.folder = folder_name(scene.name);
   planned.tier = scene.tier;

@@ -7,6 +7,7 @@
 // Scene files with a [scan] section are scan scenes (validation/scan/scan_plan.hpp): they run through
 // `aggkit scan` and pass when every point is classified; the others through `aggkit run`.
 // Every scene is read and checked here, before anything runs: bad input is an InputError naming the key.
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct PlannedScene {
   std::vector<std::string> engines;  // engine labels, in run order
   std::string description;       // the scene file's opening comment, without the '#'
   std::string fingerprint;       // what a finished result depends on: the file's text and how it is run
+  // Independent runs the scene can spread over MPI ranks: a scan's points (and its truncation check's runs at
+  // N and 2N); 1 for a run scene, which validate runs in one process so that its outputs are one process's.
+  std::size_t runs = 1;
 };
 
 struct ValidationPlan {
