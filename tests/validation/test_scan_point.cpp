@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
 
 #include "validation/scan/scan_plan.hpp"
 #include "validation/scan/scan_point.hpp"
@@ -140,4 +141,56 @@ lambda = [1e-4]
   // The time series' own verdict, as a refined repeat keeps it (it is compared by its class).
   const ScanRecord raw = run_scan_point(plan, {0, 0.6, 1e-4}, plan.size(), {}, false);
   CHECK(raw.regime == "damped");
+}
+
+TEST_CASE("scan point: with confirm_run the run's length comes from the spectrum, and a long one is not run") {
+  // a = 0.9, λ = 0.001 on the coarse graded grid of the scan's command-line test (K = 8, r = 1.6, fixed
+  // pivots, N = 2^20), where the steady state is an unstable focus and shooting finds a stable cycle. The
+  // cycle is shot first; the confirmation then runs 1/λ + 12/Re μ + 8 shot periods, not the scene's t = 1000,
+  // and classifies the last 8 periods: sustained with the shot cycle's period (the time series' period is the
+  // mean crossing interval of a series sampled 25 times per period: 1 % allowed).
+  std::string graded = scene;
+  graded.replace(graded.find("size = 2048"), 11, "size = 1048576\ngrid = { resolved = 8, ratio = 1.6, scheme = \"fixed-pivot\" }");
+  graded.replace(graded.find("a = [0.9, 0.95]"), 15, "a = [0.9]");
+  graded.replace(graded.find("lambda = [0.01]"), 15, "lambda = [0.001]");
+  std::string text = graded;
+  text += "confirm_run = 20000.0\n";
+  const ScanPlan plan = parse_scan_plan(text);
+  const ScanRecord r = run_scan_point(plan, {0, 0.9, 0.001}, plan.size());
+  INFO(r.regime << " / " << r.verdict << ": " << r.note);
+  REQUIRE(r.regime_stability == "sustained");
+  REQUIRE(std::isfinite(r.cycle_period));
+  const double expected = 1 / 0.001 + 12 / r.rightmost_real + 8 * r.cycle_period;
+  CHECK(r.run_end == Approx(expected).epsilon(1e-9));
+  CHECK(r.run_end != Approx(1000.0));
+  CHECK(r.regime == "sustained");
+  CHECK(r.verdict == "sustained");
+  CHECK(r.agree == "yes");
+  CHECK(r.period == Approx(r.cycle_period).epsilon(0.01));
+
+  // The same point with a budget below that length: no run, the length it would need in the note, and the
+  // verdict from the spectrum and the cycle alone.
+  std::string tight = graded;
+  tight += "confirm_run = 1500.0\n";
+  const ScanPlan short_plan = parse_scan_plan(tight);
+  const ScanRecord s = run_scan_point(short_plan, {0, 0.9, 0.001}, short_plan.size());
+  CHECK(s.regime == "not-run");
+  CHECK(std::isnan(s.run_end));
+  CHECK(s.verdict == "sustained");  // the stable cycle shot
+  CHECK(s.agree.empty());
+  CHECK_THAT(s.note, Catch::Contains("a confirmation needs t = ") && Catch::Contains("beyond confirm_run = 1500"));
+}
+
+TEST_CASE("scan point: confirm_run without stability is refused with the key") {
+  std::string text = scene;
+  text += "stability = false\nconfirm_run = 5000.0\n";
+  try {
+    parse_scan_plan(text);
+    FAIL("accepted confirm_run without stability");
+  } catch (const std::exception& e) {
+    CHECK_THAT(e.what(), Catch::Contains("scan.confirm_run") && Catch::Contains("stability = true"));
+  }
+  std::string negative = scene;
+  negative += "confirm_run = -1.0\n";
+  CHECK_THROWS_WITH(parse_scan_plan(negative), Catch::Contains("scan.confirm_run"));
 }

@@ -13,6 +13,7 @@ class Progress {
   explicit Progress(std::ostream* out, std::chrono::duration<double> interval = std::chrono::seconds(1));
 
   void start(const std::string& engine, std::size_t index, std::size_t count, double end);
+  void set_end(double end) { end_ = end; }  // a run whose length is known only once it starts
   void reached(double t);  // prints if `interval` has passed since the start or the last line
   void note(const std::string& what);  // the same for a line in words (a stage, a count)
   void finish();           // the total time, if anything was printed for this engine

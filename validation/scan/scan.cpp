@@ -117,7 +117,10 @@ class RunCache {
     Progress progress(progress_, std::chrono::seconds(10));
     progress.start(label, number, count, plan.scene.time.end);
     try {
-      ScanRecord r = run_scan_point(plan, {0, run.a, run.lambda}, run.size, [&](double t) { progress.reached(t); },
+      ScanRecord r = run_scan_point(plan, {0, run.a, run.lambda}, run.size, [&](double t, double end) {
+                                      progress.set_end(end);
+                                      progress.reached(t);
+                                    },
                                     !run.refined);
       r.rank = world_.rank;
       write_file_atomically(file(run), point_file_text(r));

@@ -119,7 +119,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
 
   const SceneTable scan(scan_table, "scan");
   scan.allow_only({"a", "lambda", "series", "tail", "stability", "steady_match", "refine", "truncation_check", "hopf_grid",
-                    "cycles", "cycle_run"});
+                    "cycles", "cycle_run", "confirm_run"});
   bool a_log = false;
   plan.a = read_axis(scan, "a", a_log);
   for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
@@ -156,6 +156,10 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   plan.refine = scan.optional_boolean("refine").value_or(true);
   plan.cycles = scan.optional_boolean("cycles").value_or(true);
   plan.cycle_run = scan.optional_number("cycle_run", Bound::positive).value_or(plan.cycle_run);
+  plan.confirm_run = scan.optional_number("confirm_run", Bound::positive).value_or(0.0);
+  if (plan.confirm_run > 0 && !plan.stability)
+    scan.fail("confirm_run", "confirmation runs sized by the spectrum need stability = true (without it the run "
+                             "over [time] is the classification)");
   plan.hopf_grid = scene.model.grid;
   if (scan.read_table("hopf_grid", size_grid_option_rows(), plan.hopf_grid)) {  // scheme: the model's unless given
     const auto key = [&](const std::string& k) { return scan.key("hopf_grid") + "." + k.substr(k.find('.') + 1); };

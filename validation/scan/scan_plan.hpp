@@ -26,8 +26,18 @@
 //                                         shooting (period, M0 range, Floquet multipliers); a stable one
 //                                         makes the point sustained (default true)
 //   cycle_run = 1e5                       the longest run that starts a cycle search (its length comes from
-//                                         the spectrum: 16 linear periods, 12 e-folding times); a point that
-//                                         needs more stays "unstable", and says so (default 1e5)
+//                                         the spectrum: 16 linear periods, 24 e-folding times from the
+//                                         steady state); a point that needs more stays "unstable", and
+//                                         says so (default 1e5)
+//   confirm_run = 2e4                     with stability: each point's run is a confirmation whose length
+//                                         comes from the point's spectrum, not from [time] end: 1/λ for the
+//                                         relaxation from the initial state, then 6 e-folding times 6/|Re μ|
+//                                         and 16 periods of a stable steady state, or 12/Re μ of growth and
+//                                         8 periods of the cycle around an unstable one; the classified
+//                                         tail is that window. A point whose confirmation needs more than
+//                                         confirm_run time units is not run (regime "not-run", the length
+//                                         in its note); [time] every is the largest output spacing.
+//                                         Absent: every point runs over [time] (the time series classifies)
 //   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
 //                                         repeat these points (and λ_crit(a)) at size 2N (optional)
 //   hopf_grid = { resolved = 256, ratio = 1.005 }   the size grid of λ_crit(a) (default: the model's grid).
@@ -70,6 +80,7 @@ struct ScanPlan {
   bool refine = true;                 // relaxing verdicts repeated on refined_plan()
   bool cycles = true;                 // the attracting cycle of every unstable point by shooting
   double cycle_run = 1e5;             // the longest run a cycle's start may take (time units)
+  double confirm_run = 0;             // > 0: confirmation runs sized by the spectrum, at most this long
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N
   SizeGrid hopf_grid;                                   // the grid of λ_crit(a) (the model's by default)

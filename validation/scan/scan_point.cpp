@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -100,23 +101,35 @@ std::string verdict_of(const ScanRecord& r, bool stable, bool complex_pair) {
 
 // The attracting cycle around an unstable focus μ = re ± i im (solvers/limit_cycle.hpp): started from a run of
 // the point's model whose length comes from the spectrum, at least 16 linear periods 2π/im (8 in the half whose
-// crossings are used) and 12 e-folding times 1/re of the growth away from the steady state (the scene's t_end
-// at least), with outputs 50 per period; then shooting and the Floquet multipliers.
-void find_cycle(const ScanPlan& plan, const AggregationModel& model, double re, double im, ScanRecord& r) {
+// crossings are used) and 24 e-folding times 1/re (the scene's t_end at least), with outputs 50 per period;
+// then shooting and the Floquet multipliers. The run starts at the steady state with 1e-3 of the dimers'
+// density moved over from the monomers (M1 unchanged: the cycle of the same mass), so that the growth, not
+// the relaxation from the initial state (~1/λ), sets its length: ~9/re to grow from that perturbation, and
+// the rest to approach the cycle at the radial rate ~2 re of a supercritical Hopf orbit (with 12/re in all
+// shooting from a = 0.9, λ = 0.001, K = 8, r = 1.6 stalled at 3.4e-4 against its tolerance 1e-4).
+void find_cycle(const ScanPlan& plan, const AggregationModel& model, std::span<const double> steady, double re,
+                double im, ScanRecord& r) {
   if (!(re > 0.0)) return;
   if (!(im > 0.0)) {
     add_note(r, "the rightmost eigenvalue is real (an unstable node): no cycle around it is sought");
     return;
   }
   const double period = 2.0 * M_PI / im;
-  const double settle = std::max({plan.scene.time.end, 16.0 * period, 12.0 / re});
+  const double settle = std::max({plan.scene.time.end, 16.0 * period, 24.0 / re});
   if (settle > plan.cycle_run) {
-    add_note(r, "no cycle sought: reaching it takes a run to t = " + shortest_text(settle) + " (16 periods 2 pi/Im mu, 12/Re mu), beyond cycle_run = " +
+    add_note(r, "no cycle sought: reaching it takes a run to t = " + shortest_text(settle) + " (16 periods 2 pi/Im mu, 24/Re mu), beyond cycle_run = " +
                     shortest_text(plan.cycle_run));
     return;
   }
   try {
-    const std::optional<CycleStart> start = cycle_start_from_run(model, settle, period / 50.0);
+    std::vector<double> from(steady.begin(), steady.end());
+    if (from.size() >= 2) {
+      const std::vector<double> sizes = model.pivots();
+      const double moved = std::min(1e-3 * from[1], 0.25 * from[0] * sizes[0] / sizes[1]);
+      from[1] += moved;
+      from[0] -= moved * sizes[1] / sizes[0];
+    }
+    const std::optional<CycleStart> start = cycle_start_from_run(model, settle, period / 50.0, 1e-8, from);
     if (!start) {
       add_note(r, "no cycle: the run to t = " + shortest_text(settle) + " does not oscillate");
       return;
@@ -177,22 +190,72 @@ void classify_by_stability(const ScanPlan& plan, AggregationModel model, double 
   r.rightmost_real = mu.real();
   r.rightmost_imag = std::abs(mu.imag());
   r.regime_stability = !stability.stable ? "sustained" : mu.imag() != 0 ? "damped" : "steady";
-  if (!stability.stable && cycles) find_cycle(plan, model, mu.real(), std::abs(mu.imag()), r);
-  r.verdict = verdict_of(r, stability.stable, mu.imag() != 0);
+  if (!stability.stable && cycles) find_cycle(plan, model, steady->n, mu.real(), std::abs(mu.imag()), r);
+}
+
+// The verdict of a point with a spectrum, once its run (the confirmation) is classified, and whether the two
+// agree on sustained against relaxing.
+void settle_verdict(ScanRecord& r) {
+  if (r.spectrum_converged != "yes" || r.regime_stability.empty()) return;
+  r.verdict = verdict_of(r, r.regime_stability != "sustained", r.rightmost_imag > 0);
   const bool known = r.regime == "sustained" || r.regime == "damped" || r.regime == "steady";
   if (known) r.agree = (r.regime == "sustained") == (r.regime_stability == "sustained") ? "yes" : "no";
 }
 
-}  // namespace
+// A confirmation run sized by the point's spectrum ([scan] confirm_run): its time grid and the classified
+// tail, or why there is none.
+struct Confirmation {
+  TimeGrid time;
+  double tail_fraction = 0;
+  std::string why_not;  // non-empty: no run
+};
 
-ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,
-                          const std::function<void(double t)>& progress, bool judge_relaxation) {
-  const auto started = std::chrono::steady_clock::now();
-  Scene run;  // the point's scene: the scan scene's model with this (a, λ, N) and its time grid
-  run.name = plan.scene.name;
-  run.model = point_model(plan, point.a, point.lambda, size);
-  run.time = plan.scene.time;
+// The run starts from the scene's initial state, so it first needs ~1/λ to relax towards the steady state
+// (the shattering time; at small λ the transient is the coarsening of pure aggregation). Then the window
+// that is classified: around a stable steady state μ = re ± i im, 6 e-folding times 6/|re| and 16 periods
+// 2π/im (8 in the half whose crossings the classifier uses); around an unstable one, 12/re of growth away
+// from it and 8 periods of the cycle (its shot period where found, else 2π/im), of which the cycle part is
+// classified. Outputs 25 per period (at most [time] every apart, at most 2·10^5 in all).
+Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r) {
+  Confirmation c;
+  if (r.spectrum_converged != "yes" || !std::isfinite(r.rightmost_real)) {
+    c.why_not = "not run: no spectrum to size a confirmation run by";
+    return c;
+  }
+  const double re = r.rightmost_real, im = r.rightmost_imag;
+  const bool focus = im > 0;
+  const double period = std::isfinite(r.cycle_period) ? r.cycle_period : focus ? 2.0 * M_PI / im : NAN;
+  const double relax = 1.0 / r.lambda;
+  double settle = 0, window = 0;
+  if (re < 0) {
+    window = std::max(6.0 / -re, focus ? 16.0 * period : 0.0);
+  } else {
+    settle = 12.0 / std::max(re, 1e-300);
+    window = focus ? 8.0 * period : 12.0 / std::max(re, 1e-300);
+  }
+  const double end = relax + settle + window;
+  if (!(end <= plan.confirm_run)) {
+    c.why_not = "not run: a confirmation needs t = " + shortest_text(end) + " (1/lambda " + shortest_text(relax) +
+                (settle > 0 ? ", growth 12/Re mu " + shortest_text(settle) : "") + ", window " + shortest_text(window) +
+                "), beyond confirm_run = " + shortest_text(plan.confirm_run);
+    return c;
+  }
+  const std::vector<double>& scene_outputs = plan.scene.time.outputs;
+  double every = scene_outputs.back() / double(scene_outputs.size());
+  if (std::isfinite(period)) every = std::min(every, period / 25.0);
+  every = std::min(every, window / 200.0);
+  every = std::max(every, end / 2e5);
+  const std::size_t count = std::size_t(std::ceil(end / every - 1e-9));
+  for (std::size_t k = 1; k <= count; ++k) c.time.outputs.push_back(std::min(end, double(k) * end / double(count)));
+  c.time.outputs.back() = end;
+  c.time.end = end;
+  c.tail_fraction = std::clamp(window / end, 16.0 / double(count), 1.0 - 1.0 / double(count));
+  return c;
+}
 
+// The time series of the point's model over `time`, classified over `criteria`'s tail into r's run columns.
+void classify_run(const ScanPlan& plan, Scene run, const OscillationCriteria& criteria,
+                  const std::function<void(double t, double end)>& progress, ScanRecord& r) {
   std::vector<double> times, values;
   times.reserve(run.time.outputs.size());
   values.reserve(run.time.outputs.size());
@@ -206,15 +269,11 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
     times.push_back(t);
     values.push_back(m.front().values.front());
   };
-  observer.progress = progress;
+  if (progress) observer.progress = [&](double t) { progress(t, run.time.end); };
   plan.engine->run(run, observer);
+  r.run_end = run.time.end;
 
-  const OscillationClassification c = classify_oscillation(times, values, plan.criteria);
-  ScanRecord r;
-  r.index = point.index;
-  r.a = point.a;
-  r.lambda = point.lambda;
-  r.size = size;
+  const OscillationClassification c = classify_oscillation(times, values, criteria);
   r.regime = to_string(c.regime);
   r.period = c.period;
   r.amplitude = c.amplitude;
@@ -223,35 +282,72 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   r.decay_rate_error = c.decay_rate_error;
   r.cycles = c.cycles;
   r.converged = c.converged;
-  r.note = c.note;
-  // The refined repeats (judge_relaxation false) only check a relaxing verdict: no cycles there.
-  if (plan.stability) classify_by_stability(plan, run.model, point.a, point.lambda, plan.cycles && judge_relaxation, r);
-  // A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability
-  // finds unstable (Re μ > 0) cannot relax, so a damped or steady time series there means the run is too
-  // short for the period (or the truncation too short for the tail); and a damped verdict whose own
-  // convergence check failed (too few cycles, a slow drift) is no verdict either, nor is a relaxation with no
-  // steady state to relax to (at λ far below 1/t_end the run sees the coarsening of pure aggregation, whose
-  // M0 decays monotonically, while the steady state's tail lies beyond the grid); nor a relaxation whose tail
-  // has not come near the steady state (the same coarsening where the steady state exists but is reached
-  // only after a time ~1/λ: the run is too short to show how it gets there). Such points are "unresolved":
-  // neither damped nor sustained.
-  if (judge_relaxation && is_relaxing(r)) {
-    std::string why;
-    if (r.regime_stability == "sustained")
-      why = "linear stability: unstable steady state (Re mu = " + shortest_text(r.rightmost_real) + ")";
-    else if (r.regime == "damped" && !r.converged)
-      why = "the decay did not converge in the run";
-    else if (plan.stability && r.regime_stability.empty())
-      why = "no steady state was found to confirm the relaxation (a coarsening transient relaxes too)";
-    else if (std::isfinite(r.mean_steady) && !(std::abs(r.mean - r.mean_steady) <= plan.steady_match * r.mean_steady))
-      why = "the run ends before reaching the steady state (" + plan.series + " tail mean " + shortest_text(r.mean) +
-            ", steady " + shortest_text(r.mean_steady) + "): too short for the relaxation";
-    if (!why.empty()) {
-      r.note = "was " + r.regime + " in the run; " + why + (r.note.empty() ? "" : "; " + r.note);
-      r.regime = "unresolved";
-      r.agree = "";
-    }
+  if (!c.note.empty()) r.note = c.note + (r.note.empty() ? "" : "; " + r.note);
+}
+
+// A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability finds
+// unstable (Re μ > 0) cannot relax, so a damped or steady time series there means the run is too short for
+// the period (or the truncation too short for the tail); and a damped verdict whose own convergence check
+// failed (too few cycles, a slow drift) is no verdict either, nor is a relaxation with no steady state to
+// relax to (at λ far below 1/t_end the run sees the coarsening of pure aggregation, whose M0 decays
+// monotonically, while the steady state's tail lies beyond the grid); nor a relaxation whose tail has not
+// come near the steady state (the same coarsening where the steady state exists but is reached only after a
+// time ~1/λ: the run is too short to show how it gets there). Such points are "unresolved": neither damped
+// nor sustained.
+void judge_relaxation_of(const ScanPlan& plan, ScanRecord& r) {
+  if (!is_relaxing(r)) return;
+  std::string why;
+  if (r.regime_stability == "sustained")
+    why = "linear stability: unstable steady state (Re mu = " + shortest_text(r.rightmost_real) + ")";
+  else if (r.regime == "damped" && !r.converged)
+    why = "the decay did not converge in the run";
+  else if (plan.stability && r.regime_stability.empty())
+    why = "no steady state was found to confirm the relaxation (a coarsening transient relaxes too)";
+  else if (std::isfinite(r.mean_steady) && !(std::abs(r.mean - r.mean_steady) <= plan.steady_match * r.mean_steady))
+    why = "the run ends before reaching the steady state (" + plan.series + " tail mean " + shortest_text(r.mean) +
+          ", steady " + shortest_text(r.mean_steady) + "): too short for the relaxation";
+  if (!why.empty()) {
+    r.note = "was " + r.regime + " in the run; " + why + (r.note.empty() ? "" : "; " + r.note);
+    r.regime = "unresolved";
+    r.agree = "";
   }
+}
+
+}  // namespace
+
+ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,
+                          const std::function<void(double t, double end)>& progress, bool judge_relaxation) {
+  const auto started = std::chrono::steady_clock::now();
+  Scene run;  // the point's scene: the scan scene's model with this (a, λ, N) and its time grid
+  run.name = plan.scene.name;
+  run.model = point_model(plan, point.a, point.lambda, size);
+  run.time = plan.scene.time;
+  ScanRecord r;
+  r.index = point.index;
+  r.a = point.a;
+  r.lambda = point.lambda;
+  r.size = size;
+  // The refined repeats (judge_relaxation false) only check a relaxing verdict: no cycles there.
+  const bool cycles = plan.cycles && judge_relaxation;
+  OscillationCriteria criteria = plan.criteria;
+  if (plan.stability && plan.confirm_run > 0) {
+    // The evidence first, then a run as long as the spectrum says the confirmation needs.
+    classify_by_stability(plan, run.model, point.a, point.lambda, cycles, r);
+    const Confirmation c = confirmation_of(plan, r);
+    if (c.why_not.empty()) {
+      run.time = c.time;
+      criteria.tail_fraction = c.tail_fraction;
+      classify_run(plan, run, criteria, progress, r);
+    } else {
+      r.regime = "not-run";
+      add_note(r, c.why_not);
+    }
+  } else {
+    classify_run(plan, run, criteria, progress, r);
+    if (plan.stability) classify_by_stability(plan, run.model, point.a, point.lambda, cycles, r);
+  }
+  settle_verdict(r);
+  if (judge_relaxation) judge_relaxation_of(plan, r);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;
 }

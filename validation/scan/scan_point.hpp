@@ -18,10 +18,11 @@ bool scan_stability_available();
 std::shared_ptr<SteadyBranches> make_steady_branches();
 
 // `size` is the truncation N of this run (the scene's, or 2N for the truncation check); `progress` receives
-// the time reached (may be empty). A damped or steady verdict that the run or the steady state does not
+// the time reached and the run's end (may be empty). A damped or steady verdict that the run or the steady state does not
 // support becomes "unresolved" (with `judge_relaxation`; a refined repeat keeps the time series' own
 // verdict, which is what it is compared by). Throws what the integrator throws if the run fails.
 ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::size_t size,
-                          const std::function<void(double t)>& progress = {}, bool judge_relaxation = true);
+                          const std::function<void(double t, double end)>& progress = {},
+                          bool judge_relaxation = true);
 
 }  // namespace aggkit

@@ -16,7 +16,7 @@ namespace {
 const char* const columns =
     "a,lambda,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,"
     "regime_stability,rightmost_real,rightmost_imag,agree,N,index,note,mean_steady,regime_refined,"
-    "steady_how,spectrum_converged,verdict,cycle_period,cycle_m0_min,cycle_m0_max,floquet_max,cycle_stable";
+    "steady_how,spectrum_converged,verdict,cycle_period,cycle_m0_min,cycle_m0_max,floquet_max,cycle_stable,run_end";
 const char* const point_columns = ",seconds,rank";
 
 std::string clean(std::string text) {
@@ -53,7 +53,7 @@ std::string scan_csv_row(const ScanRecord& r) {
          number(r.rightmost_real) + "," + number(r.rightmost_imag) + "," + r.agree + "," + std::to_string(r.size) +
          "," + std::to_string(r.index) + "," + clean(r.note) + "," + number(r.mean_steady) + "," + r.regime_refined +
          "," + clean(r.steady_how) + "," + r.spectrum_converged + "," + r.verdict + "," + number(r.cycle_period) + "," +
-         number(r.cycle_m0_min) + "," + number(r.cycle_m0_max) + "," + number(r.floquet_max) + "," + r.cycle_stable;
+         number(r.cycle_m0_min) + "," + number(r.cycle_m0_max) + "," + number(r.floquet_max) + "," + r.cycle_stable + "," + number(r.run_end);
 }
 
 std::string point_file_text(const ScanRecord& r) {
@@ -63,7 +63,7 @@ std::string point_file_text(const ScanRecord& r) {
 
 std::optional<ScanRecord> parse_point_file(const std::string& text) {
   const auto fields = one_row_record(text, scan_csv_header() + point_columns);
-  if (!fields || fields->size() != 29) return std::nullopt;
+  if (!fields || fields->size() != 30) return std::nullopt;
   const std::vector<std::string>& f = *fields;
   try {
     ScanRecord r;
@@ -94,8 +94,9 @@ std::optional<ScanRecord> parse_point_file(const std::string& text) {
     r.cycle_m0_max = std::stod(f[24]);
     r.floquet_max = std::stod(f[25]);
     r.cycle_stable = f[26];
-    r.seconds = std::stod(f[27]);
-    r.rank = std::stoi(f[28]);
+    r.run_end = std::stod(f[27]);
+    r.seconds = std::stod(f[28]);
+    r.rank = std::stoi(f[29]);
     if (r.regime.empty()) return std::nullopt;
     return r;
   } catch (const std::exception&) {

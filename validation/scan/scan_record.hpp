@@ -46,6 +46,9 @@ struct ScanRecord {
   // multiplier |μ| and whether the cycle is stable (every nontrivial |μ| < 1).
   double cycle_period = nan, cycle_m0_min = nan, cycle_m0_max = nan, floquet_max = nan;
   std::string cycle_stable;
+  // The time the point's run reached: the scene's [time] end, or the confirmation's length sized by the
+  // spectrum ([scan] confirm_run); NaN where it was not run.
+  double run_end = nan;
   // Not in scan.csv (so that it is reproducible): where and how long.
   double seconds = 0;
   int rank = 0;
