@@ -480,6 +480,8 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
   start.crossings = int(crossings.size());
   start.period = (crossings.back() - crossings[crossings.size() - use]) / double(use - 1);
   start.state = states[last - oldest];
+  start.times.assign(times.begin() + std::ptrdiff_t(first), times.end());
+  start.m0 = std::move(m0);
   return start;
 }
 

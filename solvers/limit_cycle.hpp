@@ -81,6 +81,7 @@ struct CycleStart {
   std::vector<double> state;
   double period = 0;
   int crossings = 0;
+  std::vector<double> times, m0;  // the run's second half: M0 at each output, whose crossings these are
 };
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing,
                                                double rtol = 1e-8, std::span<const double> from = {});

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "validation/runs/json_record.hpp"
 #include "validation/runs/run_store.hpp"
 
 using aggkit::one_row_record;
@@ -38,4 +39,14 @@ TEST_CASE("run records: a number field is the whole field read as a number") {
   CHECK(!record_number(""));
   REQUIRE(record_number("", /*empty_is_nan=*/true));
   CHECK(std::isnan(*record_number("", true)));
+}
+
+TEST_CASE("run records: a JSON record is one whole object, anything else is no record") {
+  const auto record = aggkit::json_record("{\"point\": 3, \"seconds\": 1.5}\n");
+  REQUIRE(record);
+  CHECK((*record)["point"].get<int>() == 3);
+  CHECK_FALSE(aggkit::json_record(""));
+  CHECK_FALSE(aggkit::json_record("{\"point\": 3, \"seconds\": 1."));  // truncated by a kill
+  CHECK_FALSE(aggkit::json_record("[1, 2]"));                         // not an object
+  CHECK_FALSE(aggkit::json_record("{\"point\": 3} {\"point\": 4}"));   // two records written over each other
 }

@@ -3,6 +3,7 @@
 // steady state).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -168,17 +169,46 @@ TEST_CASE("scan point: with confirm_run the run's length comes from the spectrum
   CHECK(r.agree == "yes");
   CHECK(r.period == Approx(r.cycle_period).epsilon(0.01));
 
-  // The same point with a budget below that length: no run, the length it would need in the note, and the
-  // verdict from the spectrum and the cycle alone.
+  // The same point with a budget below that length: no confirmation; the cycle search's own run (off the
+  // steady state, its second half classified) stands as the point's run, and says so.
   std::string tight = graded;
   tight += "confirm_run = 1500.0\n";
   const ScanPlan short_plan = parse_scan_plan(tight);
   const ScanRecord s = run_scan_point(short_plan, {0, 0.9, 0.001}, short_plan.size());
-  CHECK(s.regime == "not-run");
-  CHECK(std::isnan(s.run_end));
-  CHECK(s.verdict == "sustained");  // the stable cycle shot
-  CHECK(s.agree.empty());
-  CHECK_THAT(s.note, Catch::Contains("a confirmation needs t = ") && Catch::Contains("beyond confirm_run = 1500"));
+  INFO(s.regime << " / " << s.verdict << ": " << s.note);
+  CHECK(s.regime == "sustained");
+  CHECK(s.verdict == "sustained");
+  CHECK(s.agree == "yes");
+  CHECK(s.period == Approx(r.cycle_period).epsilon(0.01));
+  CHECK(s.run_end != Approx(r.run_end));
+  CHECK_THAT(s.note, Catch::Contains("a confirmation needs t = ") && Catch::Contains("beyond confirm_run = 1500") &&
+                         Catch::Contains("the run is the cycle search's from the steady state"));
+
+  // A stable focus (a = 0.9, λ = 0.012: no cycle search): the run relaxes for 1/λ + max(6/|Re μ|, 16 periods)
+  // and is classified over as long again, where it has relaxed (steady, or the decay converged).
+  std::string stable = graded;
+  stable.replace(stable.find("lambda = [0.001]"), 16, "lambda = [0.012]");
+  const ScanPlan relax_plan = parse_scan_plan(stable + "confirm_run = 20000.0\n");
+  const ScanRecord d = run_scan_point(relax_plan, {0, 0.9, 0.012}, relax_plan.size());
+  INFO(d.regime << " / " << d.verdict << ": " << d.note);
+  REQUIRE(d.regime_stability == "damped");
+  const double relaxation = 1 / 0.012 + std::max(6 / -d.rightmost_real, 16 * 2 * M_PI / d.rightmost_imag);
+  CHECK(d.run_end == Approx(2 * relaxation).epsilon(1e-9));
+  CHECK(is_relaxing(d));
+  CHECK(d.verdict == "damped");
+  CHECK(d.agree == "yes");
+
+  // The same point with a budget below its confirmation (1/λ = 83 alone is beyond 50): not run, the length
+  // it would need in the note, the verdict from the spectrum.
+  stable += "confirm_run = 50.0\n";
+  const ScanPlan stable_plan = parse_scan_plan(stable);
+  const ScanRecord f = run_scan_point(stable_plan, {0, 0.9, 0.012}, stable_plan.size());
+  INFO(f.regime << " / " << f.verdict << ": " << f.note);
+  CHECK(f.regime == "not-run");
+  CHECK(std::isnan(f.run_end));
+  CHECK(f.verdict == "damped");
+  CHECK(f.agree.empty());
+  CHECK_THAT(f.note, Catch::Contains("a confirmation needs t = ") && Catch::Contains("beyond confirm_run = 50"));
 }
 
 TEST_CASE("scan point: confirm_run without stability is refused with the key") {

@@ -31,12 +31,14 @@
 //                                         says so (default 1e5)
 //   confirm_run = 2e4                     with stability: each point's run is a confirmation whose length
 //                                         comes from the point's spectrum, not from [time] end: 1/λ for the
-//                                         relaxation from the initial state, then 6 e-folding times 6/|Re μ|
-//                                         and 16 periods of a stable steady state, or 12/Re μ of growth and
-//                                         8 periods of the cycle around an unstable one; the classified
-//                                         tail is that window. A point whose confirmation needs more than
-//                                         confirm_run time units is not run (regime "not-run", the length
-//                                         in its note); [time] every is the largest output spacing.
+//                                         relaxation from the initial state and 6 e-folding times 6/|Re μ|
+//                                         and 16 periods of a stable steady state, classified over as long
+//                                         again; or 1/λ, 12/Re μ of growth and 8 periods of the cycle around
+//                                         an unstable one, classified over those periods (the cycle search's
+//                                         run stands in where it is not run). A point whose confirmation
+//                                         needs more than confirm_run time units is not run (regime
+//                                         "not-run", the length in its note); [time] every is the largest
+//                                         output spacing.
 //                                         Absent: every point runs over [time] (the time series classifies)
 //   truncation_check = { points = [[0.95, 0.01]], lambda_crit = true }
 //                                         repeat these points (and λ_crit(a)) at size 2N (optional)

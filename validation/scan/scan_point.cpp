@@ -99,6 +99,26 @@ std::string verdict_of(const ScanRecord& r, bool stable, bool complex_pair) {
   return r.cycle_stable == "yes" || r.regime == "sustained" ? "sustained" : "unstable";
 }
 
+// The cycle search's run, off the steady state: its second half classified (M0). Where no confirmation run is
+// made it stands as the point's run, and a sustained, converged verdict there is the oscillating run of
+// verdict_of: evidence of an attracting oscillation even where shooting does not converge.
+struct SearchRun {
+  OscillationClassification classification;
+  double end = 0;
+  double period = NAN;  // the mean spacing of its last crossings
+};
+
+std::optional<SearchRun> classify_search_run(const ScanPlan& plan, const CycleStart& start, double end) {
+  if (plan.series_order != 0 || start.m0.size() < 16) return std::nullopt;  // the scan classifies another moment
+  OscillationCriteria criteria = plan.criteria;
+  criteria.tail_fraction = 1.0;  // the series is the run's second half already
+  try {
+    return SearchRun{classify_oscillation(start.times, start.m0, criteria), end, start.period};
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 // The attracting cycle around an unstable focus μ = re ± i im (solvers/limit_cycle.hpp): started from a run of
 // the point's model whose length comes from the spectrum, at least 16 linear periods 2π/im (8 in the half whose
 // crossings are used) and 24 e-folding times 1/re (the scene's t_end at least), with outputs 50 per period;
@@ -107,20 +127,21 @@ std::string verdict_of(const ScanRecord& r, bool stable, bool complex_pair) {
 // the relaxation from the initial state (~1/λ), sets its length: ~9/re to grow from that perturbation, and
 // the rest to approach the cycle at the radial rate ~2 re of a supercritical Hopf orbit (with 12/re in all
 // shooting from a = 0.9, λ = 0.001, K = 8, r = 1.6 stalled at 3.4e-4 against its tolerance 1e-4).
-void find_cycle(const ScanPlan& plan, const AggregationModel& model, std::span<const double> steady, double re,
-                double im, ScanRecord& r) {
-  if (!(re > 0.0)) return;
+std::optional<SearchRun> find_cycle(const ScanPlan& plan, const AggregationModel& model, std::span<const double> steady,
+                                    double re, double im, ScanRecord& r) {
+  if (!(re > 0.0)) return std::nullopt;
   if (!(im > 0.0)) {
     add_note(r, "the rightmost eigenvalue is real (an unstable node): no cycle around it is sought");
-    return;
+    return std::nullopt;
   }
   const double period = 2.0 * M_PI / im;
-  const double settle = std::max({plan.scene.time.end, 16.0 * period, 24.0 / re});
+  double settle = std::max({plan.scene.time.end, 16.0 * period, 24.0 / re});
   if (settle > plan.cycle_run) {
     add_note(r, "no cycle sought: reaching it takes a run to t = " + shortest_text(settle) + " (16 periods 2 pi/Im mu, 24/Re mu), beyond cycle_run = " +
                     shortest_text(plan.cycle_run));
-    return;
+    return std::nullopt;
   }
+  std::optional<SearchRun> search;
   try {
     std::vector<double> from(steady.begin(), steady.end());
     if (from.size() >= 2) {
@@ -129,11 +150,21 @@ void find_cycle(const ScanPlan& plan, const AggregationModel& model, std::span<c
       from[1] += moved;
       from[0] -= moved * sizes[1] / sizes[0];
     }
-    const std::optional<CycleStart> start = cycle_start_from_run(model, settle, period / 50.0, 1e-8, from);
+    // Far below the curve the cycle is a relaxation oscillation whose period is many times 2π/im (a = 1,
+    // λ = 3.2e-4: ~840 against 107): a run that shows no oscillation is lengthened 4-fold up to cycle_run.
+    // The start needs only to lie near the cycle (shooting refines it to its own rtol): 1e-6, the scan's
+    // own runs' tolerance. At 1e-8 one run over relaxation oscillations to t ~ 1e5 took over 30 minutes.
+    constexpr double search_rtol = 1e-6;
+    std::optional<CycleStart> start = cycle_start_from_run(model, settle, period / 50.0, search_rtol, from);
+    while (!start && 4.0 * settle <= plan.cycle_run) {
+      settle *= 4.0;
+      start = cycle_start_from_run(model, settle, period / 50.0, search_rtol, from);
+    }
     if (!start) {
       add_note(r, "no cycle: the run to t = " + shortest_text(settle) + " does not oscillate");
-      return;
+      return std::nullopt;
     }
+    search = classify_search_run(plan, *start, settle);
     // The scaled residual of the shooting equations to 1e-4 (periods to ~1e-5), and a bounded cost per point:
     // at most 8 Newton steps of at most 30 GMRES iterations (period maps); a start that needs more is reported.
     LimitCycleOptions options;
@@ -143,7 +174,7 @@ void find_cycle(const ScanPlan& plan, const AggregationModel& model, std::span<c
     const LimitCycle cycle = find_limit_cycle(model, start->state, start->period, options);
     if (!cycle.converged) {
       add_note(r, "no cycle: shooting from the run to t = " + shortest_text(settle) + " did not converge (" + cycle.note + ")");
-      return;
+      return search;
     }
     r.cycle_period = cycle.period;
     r.cycle_m0_min = cycle.m0_min;
@@ -153,14 +184,15 @@ void find_cycle(const ScanPlan& plan, const AggregationModel& model, std::span<c
   } catch (const std::runtime_error& e) {
     add_note(r, std::string("no cycle: ") + e.what());
   }
+  return search;
 }
 
 // Linear stability of the point's steady state: an unstable steady state (Re μ > 0) means sustained
 // oscillations; a stable one relaxes, through damped oscillations if the rightmost eigenvalue is complex.
-void classify_by_stability(const ScanPlan& plan, AggregationModel model, double a, double lambda, bool cycles,
-                           ScanRecord& r) {
+std::optional<SearchRun> classify_by_stability(const ScanPlan& plan, AggregationModel model, double a, double lambda,
+                                               bool cycles, ScanRecord& r) {
   const std::optional<SteadyStateResult> steady = branch_steady_state(plan, model, a, lambda, r);
-  if (!steady) return;
+  if (!steady) return std::nullopt;
   // A root whose mass piles up in the largest class is the truncation's, not the system's: at λN << 1 the
   // steady tail (n_k ∝ k^-a e^{-0.65 λ k}) lies beyond N, and under `drop` Newton then finds a state with all
   // the mass in class N draining at the leak rate (a = 0.95, λ = 1e-6, N = 2048: 99.9 % of the mass there).
@@ -171,7 +203,7 @@ void classify_by_stability(const ScanPlan& plan, AggregationModel model, double 
     add_note(r, "the steady state piles up at the truncation (" + shortest_text(top) +
                     " of the mass in the largest class): N too short for lambda");
     r.verdict = "unresolved";
-    return;
+    return std::nullopt;
   }
   r.mean_steady = 0;  // the classified moment Σ n_i x_i^p of the steady state
   for (std::size_t i = 0; i < sizes.size(); ++i) r.mean_steady += steady->n[i] * std::pow(sizes[i], plan.series_order);
@@ -182,15 +214,16 @@ void classify_by_stability(const ScanPlan& plan, AggregationModel model, double 
     r.spectrum_converged = "no";
     r.verdict = "unresolved";
     add_note(r, std::string("spectrum: ") + e.what());
-    return;
+    return std::nullopt;
   }
-  if (stability.rightmost.empty()) return;
+  if (stability.rightmost.empty()) return std::nullopt;
   r.spectrum_converged = "yes";
   const std::complex<double> mu = stability.rightmost.front();
   r.rightmost_real = mu.real();
   r.rightmost_imag = std::abs(mu.imag());
   r.regime_stability = !stability.stable ? "sustained" : mu.imag() != 0 ? "damped" : "steady";
-  if (!stability.stable && cycles) find_cycle(plan, model, steady->n, mu.real(), std::abs(mu.imag()), r);
+  if (!stability.stable && cycles) return find_cycle(plan, model, steady->n, mu.real(), std::abs(mu.imag()), r);
+  return std::nullopt;
 }
 
 // The verdict of a point with a spectrum, once its run (the confirmation) is classified, and whether the two
@@ -211,12 +244,12 @@ struct Confirmation {
 };
 
 // The run starts from the scene's initial state, so it first needs ~1/λ to relax towards the steady state
-// (the shattering time; at small λ the transient is the coarsening of pure aggregation). Then the window
-// that is classified: around a stable steady state μ = re ± i im, 6 e-folding times 6/|re| and 16 periods
-// 2π/im (8 in the half whose crossings the classifier uses); around an unstable one, 12/re of growth away
-// from it and 8 periods of the cycle (its shot period where found, else 2π/im), of which the cycle part is
-// classified. Outputs 25 per period (at most [time] every apart, at most 2·10^5 in all).
-Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r) {
+// (the shattering time; at small λ the transient is the coarsening of pure aggregation). Around a stable
+// steady state μ = re ± i im it then relaxes for 6 e-folding times 6/|re| and 16 periods 2π/im, and is
+// classified over as long again (the second half); around an unstable one, 12/re of growth away
+// from it and 8 periods of the cycle (its shot period where found, else the cycle search run's, else 2π/im),
+// of which the cycle part is classified. Outputs 25 per period (at most [time] every apart, at most 2·10^5 in all).
+Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r, const std::optional<SearchRun>& search) {
   Confirmation c;
   if (r.spectrum_converged != "yes" || !std::isfinite(r.rightmost_real)) {
     c.why_not = "not run: no spectrum to size a confirmation run by";
@@ -224,11 +257,18 @@ Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r) {
   }
   const double re = r.rightmost_real, im = r.rightmost_imag;
   const bool focus = im > 0;
-  const double period = std::isfinite(r.cycle_period) ? r.cycle_period : focus ? 2.0 * M_PI / im : NAN;
+  const double period = std::isfinite(r.cycle_period)            ? r.cycle_period
+                        : search && std::isfinite(search->period) ? search->period
+                        : focus                                   ? 2.0 * M_PI / im
+                                                                  : NAN;
   const double relax = 1.0 / r.lambda;
   double settle = 0, window = 0;
   if (re < 0) {
-    window = std::max(6.0 / -re, focus ? 16.0 * period : 0.0);
+    // Classified over as long again as it relaxed: a tail that is steady or still damped, not the transient
+    // (at λ = 0.1 the oscillation dies within a few periods: a window right after it saw only the monotone
+    // approach, and no converged decay).
+    settle = std::max(6.0 / -re, focus ? 16.0 * period : 0.0);
+    window = relax + settle;
   } else {
     settle = 12.0 / std::max(re, 1e-300);
     window = focus ? 8.0 * period : 12.0 / std::max(re, 1e-300);
@@ -236,7 +276,7 @@ Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r) {
   const double end = relax + settle + window;
   if (!(end <= plan.confirm_run)) {
     c.why_not = "not run: a confirmation needs t = " + shortest_text(end) + " (1/lambda " + shortest_text(relax) +
-                (settle > 0 ? ", growth 12/Re mu " + shortest_text(settle) : "") + ", window " + shortest_text(window) +
+                (re < 0 ? ", relaxation " : ", growth 12/Re mu ") + shortest_text(settle) + ", window " + shortest_text(window) +
                 "), beyond confirm_run = " + shortest_text(plan.confirm_run);
     return c;
   }
@@ -251,6 +291,20 @@ Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r) {
   c.time.end = end;
   c.tail_fraction = std::clamp(window / end, 16.0 / double(count), 1.0 - 1.0 / double(count));
   return c;
+}
+
+// A run's classification into r's run columns (its note first).
+void record_run(const OscillationClassification& c, double end, ScanRecord& r) {
+  r.regime = to_string(c.regime);
+  r.period = c.period;
+  r.amplitude = c.amplitude;
+  r.mean = c.mean;
+  r.decay_rate = c.decay_rate;
+  r.decay_rate_error = c.decay_rate_error;
+  r.cycles = c.cycles;
+  r.converged = c.converged;
+  r.run_end = end;
+  if (!c.note.empty()) r.note = c.note + (r.note.empty() ? "" : "; " + r.note);
 }
 
 // The time series of the point's model over `time`, classified over `criteria`'s tail into r's run columns.
@@ -271,18 +325,8 @@ void classify_run(const ScanPlan& plan, Scene run, const OscillationCriteria& cr
   };
   if (progress) observer.progress = [&](double t) { progress(t, run.time.end); };
   plan.engine->run(run, observer);
-  r.run_end = run.time.end;
 
-  const OscillationClassification c = classify_oscillation(times, values, criteria);
-  r.regime = to_string(c.regime);
-  r.period = c.period;
-  r.amplitude = c.amplitude;
-  r.mean = c.mean;
-  r.decay_rate = c.decay_rate;
-  r.decay_rate_error = c.decay_rate_error;
-  r.cycles = c.cycles;
-  r.converged = c.converged;
-  if (!c.note.empty()) r.note = c.note + (r.note.empty() ? "" : "; " + r.note);
+  record_run(classify_oscillation(times, values, criteria), run.time.end, r);
 }
 
 // A relaxing verdict must be resolved by the run and the grid: the steady state that linear stability finds
@@ -332,12 +376,16 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   OscillationCriteria criteria = plan.criteria;
   if (plan.stability && plan.confirm_run > 0) {
     // The evidence first, then a run as long as the spectrum says the confirmation needs.
-    classify_by_stability(plan, run.model, point.a, point.lambda, cycles, r);
-    const Confirmation c = confirmation_of(plan, r);
+    const std::optional<SearchRun> search = classify_by_stability(plan, run.model, point.a, point.lambda, cycles, r);
+    const Confirmation c = confirmation_of(plan, r, search);
     if (c.why_not.empty()) {
       run.time = c.time;
       criteria.tail_fraction = c.tail_fraction;
       classify_run(plan, run, criteria, progress, r);
+    } else if (search) {  // the cycle search's run off the steady state is the point's run
+      add_note(r, c.why_not + "; the run is the cycle search's from the steady state to t = " + shortest_text(search->end) +
+                      " (its second half classified)");
+      record_run(search->classification, search->end, r);
     } else {
       r.regime = "not-run";
       add_note(r, c.why_not);

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "validation/io/text.hpp"
+#include "validation/runs/json_record.hpp"
 
 namespace aggkit {
 
@@ -72,9 +73,10 @@ std::string record_file_text(const SweepRecord& r) {
 
 std::optional<SweepRecord> parse_record_file(const std::string& text, std::size_t point, std::size_t realization,
                                              const std::vector<nlohmann::json>& values) {
-  if (text.empty()) return std::nullopt;
+  const std::optional<nlohmann::json> record = json_record(text);
+  if (!record) return std::nullopt;
   try {
-    const nlohmann::json j = nlohmann::json::parse(text);
+    const nlohmann::json& j = *record;
     SweepRecord r;
     r.point = j.at("point").get<std::size_t>();
     r.realization = j.at("realization").get<std::size_t>();

@@ -1,12 +1,12 @@
 #include "validation/validate/finished_record.hpp"
 
-#include <fstream>
-#include <sstream>
 #include <system_error>
 
 #include <nlohmann/json.hpp>
 
 #include "validation/io/atomic_file.hpp"
+#include "validation/runs/json_record.hpp"
+#include "validation/runs/run_store.hpp"
 
 namespace aggkit {
 
@@ -30,12 +30,12 @@ void write_finished_record(const std::filesystem::path& out, const PlannedScene&
 }
 
 std::optional<FinishedRecord> read_finished_record(const std::filesystem::path& out, const PlannedScene& scene) {
-  std::ifstream in(record_file(out, scene));
-  if (!in) return std::nullopt;
-  const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  const std::optional<nlohmann::json> text = json_record(read_text_file(record_file(out, scene)));
+  if (!text) return std::nullopt;
+  const nlohmann::json& json = *text;
   // Every field is type-checked before it is read: a damaged record is no record (the scene runs again),
   // never a type error.
-  if (!json.is_object() || !json.contains("fingerprint") || !json["fingerprint"].is_string() ||
+  if (!json.contains("fingerprint") || !json["fingerprint"].is_string() ||
       json["fingerprint"].get<std::string>() != scene.fingerprint || !json.contains("exit_code") ||
       !json["exit_code"].is_number_integer() || !json.contains("wall_seconds") || !json["wall_seconds"].is_number())
     return std::nullopt;
