@@ -80,7 +80,7 @@ class Flow {
   long maps_ = 0;
 };
 
-// The shooting equations of limit_cycle.hpp in scaled unknowns z = (x0 / s, T / T_ref).
+// The shooting equations of limit_cycle.hpp in scaled unknowns z = (x0 / d, T / T_ref), rows scaled by s.
 class Shooting {
  public:
   Shooting(Flow& flow, const AggregationModel& model, std::span<const double> start, double period)
@@ -93,6 +93,14 @@ class Shooting {
     // Relative errors where a density is above 1e-8 of the largest: a finer scale makes the forward differences
     // of φ_T noise in the far tail, whose densities CVODE resolves only to its absolute tolerance.
     for (std::size_t k = 0; k < M_; ++k) s_[k] = std::abs(x_ref_[k]) + 1e-8 * std::abs(top);
+    // The unknowns move on the scale d_k = min(s_k, 2 |x_ref,k|): below the floor an entry moves in proportion
+    // to its own size, since the far tail (densities ~1e-16 of the largest, at sizes whose cube is ~1e18, which
+    // carry much of M3) would otherwise take updates of the floor's size and leave M3 off by percents while the
+    // residual stays small. The forward differences of φ_T perturb on the same scale, so that the Jacobian
+    // models the step Newton takes (with differences on s and steps on d, Newton converged only linearly and
+    // stalled at scaled residuals of 1e-4..1e-2 on cycles far below the curve).
+    d_.resize(M_);
+    for (std::size_t k = 0; k < M_; ++k) d_[k] = std::min(s_[k], 2.0 * std::abs(x_ref_[k]));
     f_ref_ = flow_.rhs(x_ref_);
     phase_norm_ = 0.0;
     for (std::size_t k = 0; k < M_; ++k) phase_norm_ += std::abs(f_ref_[k]) * s_[k];
@@ -123,23 +131,23 @@ class Shooting {
     return F;
   }
 
-  // out = J z by a forward difference of φ_T along s∘z.
+  // out = J z by a forward difference of φ_T along d∘z (rows scaled by s).
   void apply(const double* z, double* out) {
     const std::vector<double>& x = flow_.sizes();
     double largest = 0.0;
-    for (std::size_t k = 0; k < M_; ++k) largest = std::max(largest, std::abs(z[k]));
+    for (std::size_t k = 0; k < M_; ++k) largest = std::max(largest, std::abs(d_[k] * z[k]) / s_[k]);
     std::vector<double> dphi(M_, 0.0);
     if (largest > 0.0) {
       const double eps = 1e-5 / largest;
       std::vector<double> moved(x0_);
-      for (std::size_t k = 0; k < M_; ++k) moved[k] += eps * s_[k] * z[k];
+      for (std::size_t k = 0; k < M_; ++k) moved[k] += eps * d_[k] * z[k];
       const std::vector<double> phi = flow_.map(moved, T_);
       for (std::size_t k = 0; k < M_; ++k) dphi[k] = (phi[k] - phi_[k]) / eps;
     }
     const double dT = T_ref_ * z[M_];
     double mass = 0.0, phase = 0.0;
     for (std::size_t k = 0; k < M_; ++k) {
-      const double dx = s_[k] * z[k];
+      const double dx = d_[k] * z[k];
       out[k] = (dphi[k] - dx + f_phi_[k] * dT) / s_[k];
       if (k <= m_) mass += x[k] * dx;
       phase += f_ref_[k] * dx;
@@ -152,11 +160,7 @@ class Shooting {
   // (x, T) moved by the scaled step dz times `fraction`.
   std::pair<std::vector<double>, double> stepped(std::vector<double> x, double T, const std::vector<double>& dz,
                                                  double fraction) const {
-    // Below the scale's floor an entry moves in proportion to its own size: the far tail (densities ~1e-16 of
-    // the largest, at sizes whose cube is ~1e18, which carry much of M3) would otherwise take updates of the
-    // floor's size and leave M3 off by percents while the residual stays small. The steps are then inexact in
-    // the tail, and Newton converges linearly there.
-    for (std::size_t k = 0; k < M_; ++k) x[k] += fraction * std::min(s_[k], 2.0 * std::abs(x_ref_[k])) * dz[k];
+    for (std::size_t k = 0; k < M_; ++k) x[k] += fraction * d_[k] * dz[k];
     return {std::move(x), T + fraction * T_ref_ * dz[M_]};
   }
 
@@ -168,7 +172,7 @@ class Shooting {
 
  private:
   Flow& flow_;
-  std::vector<double> x_ref_, f_ref_, s_, x0_, phi_, f_phi_;
+  std::vector<double> x_ref_, f_ref_, s_, d_, x0_, phi_, f_phi_;
   double T_ref_, T_ = 0.0, mass_ = 0.0, phase_norm_ = 0.0;
   std::size_t M_, m_ = 0;
 };

@@ -15,9 +15,10 @@
 //   row m:       Σ_k x_k x0_k − M = 0           (mass: the flow keeps it, so one periodicity row is redundant;
 //                                               m is the mass row of solvers/mass_constrained_system.hpp)
 //   phase:       f(x_ref) · (x0 − x_ref) = 0    (a Poincaré section through the start x_ref)
-// scaled by s_k = |x_ref,k| + 1e-8 max|x_ref| (relative errors of the densities that carry the dynamics). J·v
-// is a forward difference of φ_T along v (relative perturbation 1e-5 of s; CVODE at rtol 1e-10 keeps its noise
-// near 1e-5) plus f(φ_T(x0)) ∂T; GMRES is PETSc's KSP [Balay2022] on a MatShell.
+// scaled by s_k = |x_ref,k| + 1e-8 max|x_ref| (relative errors of the densities that carry the dynamics); the
+// unknowns move on d_k = min(s_k, 2 |x_ref,k|) (the far tail in proportion to itself). J·v is a forward
+// difference of φ_T along d∘v (relative perturbation 1e-5; CVODE at rtol 1e-10 keeps its noise near 1e-5) plus
+// f(φ_T(x0)) ∂T, on the same scale as Newton's steps; GMRES is PETSc's KSP [Balay2022] on a MatShell.
 //
 // Floquet multipliers: Arnoldi (Spectra) on the monodromy matrix ∂φ_T/∂x0, applied by the same differences, on
 // the perturbations that keep the mass (the mass direction's multiplier 1 is removed exactly: its perturbation
