@@ -224,3 +224,24 @@ TEST_CASE("scan point: confirm_run without stability is refused with the key") {
   negative += "confirm_run = -1.0\n";
   CHECK_THROWS_WITH(parse_scan_plan(negative), Catch::Contains("scan.confirm_run"));
 }
+
+TEST_CASE("scan point: a cycle search beyond cycle_steps stops and says so; a bad cycle_steps is refused") {
+  // The sustained point of the confirm_run test (a = 0.9, λ = 0.001, K = 8, r = 1.6, fixed pivots): its search
+  // run to t = 1000 takes about a thousand CVODE steps. With 100 allowed it stops; the point then has no cycle
+  // and no run (confirm_run below its confirmation), so it is "unstable", and its note names the budget.
+  std::string graded = scene;
+  graded.replace(graded.find("size = 2048"), 11, "size = 1048576\ngrid = { resolved = 8, ratio = 1.6, scheme = \"fixed-pivot\" }");
+  graded.replace(graded.find("a = [0.9, 0.95]"), 15, "a = [0.9]");
+  graded.replace(graded.find("lambda = [0.01]"), 15, "lambda = [0.001]");
+  const ScanPlan plan = parse_scan_plan(graded + "confirm_run = 1500.0\ncycle_steps = 100\n");
+  CHECK(plan.cycle_steps == 100);
+  const ScanRecord r = run_scan_point(plan, {0, 0.9, 0.001}, plan.size());
+  INFO(r.regime << " / " << r.verdict << ": " << r.note);
+  CHECK(r.regime_stability == "sustained");
+  CHECK(std::isnan(r.cycle_period));
+  CHECK(r.verdict == "unstable");
+  CHECK_THAT(r.note, Catch::Contains("needs more than cycle_steps = 100 steps"));
+
+  CHECK_THROWS_WITH(parse_scan_plan(graded + "cycle_steps = 10\n"), Catch::Contains("scan.cycle_steps"));
+  CHECK_THROWS_WITH(parse_scan_plan(graded + "cycle_steps = 2.5\n"), Catch::Contains("scan.cycle_steps"));
+}

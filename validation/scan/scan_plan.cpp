@@ -119,7 +119,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
 
   const SceneTable scan(scan_table, "scan");
   scan.allow_only({"a", "lambda", "series", "tail", "stability", "steady_match", "refine", "truncation_check", "hopf_grid",
-                    "cycles", "cycle_run", "confirm_run"});
+                    "cycles", "cycle_run", "cycle_steps", "confirm_run"});
   bool a_log = false;
   plan.a = read_axis(scan, "a", a_log);
   for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
@@ -156,6 +156,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   plan.refine = scan.optional_boolean("refine").value_or(true);
   plan.cycles = scan.optional_boolean("cycles").value_or(true);
   plan.cycle_run = scan.optional_number("cycle_run", Bound::positive).value_or(plan.cycle_run);
+  plan.cycle_steps = scan.optional_count("cycle_steps", 100).value_or(plan.cycle_steps);
   plan.confirm_run = scan.optional_number("confirm_run", Bound::positive).value_or(0.0);
   if (plan.confirm_run > 0 && !plan.stability)
     scan.fail("confirm_run", "confirmation runs sized by the spectrum need stability = true (without it the run "

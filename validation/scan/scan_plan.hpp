@@ -29,6 +29,10 @@
 //                                         the spectrum: 16 linear periods, 24 e-folding times from the
 //                                         steady state); a point that needs more stays "unstable", and
 //                                         says so (default 1e5)
+//   cycle_steps = 40000                   the most CVODE steps one run of a cycle search may take: far
+//                                         below the curve the cycles are relaxation oscillations whose
+//                                         bursts cost thousands of steps each; a search that needs more
+//                                         stops, and the point says where (default 40000)
 //   confirm_run = 2e4                     with stability: each point's run is a confirmation whose length
 //                                         comes from the point's spectrum, not from [time] end: 1/λ for the
 //                                         relaxation from the initial state and 6 e-folding times 6/|Re μ|
@@ -82,6 +86,7 @@ struct ScanPlan {
   bool refine = true;                 // relaxing verdicts repeated on refined_plan()
   bool cycles = true;                 // the attracting cycle of every unstable point by shooting
   double cycle_run = 1e5;             // the longest run a cycle's start may take (time units)
+  std::size_t cycle_steps = 40000;    // the most CVODE steps of one run of a cycle search
   double confirm_run = 0;             // > 0: confirmation runs sized by the spectrum, at most this long
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N

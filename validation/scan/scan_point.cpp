@@ -154,11 +154,21 @@ std::optional<SearchRun> find_cycle(const ScanPlan& plan, const AggregationModel
     // λ = 3.2e-4: ~840 against 107): a run that shows no oscillation is lengthened 4-fold up to cycle_run.
     // The start needs only to lie near the cycle (shooting refines it to its own rtol): 1e-6, the scan's
     // own runs' tolerance. At 1e-8 one run over relaxation oscillations to t ~ 1e5 took over 30 minutes.
+    // Each run is bounded in CVODE steps (cycle_steps), not only in time: over relaxation oscillations at small
+    // λ (a = 1, λ ≤ 1e-5) runs to t = 8000 at rtol 1e-6 took tens of minutes each.
     constexpr double search_rtol = 1e-6;
-    std::optional<CycleStart> start = cycle_start_from_run(model, settle, period / 50.0, search_rtol, from);
+    const auto search_run = [&](double end) {
+      try {
+        return cycle_start_from_run(model, end, period / 50.0, search_rtol, from, long(plan.cycle_steps));
+      } catch (const std::runtime_error& e) {
+        throw std::runtime_error("the search run to t = " + shortest_text(end) + " needs more than cycle_steps = " +
+                                 std::to_string(plan.cycle_steps) + " steps (" + e.what() + ")");
+      }
+    };
+    std::optional<CycleStart> start = search_run(settle);
     while (!start && 4.0 * settle <= plan.cycle_run) {
       settle *= 4.0;
-      start = cycle_start_from_run(model, settle, period / 50.0, search_rtol, from);
+      start = search_run(settle);
     }
     if (!start) {
       add_note(r, "no cycle: the run to t = " + shortest_text(settle) + " does not oscillate");
