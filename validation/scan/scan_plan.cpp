@@ -78,6 +78,56 @@ void check_lambda(const std::string& key, double lambda) {
     throw InputError(key, shortest_text(lambda), "the shattering rate λ must be finite and > 0");
 }
 
+// [scan] a and lambda: values or ranges; a λ list with one ratio throughout counts as log-spaced.
+void read_axes(const SceneTable& scan, ScanPlan& plan) {
+  bool a_log = false;
+  plan.a = read_axis(scan, "a", a_log);
+  for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
+  plan.lambda = read_axis(scan, "lambda", plan.lambda_log);
+  for (std::size_t i = 0; i < plan.lambda.size(); ++i)
+    check_lambda(scan.key("lambda") + "[" + std::to_string(i) + "]", plan.lambda[i]);
+  if (plan.lambda.size() > 2 && !plan.lambda_log) {  // a list with one ratio throughout is log-spaced
+    const double ratio = plan.lambda[1] / plan.lambda[0];
+    bool geometric = true;
+    for (std::size_t i = 2; i < plan.lambda.size(); ++i)
+      geometric = geometric && std::abs(plan.lambda[i] / plan.lambda[i - 1] / ratio - 1) < 1e-9;
+    const double step = plan.lambda[1] - plan.lambda[0];
+    bool arithmetic = true;
+    for (std::size_t i = 2; i < plan.lambda.size(); ++i)
+      arithmetic = arithmetic && std::abs((plan.lambda[i] - plan.lambda[i - 1]) / step - 1) < 1e-9;
+    plan.lambda_log = geometric && !arithmetic;
+  }
+}
+
+// [scan] series, tail, stability, steady_match and refine: how each point's run is classified and checked.
+void read_classification(const SceneTable& scan, std::size_t outputs, ScanPlan& plan) {
+  plan.series = scan.optional_string("series").value_or("M0");
+  if (plan.series == "M0") plan.series_order = 0;
+  else if (plan.series == "M2") plan.series_order = 2;
+  else scan.fail("series", "\"M0\" or \"M2\" (the moment whose time series is classified)");
+  plan.criteria.tail_fraction = scan.optional_number("tail", Bound::positive).value_or(plan.criteria.tail_fraction);
+  if (!(plan.criteria.tail_fraction < 1)) scan.fail("tail", "a fraction of the run in (0, 1)");
+  const double tail_samples = plan.criteria.tail_fraction * double(outputs);
+  if (tail_samples < 16)
+    scan.fail("tail", "at least 16 outputs in the classified tail (it has about " +
+                          std::to_string(int(tail_samples)) + "; raise tail or output more often)");
+  plan.stability = scan.optional_boolean("stability").value_or(true);
+  plan.steady_match = scan.optional_number("steady_match", Bound::positive).value_or(plan.steady_match);
+  if (!(plan.steady_match < 1)) scan.fail("steady_match", "a fraction in (0, 1) of the steady state's value");
+  plan.refine = scan.optional_boolean("refine").value_or(true);
+}
+
+// [scan] cycles, cycle_run, cycle_steps and confirm_run: the cycle search and the confirmation runs.
+void read_cycle_search(const SceneTable& scan, ScanPlan& plan) {
+  plan.cycles = scan.optional_boolean("cycles").value_or(true);
+  plan.cycle_run = scan.optional_number("cycle_run", Bound::positive).value_or(plan.cycle_run);
+  plan.cycle_steps = scan.optional_count("cycle_steps", 100).value_or(plan.cycle_steps);
+  plan.confirm_run = scan.optional_number("confirm_run", Bound::positive).value_or(0.0);
+  if (plan.confirm_run > 0 && !plan.stability)
+    scan.fail("confirm_run", "confirmation runs sized by the spectrum need stability = true (without it the run "
+                             "over [time] is the classification)");
+}
+
 }  // namespace
 
 ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
@@ -120,47 +170,12 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   const SceneTable scan(scan_table, "scan");
   scan.allow_only({"a", "lambda", "series", "tail", "stability", "steady_match", "refine", "truncation_check", "hopf_grid",
                     "cycles", "cycle_run", "cycle_steps", "confirm_run"});
-  bool a_log = false;
-  plan.a = read_axis(scan, "a", a_log);
-  for (std::size_t i = 0; i < plan.a.size(); ++i) check_a(scan.key("a") + "[" + std::to_string(i) + "]", plan.a[i]);
-  plan.lambda = read_axis(scan, "lambda", plan.lambda_log);
-  for (std::size_t i = 0; i < plan.lambda.size(); ++i)
-    check_lambda(scan.key("lambda") + "[" + std::to_string(i) + "]", plan.lambda[i]);
-  if (plan.lambda.size() > 2 && !plan.lambda_log) {  // a list with one ratio throughout is log-spaced
-    const double ratio = plan.lambda[1] / plan.lambda[0];
-    bool geometric = true;
-    for (std::size_t i = 2; i < plan.lambda.size(); ++i)
-      geometric = geometric && std::abs(plan.lambda[i] / plan.lambda[i - 1] / ratio - 1) < 1e-9;
-    const double step = plan.lambda[1] - plan.lambda[0];
-    bool arithmetic = true;
-    for (std::size_t i = 2; i < plan.lambda.size(); ++i)
-      arithmetic = arithmetic && std::abs((plan.lambda[i] - plan.lambda[i - 1]) / step - 1) < 1e-9;
-    plan.lambda_log = geometric && !arithmetic;
-  }
+  read_axes(scan, plan);
   if (plan.point_count() > max_grid_values * 10)
     scan.fail("lambda", "at most " + std::to_string(max_grid_values * 10) + " points in all (a × λ)");
 
-  plan.series = scan.optional_string("series").value_or("M0");
-  if (plan.series == "M0") plan.series_order = 0;
-  else if (plan.series == "M2") plan.series_order = 2;
-  else scan.fail("series", "\"M0\" or \"M2\" (the moment whose time series is classified)");
-  plan.criteria.tail_fraction = scan.optional_number("tail", Bound::positive).value_or(plan.criteria.tail_fraction);
-  if (!(plan.criteria.tail_fraction < 1)) scan.fail("tail", "a fraction of the run in (0, 1)");
-  const double tail_samples = plan.criteria.tail_fraction * double(scene.time.outputs.size());
-  if (tail_samples < 16)
-    scan.fail("tail", "at least 16 outputs in the classified tail (it has about " +
-                          std::to_string(int(tail_samples)) + "; raise tail or output more often)");
-  plan.stability = scan.optional_boolean("stability").value_or(true);
-  plan.steady_match = scan.optional_number("steady_match", Bound::positive).value_or(plan.steady_match);
-  if (!(plan.steady_match < 1)) scan.fail("steady_match", "a fraction in (0, 1) of the steady state's value");
-  plan.refine = scan.optional_boolean("refine").value_or(true);
-  plan.cycles = scan.optional_boolean("cycles").value_or(true);
-  plan.cycle_run = scan.optional_number("cycle_run", Bound::positive).value_or(plan.cycle_run);
-  plan.cycle_steps = scan.optional_count("cycle_steps", 100).value_or(plan.cycle_steps);
-  plan.confirm_run = scan.optional_number("confirm_run", Bound::positive).value_or(0.0);
-  if (plan.confirm_run > 0 && !plan.stability)
-    scan.fail("confirm_run", "confirmation runs sized by the spectrum need stability = true (without it the run "
-                             "over [time] is the classification)");
+  read_classification(scan, scene.time.outputs.size(), plan);
+  read_cycle_search(scan, plan);
   plan.hopf_grid = scene.model.grid;
   if (scan.read_table("hopf_grid", size_grid_option_rows(), plan.hopf_grid)) {  // scheme: the model's unless given
     const auto key = [&](const std::string& k) { return scan.key("hopf_grid") + "." + k.substr(k.find('.') + 1); };
