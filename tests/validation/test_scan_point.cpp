@@ -245,3 +245,31 @@ TEST_CASE("scan point: a cycle search beyond cycle_steps stops and says so; a ba
   CHECK_THROWS_WITH(parse_scan_plan(graded + "cycle_steps = 10\n"), Catch::Contains("scan.cycle_steps"));
   CHECK_THROWS_WITH(parse_scan_plan(graded + "cycle_steps = 2.5\n"), Catch::Contains("scan.cycle_steps"));
 }
+
+TEST_CASE("scan point: where the growth off the steady state is beyond cycle_run, the search starts on the Hopf normal form's cycle") {
+  // The sustained point of the confirm_run test. Its cycle is first found the usual way (growth off the steady
+  // state over 24/Re μ); then cycle_run is set between the normal-form start's need (16 periods + ln(1e3)/(2 Re μ))
+  // and the growth's: the search must start on the normal form's cycle and find the same cycle.
+  std::string graded = scene;
+  graded.replace(graded.find("size = 2048"), 11, "size = 1048576\ngrid = { resolved = 8, ratio = 1.6, scheme = \"fixed-pivot\" }");
+  graded.replace(graded.find("a = [0.9, 0.95]"), 15, "a = [0.9]");
+  graded.replace(graded.find("lambda = [0.01]"), 15, "lambda = [0.001]");
+  const ScanPlan plan = parse_scan_plan(graded + "confirm_run = 1500.0\n");
+  const ScanRecord r = run_scan_point(plan, {0, 0.9, 0.001}, plan.size());
+  INFO(r.note);
+  REQUIRE(std::isfinite(r.cycle_period));
+  const double re = r.rightmost_real, period = 2 * M_PI / r.rightmost_imag;
+  const double growth = std::max({1000.0, 16 * period, 24 / re});
+  const double near = std::max(1000.0, 16 * period + std::log(1e3) / (2 * re));
+  INFO("Re mu " << re << ", growth run " << growth << ", normal-form run " << near);
+  REQUIRE(near < 0.9 * growth);
+  const double budget = 0.5 * (near + growth);
+  const ScanPlan near_plan = parse_scan_plan(graded + "confirm_run = 1500.0\ncycle_run = " + std::to_string(budget) + "\n");
+  const ScanRecord s = run_scan_point(near_plan, {0, 0.9, 0.001}, near_plan.size());
+  INFO(s.note);
+  CHECK_THAT(s.note, Catch::Contains("the cycle search starts on the Hopf normal form's cycle"));
+  REQUIRE(std::isfinite(s.cycle_period));
+  CHECK(s.cycle_period == Approx(r.cycle_period).epsilon(1e-3));
+  CHECK(s.cycle_stable == "yes");
+  CHECK(s.verdict == "sustained");
+}
