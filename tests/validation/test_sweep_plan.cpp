@@ -165,7 +165,7 @@ TEST_CASE("sweep tables: sweep.csv rows and sweep_mean.csv means and standard er
   CHECK(csv_cell("say \"x\"") == "\"say \"\"x\"\"\"");
 }
 
-TEST_CASE("sweep records: point, realization and rank are read from JSON integers only; a float there is no record") {
+TEST_CASE("sweep records: point, realization and rank are read from JSON integers only, and a float in them is no record") {
   SweepRecord record;
   record.point = 0;
   record.realization = 0;
