@@ -165,6 +165,33 @@ TEST_CASE("sweep tables: sweep.csv rows and sweep_mean.csv means and standard er
   CHECK(csv_cell("say \"x\"") == "\"say \"\"x\"\"\"");
 }
 
+TEST_CASE("sweep records: point, realization and rank are read from JSON integers only, and a float in them is no record") {
+  SweepRecord record;
+  record.point = 0;
+  record.realization = 0;
+  record.values = {nlohmann::json(0.5)};
+  record.columns = {{"M0", 0.25}};
+  record.seconds = 1.5;
+  const std::string text = record_file_text(record);
+  REQUIRE(parse_record_file(text, 0, 0, record.values));
+  const auto with = [&](const std::string& key, const std::string& value) {
+    nlohmann::json json = nlohmann::json::parse(text);
+    json[key] = nlohmann::json::parse(value);
+    return json.dump();
+  };
+  CHECK(parse_record_file(with("rank", "3"), 0, 0, record.values));
+  // A float that truncates to the expected count was read as that count.
+  CHECK_FALSE(parse_record_file(with("point", "0.5"), 0, 0, record.values));
+  CHECK_FALSE(parse_record_file(with("realization", "0.0"), 0, 0, record.values));
+  CHECK_FALSE(parse_record_file(with("rank", "0.5"), 0, 0, record.values));
+  // Floats beyond the integer's range: casting them is undefined behaviour (reported under UBSan).
+  CHECK_FALSE(parse_record_file(with("point", "1e300"), 0, 0, record.values));
+  CHECK_FALSE(parse_record_file(with("realization", "-1e300"), 0, 0, record.values));
+  CHECK_FALSE(parse_record_file(with("rank", "1e10"), 0, 0, record.values));
+  CHECK_FALSE(parse_record_file(with("rank", "-1"), 0, 0, record.values));
+  CHECK_FALSE(parse_record_file(with("rank", "4294967296"), 0, 0, record.values));
+}
+
 TEST_CASE("sweep plan: the shipped campaign is the published 245 runs over γ_n and k̃_n, and runs its base point") {
   const SweepPlan plan = load_sweep_plan(std::filesystem::path(AGGKIT_SOURCE_DIR) / "validation/scenes/dem-gravitational-campaign.toml");
   REQUIRE(plan.axes.size() == 2);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 
@@ -77,6 +78,11 @@ std::optional<SweepRecord> parse_record_file(const std::string& text, std::size_
   if (!record) return std::nullopt;
   try {
     const nlohmann::json& j = *record;
+    // The counts are read only from JSON integers: nlohmann's get<integer>() of a float casts it, which is
+    // undefined behaviour out of the integer's range (1e300) and truncates inside it (0.5 would read as point 0).
+    if (!j.at("point").is_number_unsigned() || !j.at("realization").is_number_unsigned() ||
+        !j.at("rank").is_number_integer())
+      return std::nullopt;
     SweepRecord r;
     r.point = j.at("point").get<std::size_t>();
     r.realization = j.at("realization").get<std::size_t>();
@@ -87,7 +93,9 @@ std::optional<SweepRecord> parse_record_file(const std::string& text, std::size_
       r.columns.emplace_back(c.at(0).get<std::string>(), v.is_null() ? nan : v.get<double>());
     }
     r.seconds = j.at("seconds").get<double>();
-    r.rank = j.at("rank").get<int>();
+    const std::int64_t rank = j.at("rank").get<std::int64_t>();
+    if (rank < 0 || rank > std::numeric_limits<int>::max()) return std::nullopt;
+    r.rank = int(rank);
     return r;
   } catch (const std::exception&) {
     return std::nullopt;  // damaged or of another format: the run is done again
