@@ -225,7 +225,7 @@ TEST_CASE("scan point: confirm_run without stability is refused with the key") {
   CHECK_THROWS_WITH(parse_scan_plan(negative), Catch::Contains("scan.confirm_run"));
 }
 
-TEST_CASE("scan point: a cycle search beyond cycle_steps stops and says so; a bad cycle_steps is refused") {
+TEST_CASE("scan point: a cycle search beyond cycle_steps stops and says so, and a bad cycle_steps is refused") {
   // The sustained point of the confirm_run test (a = 0.9, λ = 0.001, K = 8, r = 1.6, fixed pivots): its search
   // run to t = 1000 takes about a thousand CVODE steps. With 100 allowed it stops; the point then has no cycle
   // and no run (confirm_run below its confirmation), so it is "unstable", and its note names the budget.
