@@ -186,6 +186,15 @@ TEST_CASE("harness: a non-empty folder aggkit did not write is refused unless fo
   CHECK(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out)).exit_code == 0);  // marked now
 }
 
+TEST_CASE("harness: a folder holding only the write probe of a killed run is taken as new, the probe removed") {
+  // A run killed between writing its write probe (validation/runs/run_folder.hpp) and removing it leaves the
+  // probe in a folder that holds nothing else; its rerun must not refuse the folder as foreign.
+  const auto out = aggkit::testing::scratch_folder("harness-probe");
+  aggkit::testing::write_text(out / ".aggkit-write-test-13808", "probe\n");
+  CHECK(run_scene(aggkit::testing::parse_checked(SceneText{}.text()), quiet_options(out)).exit_code == 0);
+  CHECK_FALSE(std::filesystem::exists(out / ".aggkit-write-test-13808"));
+}
+
 namespace {
 
 // An engine that reports its first output and then fails as a solver would (or finds bad input late).

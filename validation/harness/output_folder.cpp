@@ -59,8 +59,14 @@ void OutputFolder::mark(const std::vector<std::string>& labels) const {
 void OutputFolder::prepare(const std::vector<std::pair<std::string, std::vector<std::string>>>& engines, bool force) const {
   std::error_code error;
   if (std::filesystem::is_directory(root_, error) && !marked() && !force) {
+    // A write probe left by a run killed right after it created the folder is aggkit's own: removed, not
+    // counted (otherwise the rerun of that run would refuse its own folder).
     std::size_t entries = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(root_, error)) (void)entry, ++entries;
+    std::vector<std::filesystem::path> probes;
+    for (const auto& entry : std::filesystem::directory_iterator(root_, error))
+      if (is_write_probe(entry.path().filename().string())) probes.push_back(entry.path());
+      else ++entries;
+    for (const auto& probe : probes) std::filesystem::remove(probe, error);
     if (entries > 0)
       throw InputError("--out", root_.string(),
                        "an empty or new folder, or one an earlier aggkit run wrote (it holds .aggkit-outputs); this one "

@@ -10,6 +10,8 @@ namespace aggkit {
 
 namespace {
 
+constexpr const char* probe_prefix = ".aggkit-write-test-";
+
 [[noreturn]] void unusable(const std::filesystem::path& out, const std::string& why) {
   throw InputError("--out", out.string(), "a folder that can be created and written (" + why + ")");
 }
@@ -22,7 +24,7 @@ void check_writable_folder(const std::filesystem::path& folder, const std::files
   if (error) unusable(out, error.message());
   if (!std::filesystem::is_directory(folder, error)) unusable(out, "it is not a folder");
   const std::filesystem::path probe =
-      folder / (".aggkit-write-test-" + std::to_string(::getpid()) + (tag.empty() ? "" : "-" + tag));
+      folder / (std::string(probe_prefix) + std::to_string(::getpid()) + (tag.empty() ? "" : "-" + tag));
   std::ofstream file(probe);
   file << "probe\n";
   file.close();
@@ -30,5 +32,7 @@ void check_writable_folder(const std::filesystem::path& folder, const std::files
   std::filesystem::remove(probe, error);
   if (!written) unusable(out, "cannot write files in it");
 }
+
+bool is_write_probe(const std::string& name) { return name.rfind(probe_prefix, 0) == 0; }
 
 }  // namespace aggkit

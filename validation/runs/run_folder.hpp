@@ -13,4 +13,8 @@ namespace aggkit {
 // and written (why)".
 void check_writable_folder(const std::filesystem::path& folder, const std::filesystem::path& out, const std::string& tag = "");
 
+// Whether `name` is such a probe: one a run killed between writing and removing it leaves behind, and which
+// is aggkit's own, not the user's.
+bool is_write_probe(const std::string& name);
+
 }  // namespace aggkit
