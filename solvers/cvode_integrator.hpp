@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <functional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,12 @@ std::string to_string(Preconditioner p);
 
 // Defaults chosen by the work-precision study (bench/results/log/cvode-work-precision.md): at rtol 1e-6 the moments M0, M2, M3
 // are within ~3e-7 of a tight reference for the ballistic and constant kernels with shattering.
+// What integrate() throws where a run needs more than IntegratorOptions::max_steps internal steps: a budget
+// reached, not a solver failure (callers that set a budget tell the two apart).
+struct StepLimitReached : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct IntegratorOptions {
   IntegratorMethod method = IntegratorMethod::bdf_gmres;
   RatesPath rates = RatesPath::fast;

@@ -120,7 +120,7 @@ class CvodeStepper final : public TimeStepper {
       long taken = 0;
       CVodeGetNumSteps(mem_, &taken);
       if (taken >= options_.max_steps)
-        throw std::runtime_error("CVODE: reached max_steps = " + std::to_string(options_.max_steps) +
+        throw StepLimitReached("CVODE: reached max_steps = " + std::to_string(options_.max_steps) +
                                  " at t = " + std::to_string(t_) + " before t = " + std::to_string(t_out));
       const int flag = CVode(mem_, t_out, y_, &t_, CV_ONE_STEP);
       call(flag, "CVode (t = " + std::to_string(t_) + ")");

@@ -75,7 +75,7 @@ double ErkStepper::step(double t_out) {
   long taken = 0;
   ERKStepGetNumSteps(mem_, &taken);
   if (taken >= options_.max_steps)
-    throw std::runtime_error("ARKODE: reached max_steps = " + std::to_string(options_.max_steps) + " at t = " +
+    throw StepLimitReached("ARKODE: reached max_steps = " + std::to_string(options_.max_steps) + " at t = " +
                              std::to_string(t_) + " before t = " + std::to_string(t_out));
   if (stop_ != t_out) call(ERKStepSetStopTime(mem_, t_out), "ERKStepSetStopTime"), stop_ = t_out;
   call(ERKStepEvolve(mem_, t_out, y_, &t_, ARK_ONE_STEP), "ERKStepEvolve (t = " + std::to_string(t_) + ")");

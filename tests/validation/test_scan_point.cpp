@@ -36,6 +36,16 @@ a = [0.9, 0.95]
 lambda = [0.01]
 )";
 
+// The scan's command-line test grid (K = 8, r = 1.6, fixed pivots, N = 2^20) at a = 0.9, λ = 0.001: an unstable
+// focus around which shooting finds a stable cycle.
+std::string coarse_graded_scene() {
+  std::string graded = scene;
+  graded.replace(graded.find("size = 2048"), 11, "size = 1048576\ngrid = { resolved = 8, ratio = 1.6, scheme = \"fixed-pivot\" }");
+  graded.replace(graded.find("a = [0.9, 0.95]"), 15, "a = [0.9]");
+  graded.replace(graded.find("lambda = [0.01]"), 15, "lambda = [0.001]");
+  return graded;
+}
+
 }  // namespace
 
 TEST_CASE("scan point: a = 0.95, lambda = 0.01 is sustained with the long run's swing and period") {
@@ -150,10 +160,7 @@ TEST_CASE("scan point: with confirm_run the run's length comes from the spectrum
   // cycle is shot first; the confirmation then runs 1/λ + 12/Re μ + 8 shot periods, not the scene's t = 1000,
   // and classifies the last 8 periods: sustained with the shot cycle's period (the time series' period is the
   // mean crossing interval of a series sampled 25 times per period: 1 % allowed).
-  std::string graded = scene;
-  graded.replace(graded.find("size = 2048"), 11, "size = 1048576\ngrid = { resolved = 8, ratio = 1.6, scheme = \"fixed-pivot\" }");
-  graded.replace(graded.find("a = [0.9, 0.95]"), 15, "a = [0.9]");
-  graded.replace(graded.find("lambda = [0.01]"), 15, "lambda = [0.001]");
+  const std::string graded = coarse_graded_scene();
   std::string text = graded;
   text += "confirm_run = 20000.0\n";
   const ScanPlan plan = parse_scan_plan(text);
@@ -229,10 +236,7 @@ TEST_CASE("scan point: a cycle search beyond cycle_steps stops and says so, and 
   // The sustained point of the confirm_run test (a = 0.9, λ = 0.001, K = 8, r = 1.6, fixed pivots): its search
   // run to t = 1000 takes about a thousand CVODE steps. With 100 allowed it stops; the point then has no cycle
   // and no run (confirm_run below its confirmation), so it is "unstable", and its note names the budget.
-  std::string graded = scene;
-  graded.replace(graded.find("size = 2048"), 11, "size = 1048576\ngrid = { resolved = 8, ratio = 1.6, scheme = \"fixed-pivot\" }");
-  graded.replace(graded.find("a = [0.9, 0.95]"), 15, "a = [0.9]");
-  graded.replace(graded.find("lambda = [0.01]"), 15, "lambda = [0.001]");
+  const std::string graded = coarse_graded_scene();
   const ScanPlan plan = parse_scan_plan(graded + "confirm_run = 1500.0\ncycle_steps = 100\n");
   CHECK(plan.cycle_steps == 100);
   const ScanRecord r = run_scan_point(plan, {0, 0.9, 0.001}, plan.size());
@@ -250,10 +254,7 @@ TEST_CASE("scan point: where the growth off the steady state is beyond cycle_run
   // The sustained point of the confirm_run test. Its cycle is first found the usual way (growth off the steady
   // state over 24/Re μ); then cycle_run is set between the normal-form start's need (16 periods + ln(1e3)/(2 Re μ))
   // and the growth's: the search must start on the normal form's cycle and find the same cycle.
-  std::string graded = scene;
-  graded.replace(graded.find("size = 2048"), 11, "size = 1048576\ngrid = { resolved = 8, ratio = 1.6, scheme = \"fixed-pivot\" }");
-  graded.replace(graded.find("a = [0.9, 0.95]"), 15, "a = [0.9]");
-  graded.replace(graded.find("lambda = [0.01]"), 15, "lambda = [0.001]");
+  const std::string graded = coarse_graded_scene();
   const ScanPlan plan = parse_scan_plan(graded + "confirm_run = 1500.0\n");
   const ScanRecord r = run_scan_point(plan, {0, 0.9, 0.001}, plan.size());
   INFO(r.note);

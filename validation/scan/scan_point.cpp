@@ -16,6 +16,7 @@
 #include "validation/observables/observed_state.hpp"
 #include "validation/io/text.hpp"
 
+#include "solvers/cvode_integrator.hpp"
 #include "solvers/hopf_normal_form.hpp"
 #include "solvers/limit_cycle.hpp"
 #include "solvers/mass_constrained_system.hpp"
@@ -195,7 +196,7 @@ std::optional<SearchRun> find_cycle(const ScanPlan& plan, const AggregationModel
     const auto search_run = [&](double end) {
       try {
         return cycle_start_from_run(model, end, period / 50.0, search_rtol, from, long(plan.cycle_steps));
-      } catch (const std::runtime_error& e) {
+      } catch (const StepLimitReached& e) {  // other failures keep their own message
         throw std::runtime_error("the search run to t = " + shortest_text(end) + " needs more than cycle_steps = " +
                                  std::to_string(plan.cycle_steps) + " steps (" + e.what() + ")");
       }
