@@ -59,9 +59,11 @@ lambda = { from = 0.01, to = 1.0, count = 3, spacing = "log" }
 std::map<std::string, std::string> point_files(const fs::path& out) {
   std::map<std::string, std::string> files;
   for (const auto& entry : fs::directory_iterator(out / "points"))
-    // Grid points only: the scan also keeps hopf_*.csv files and the refined repeats (*_refined.csv).
+    // Grid points only: the scan also keeps hopf_*.csv and cycle_column_* files and the refined repeats
+    // (*_refined.csv).
     if (const std::string name = entry.path().filename().string();
-        entry.path().extension() == ".csv" && !name.starts_with("hopf") && !name.ends_with("_refined.csv"))
+        entry.path().extension() == ".csv" && !name.starts_with("hopf") && !name.starts_with("cycle_column") &&
+        !name.ends_with("_refined.csv"))
       files[entry.path().filename().string()] = aggkit::testing::read_text(entry.path());
   return files;
 }
@@ -217,6 +219,8 @@ TEST_CASE("scan cli: bad input exits 2 naming the key and the value") {
       {replace(small_scan, "from = 0.01, to = 1.0", "from = -0.01, to = 1.0"), "scan.lambda.from", "-0.01"},
       {small_scan + std::string("cycle_run = -5\n"), "scan.cycle_run", "-5"},
       {small_scan + std::string("cycles = 3\n"), "scan.cycles", "3"},
+      {small_scan + std::string("cycle_column = 4\n"), "scan.cycle_column", "4"},
+      {small_scan + std::string("series = \"M2\"\ncycle_column = 12\n"), "scan.cycle_column", "12"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     INFO(cases[i].text);
@@ -359,13 +363,14 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
 
 TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the same results on 2 ranks", "[mpi]") {
   const auto folder = aggkit::testing::scratch_folder("scan-cli-curve-mpi");
-  const auto scene = aggkit::testing::write_text(folder / "scan.toml", coarse_scan);
+  // With the cycles continued down the columns too: one column per a, each walked by one rank.
+  const auto scene = aggkit::testing::write_text(folder / "scan.toml", std::string(coarse_scan) + "cycle_column = 12\n");
   const Outcome single = run(scan_command("", scene, folder / "single"), folder);
   REQUIRE(single.exit_code == 0);
   const Outcome two = run(scan_command(mpirun(2), scene, folder / "two"), folder);
   INFO(two.err);
   REQUIRE(two.exit_code == 0);
-  CHECK_THAT(two.err, Contains("and the converged Hopf curve: 7 runs"));
+  CHECK_THAT(two.err, Contains("and the converged Hopf curve: 7 runs") && Contains("continued down 2 columns of lambda"));
   for (const char* file : {"scan.csv", "lambda_crit.csv"})
     CHECK(aggkit::testing::read_text(folder / "single" / file) == aggkit::testing::read_text(folder / "two" / file));
   CHECK_THAT(aggkit::testing::read_text(folder / "two" / "lambda_crit.csv"), Contains("hopf-converged"));
@@ -391,6 +396,71 @@ TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the s
   const double again = crit(folder / "single" / "lambda_crit.csv"), before = crit(folder / "two" / "lambda_crit.csv");
   CHECK(before > 0);
   CHECK(again == Approx(before).epsilon(1e-4));  // the bracket: 8.5e-8 of 0.00157 (5e-5)
+}
+
+TEST_CASE("scan cli: the cycle continued down a column decides the points whose own search cannot reach it") {
+  // a = 0.9 on the coarse grid (λ_crit 0.0027 there): with cycle_run = 100 no point's own search can reach its
+  // cycle, so all three stay "unstable". The column starts on the Hopf normal form's cycle at 0.95 λ_crit and
+  // steps down to λ = 0.001, 3.2e-4 and 1e-4, each a run of 12 predicted periods from the cycle above.
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-column");
+  std::string text = coarse_scan;
+  text.replace(text.find("a = [0.85, 0.9]"), 15, "a = [0.9]");
+  text.replace(text.find("lambda = [0.001, 0.004, 0.012]"), 30, "lambda = [0.0001, 0.000316227766, 0.001]");
+  text += "refine = false\ncycle_run = 100\n";
+  const auto without = aggkit::testing::write_text(folder / "without.toml", text);
+  const auto with = aggkit::testing::write_text(folder / "with.toml", text + "cycle_column = 12\n");
+  const Outcome plain = run(scan_command("", without, folder / "out"), folder);
+  INFO(plain.err);
+  REQUIRE(plain.exit_code == 0);
+  const fs::path csv = folder / "out" / "scan.csv";
+  // (0.9, 0.001) is sustained by its own run over [time]; below it the runs end before the cycle shows.
+  CHECK(scan_row(csv, 0.9, 0.001).at("verdict") == "sustained");
+  for (const double lambda : {0.000316227766, 0.0001}) {
+    const auto row = scan_row(csv, 0.9, lambda);
+    INFO(lambda << ": " << row.at("note"));
+    CHECK(row.at("verdict") == "unstable");
+  }
+
+  // cycle_column is not part of the fingerprint: the points are reused, only the column is computed.
+  const Outcome column = run(scan_command("", with, folder / "out"), folder);
+  INFO(column.err);
+  REQUIRE(column.exit_code == 0);
+  CHECK_THAT(column.err, Contains("4 runs, 4 finished earlier, 0 to compute") &&
+                             Contains("continued down 1 columns of lambda: 1 runs, 0 finished earlier, 1 to compute"));
+  double above = std::stod(scan_row(csv, 0.9, 0.001).at("period"));
+  for (const double lambda : {0.000316227766, 0.0001}) {
+    const auto row = scan_row(csv, 0.9, lambda);
+    INFO(lambda << ": " << row.at("note"));
+    CHECK(row.at("verdict") == "sustained");
+    CHECK(row.at("regime") == "sustained");
+    CHECK(row.at("agree") == "yes");
+    CHECK_THAT(row.at("note"), Contains("continued down the column: the run is 12 predicted periods from the cycle at lambda = "));
+    const double period = std::stod(row.at("period"));
+    CHECK(period > 1.5 * above);  // the periods grow down the column (about as 1/lambda)
+    above = period;
+  }
+  CHECK(fs::exists(folder / "out" / "points" / "cycle_column_a0.9_lambda1e-04_N1048576_state.txt"));
+
+  // Against the cycle shot at (0.9, 0.001) from the point's own search (no cycle_run limit; Newton-Krylov on the
+  // period map at rtol 1e-10): the column's period there, from the turning points of a run's last 6 periods
+  // sampled 50 times a period at rtol 1e-6, agrees to 0.5 %.
+  std::string shot = coarse_scan;
+  shot.replace(shot.find("a = [0.85, 0.9]"), 15, "a = [0.9]");
+  shot.replace(shot.find("lambda = [0.001, 0.004, 0.012]"), 30, "lambda = [0.001]");
+  const Outcome shooting = run(scan_command("", aggkit::testing::write_text(folder / "shot.toml", shot + "refine = false\n"),
+                                            folder / "shot"), folder);
+  REQUIRE(shooting.exit_code == 0);
+  const double shot_period = std::stod(scan_row(folder / "shot" / "scan.csv", 0.9, 0.001).at("cycle_period"));
+  const auto column_cycle = aggkit::testing::read_csv(folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576.csv");
+  REQUIRE(column_cycle.size() == 1);
+  CHECK(std::stod(column_cycle.front().at("period")) == Approx(shot_period).epsilon(5e-3));
+
+  // Resumed: nothing is computed again and scan.csv is the same, byte for byte.
+  const std::string first = aggkit::testing::read_text(csv);
+  const Outcome again = run(scan_command("", with, folder / "out"), folder);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("continued down 1 columns of lambda: 1 runs, 1 finished earlier, 0 to compute"));
+  CHECK(aggkit::testing::read_text(csv) == first);
 }
 
 TEST_CASE("scan cli: where the grid's roots go negative the steady state is sought on the refined grid") {

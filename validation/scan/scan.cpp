@@ -14,6 +14,7 @@
 #include "validation/io/atomic_file.hpp"
 #include "validation/io/progress.hpp"
 #include "validation/scan/scan_criticality.hpp"
+#include "validation/scan/scan_cycle_column.hpp"
 #include "validation/scan/scan_lambda_crit.hpp"
 #include "validation/runs/run_store.hpp"
 #include "validation/runs/mpi_ranks.hpp"
@@ -506,6 +507,11 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   outcome.exit_code = outcome.failed > 0 || records.size() < plan.point_count() ? 1 : 0;
 
   if (plan.stability) add_hopf_criticality(plan, points, crit, options.progress);
+  if (plan.column_periods > 0) {
+    const CycleColumns columns = follow_cycle_columns(plan, points, crit, options.progress);
+    for (ScanRecord& r : records)
+      if (const auto c = columns.find({r.a, r.lambda}); c != columns.end()) adopt_column_cycle(c->second, plan.column_periods, r);
+  }
   if (world.rank == 0) {
     write_scan_csv(options.out / "scan.csv", records);
     write_timing_csv(options.out / "timing.csv", records);

@@ -33,6 +33,13 @@
 //                                         below the curve the cycles are relaxation oscillations whose
 //                                         bursts cost thousands of steps each; a search that needs more
 //                                         stops, and the point says where (default 40000)
+//   cycle_column = 12                     with stability and cycles: the attracting cycle continued down each
+//                                         a's column of λ below the Hopf point (scan_cycle_column.hpp), each
+//                                         step a run of this many predicted periods (at least 10: its second
+//                                         half must hold the 4 cycles a converged verdict needs) from the
+//                                         cycle of the λ above, at most cycle_steps CVODE steps; a point whose
+//                                         own search found no cycle takes the column's sustained run as its
+//                                         evidence. Needs series = "M0". Absent: no columns
 //   confirm_run = 2e4                     with stability: each point's run is a confirmation whose length
 //                                         comes from the point's spectrum, not from [time] end: 1/λ for the
 //                                         relaxation from the initial state and 6 e-folding times 6/|Re μ|
@@ -87,6 +94,7 @@ struct ScanPlan {
   bool cycles = true;                 // the attracting cycle of every unstable point by shooting
   double cycle_run = 1e5;             // the longest run a cycle's start may take (time units)
   std::size_t cycle_steps = 40000;    // the most CVODE steps of one run of a cycle search
+  std::size_t column_periods = 0;     // > 0: the cycles continued down each column, runs of this many periods
   double confirm_run = 0;             // > 0: confirmation runs sized by the spectrum, at most this long
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N

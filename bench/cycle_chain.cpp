@@ -1,0 +1,93 @@
+// The attracting cycle followed down a column of λ by time series alone: at the first λ (just below λ_crit) the
+// run starts on the Hopf normal form's cycle; at each next λ it starts from the state the run before ended in
+// (on the cycle of the λ above), runs `periods` predicted periods at rtol 1e-6 and measures the period from the
+// crossings of its second half. Prints per λ: CPU seconds, period, crossings, M0 range, and the spread of the
+// last periods (how settled the run is).
+//   bench_cycle_chain a lambda_crit lambda_first lambda_last [periods]
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include "solvers/cvode_integrator.hpp"
+#include "solvers/hopf_normal_form.hpp"
+#include "solvers/limit_cycle.hpp"
+#include "solvers/steady_branch.hpp"
+
+using namespace aggkit;
+
+namespace {
+double cpu_now() { return double(std::clock()) / CLOCKS_PER_SEC; }
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 5) {
+    std::fprintf(stderr, "usage: bench_cycle_chain a lambda_crit lambda_first lambda_last [periods]\n");
+    return 2;
+  }
+  const double a = std::atof(argv[1]), lambda_crit = std::atof(argv[2]);
+  double lambda = std::atof(argv[3]);
+  const double last = std::atof(argv[4]);
+  const double periods = argc > 5 ? std::atof(argv[5]) : 14.0;
+  AggregationModel model;
+  model.kernel = Kernel::brownian(a);
+  model.size = std::size_t(1) << 40;
+  model.truncation = Truncation::drop;
+  model.initial = {1.0};
+  model.grid.resolved = 64;
+  model.grid.ratio = 1.05;
+  SteadyBranch steady(model, 0.1);
+  const double near = 0.95 * lambda_crit;
+  model.lambda = ShatteringRate::constant(near);
+  const BranchSteadyState s = steady.at(near);
+  const HopfNormalForm form = hopf_normal_form(model, s.steady.n);
+  std::vector<double> from = form.cycle_point(s.steady.n);
+  double period = 2.0 * M_PI / form.mu.imag();
+  double t_end = std::log(1e3) / (2.0 * form.mu.real()) + 16.0 * period;
+  std::printf("a = %g: normal form at %.6g, period %.5g, run %.4g\n", a, near, period, t_end);
+  std::printf("%12s %10s %10s %12s %6s %10s %10s %10s\n", "lambda", "t_end", "cpu s", "period", "cross", "M0 min", "M0 max", "spread");
+  std::fflush(stdout);
+  model.lambda = ShatteringRate::constant(near);
+  bool first = true;
+  while (lambda >= last * 0.999) {
+    if (!first) model.lambda = ShatteringRate::constant(lambda);
+    const double t0 = cpu_now();
+    std::optional<CycleStart> start;
+    try {
+      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, 400000);
+    } catch (const std::exception& e) {
+      std::printf("%12.5g %10.4g %10.1f  failed: %s\n", first ? near : lambda, t_end, cpu_now() - t0, e.what());
+      return 1;
+    }
+    if (!start) {
+      std::printf("%12.5g %10.4g %10.1f  no oscillation\n", first ? near : lambda, t_end, cpu_now() - t0);
+      return 1;
+    }
+    const auto [lo, hi] = std::minmax_element(start->m0.begin(), start->m0.end());
+    // spacings of the second half's upward crossings of the mean
+    const double mean = 0.5 * (*lo + *hi);
+    std::vector<double> up;
+    for (std::size_t i = 1; i < start->m0.size(); ++i)
+      if (start->m0[i - 1] < mean && start->m0[i] >= mean)
+        up.push_back(start->times[i - 1] + (mean - start->m0[i - 1]) * (start->times[i] - start->times[i - 1]) /
+                                                (start->m0[i] - start->m0[i - 1]));
+    double spread = NAN;
+    if (up.size() >= 3) {
+      double mn = 1e300, mx = 0;
+      for (std::size_t i = 1; i < up.size(); ++i) mn = std::min(mn, up[i] - up[i - 1]), mx = std::max(mx, up[i] - up[i - 1]);
+      spread = (mx - mn) / start->period;
+    }
+    std::printf("%12.5g %10.4g %10.1f %12.6g %6d %10.4g %10.4g %10.2g\n", first ? near : lambda, t_end, cpu_now() - t0,
+                start->period, start->crossings, *lo, *hi, spread);
+    std::fflush(stdout);
+    from = start->state;
+    if (!first) lambda /= std::sqrt(10.0);
+    first = false;
+    period = 3.0 * start->period;
+    t_end = periods * period;
+  }
+  return 0;
+}

@@ -1,0 +1,359 @@
+#include "validation/scan/scan_cycle_column.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <sstream>
+
+#include "analysis/oscillation.hpp"
+#include "analysis/text.hpp"
+#include "solvers/cvode_integrator.hpp"
+#include "solvers/hopf_normal_form.hpp"
+#include "solvers/limit_cycle.hpp"
+#include "solvers/steady_branch.hpp"
+#include "validation/io/atomic_file.hpp"
+#include "validation/runs/mpi_ranks.hpp"
+#include "validation/runs/run_store.hpp"
+
+namespace aggkit {
+namespace {
+
+constexpr double start_fraction = 0.95;  // the first cycle, on the normal form's, at 0.95 λ_crit (as the criticality)
+constexpr double branch_anchor = 0.1;    // as the scan points' steady branches (scan_point.cpp)
+constexpr double search_rtol = 1e-6;     // as the points' cycle searches (scan_point.cpp)
+constexpr double outputs_per_period = 50;
+
+const char* const header =
+    "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
+    "run_end,from_lambda,note";
+
+std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
+
+std::string csv_safe(std::string text) {
+  for (char& c : text)
+    if (c == ',' || c == '\n') c = ';';
+  return text;
+}
+
+std::string file_text(const ColumnCycle& c, std::size_t periods, const std::string& grid) {
+  const auto n = [](double x) { return shortest_text(x); };
+  return std::string(header) + "\n" + n(c.a) + "," + n(c.lambda) + "," + std::to_string(periods) + "," + csv_safe(grid) +
+         "," + c.regime + "," + n(c.period) + "," + n(c.amplitude) + "," + n(c.mean) + "," + n(c.decay_rate) + "," +
+         n(c.decay_rate_error) + "," + std::to_string(c.cycles) + "," + (c.converged ? "yes" : "no") + "," +
+         n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + csv_safe(c.note) + "\n";
+}
+
+// The cached step, if its file is whole and was computed with these settings.
+std::optional<ColumnCycle> parse_file(const std::string& text, double a, double lambda, std::size_t periods,
+                                      const std::string& grid) {
+  const auto f = one_row_record(text, header);
+  if (!f || f->size() != 17) return std::nullopt;
+  std::vector<double> x;
+  for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15}) {
+    const auto v = record_number((*f)[i], true);
+    if (!v) return std::nullopt;
+    x.push_back(*v);
+  }
+  const auto cycles = record_number((*f)[10]);
+  if (x[0] != a || x[1] != lambda || (*f)[2] != std::to_string(periods) || (*f)[3] != csv_safe(grid) || !cycles ||
+      ((*f)[11] != "yes" && (*f)[11] != "no"))
+    return std::nullopt;
+  ColumnCycle c;
+  c.a = a;
+  c.lambda = lambda;
+  c.regime = (*f)[4];
+  c.period = x[2];
+  c.amplitude = x[3];
+  c.mean = x[4];
+  c.decay_rate = x[5];
+  c.decay_rate_error = x[6];
+  c.cycles = std::size_t(*cycles);
+  c.converged = (*f)[11] == "yes";
+  c.m0_min = x[7];
+  c.m0_max = x[8];
+  c.run_end = x[9];
+  c.from_lambda = x[10];
+  c.note = (*f)[16];
+  c.sustained = c.regime == "sustained" && c.converged;
+  return c;
+}
+
+std::string state_text(const std::vector<double>& state) {
+  std::string text;
+  for (double v : state) text += shortest_text(v) + "\n";
+  return text;
+}
+
+std::optional<std::vector<double>> parse_state(const std::string& text, std::size_t unknowns) {
+  std::vector<double> state;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    const auto v = record_number(line);
+    if (!v) return std::nullopt;
+    state.push_back(*v);
+  }
+  if (state.size() != unknowns) return std::nullopt;
+  return state;
+}
+
+// One column: the plan's λ below the first cycle's, walked downwards from it.
+class Column {
+ public:
+  Column(const ScanPlan& plan, const std::filesystem::path& points, double a, double lambda_crit)
+      : plan_(plan), points_(points), a_(a), grid_(point_model(plan, a, branch_anchor, plan.size()).grid.describe()) {
+    nodes_.push_back(start_fraction * lambda_crit);
+    std::vector<double> below;
+    for (double l : plan.lambda)
+      if (l < nodes_.front()) below.push_back(l);
+    std::sort(below.rbegin(), below.rend());
+    nodes_.insert(nodes_.end(), below.begin(), below.end());
+  }
+
+  // The cached steps, in walking order: a prefix of the nodes, ending at the first that stopped the walk.
+  std::vector<ColumnCycle> cached() const {
+    std::vector<ColumnCycle> done;
+    for (double lambda : nodes_) {
+      const auto c = parse_file(read_text_file(file(lambda, ".csv")), a_, lambda, plan_.column_periods, grid_);
+      if (!c) break;
+      done.push_back(*c);
+      if (!c->sustained) break;
+    }
+    return done;
+  }
+
+  bool finished() const {
+    const std::vector<ColumnCycle> done = cached();
+    return !done.empty() && (!done.back().sustained || done.size() == nodes_.size());
+  }
+
+  // Walks on from the last cached step. Returns false where a step could not be written.
+  bool walk(std::ostream* progress, int rank) {
+    std::vector<ColumnCycle> done = cached();
+    std::vector<double> state;
+    while (done.size() < nodes_.size() && (done.empty() || done.back().sustained)) {
+      if (!done.empty() && state.empty()) {
+        const auto s = parse_state(read_text_file(file(done.back().lambda, "_state.txt")), unknowns());
+        if (!s) {  // its state is lost: that step is done again
+          done.pop_back();
+          continue;
+        }
+        state = *s;
+      }
+      const auto started = std::chrono::steady_clock::now();
+      ColumnCycle c = done.empty() ? first_step(state) : next_step(done, state);
+      if (c.sustained) write_file_atomically(file(c.lambda, "_state.txt"), state_text(state));
+      write_file_atomically(file(c.lambda, ".csv"), file_text(c, plan_.column_periods, grid_));
+      report(progress, rank, c, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+      done.push_back(c);
+    }
+    return true;
+  }
+
+ private:
+  std::filesystem::path file(double lambda, const std::string& suffix) const {
+    return points_ / ("cycle_column_a" + shortest_text(a_) + "_lambda" + shortest_text(lambda) + "_N" +
+                      std::to_string(plan_.size()) + suffix);
+  }
+  std::size_t unknowns() const { return point_model(plan_, a_, branch_anchor, plan_.size()).unknowns(); }
+
+  // On the Hopf normal form's cycle at 0.95 λ_crit: ln(1e3)/(2 Re μ), the time its radial rate needs to take the
+  // amplitude's error down by 1e3, and 16 periods.
+  ColumnCycle first_step(std::vector<double>& state) const {
+    const double lambda = nodes_.front();
+    const AggregationModel model = point_model(plan_, a_, lambda, plan_.size());
+    SteadyBranch steady(point_model(plan_, a_, branch_anchor, plan_.size()), branch_anchor);
+    const BranchSteadyState s = steady.at(lambda);
+    ColumnCycle c = blank(lambda, std::nan(""));
+    if (!s.steady.converged) {
+      c.note = "no steady state at the column's start: " + s.note;
+      return c;
+    }
+    try {
+      const HopfNormalForm form = hopf_normal_form(model, s.steady.n);
+      const double period = 2.0 * M_PI / form.mu.imag();
+      if (!(form.mu.real() > 0.0) || !(period > 0.0)) {
+        c.note = "the steady state at the column's start is not an unstable focus (mu = " + shortest_text(form.mu.real()) +
+                 " + " + shortest_text(form.mu.imag()) + "i)";
+        return c;
+      }
+      return run(model, form.cycle_point(s.steady.n), period, std::log(1e3) / (2.0 * form.mu.real()) + 16.0 * period,
+                 c, state);
+    } catch (const std::exception& e) {
+      c.note = std::string("no start on the normal form's cycle: ") + e.what();
+      return c;
+    }
+  }
+
+  // From the state the cycle above ended in, `periods` predicted periods: T extrapolated in ln T against ln λ from
+  // the two cycles above (the slope kept within [-2, -1/2]), or ∝ 1/λ from one.
+  ColumnCycle next_step(const std::vector<ColumnCycle>& done, std::vector<double>& state) const {
+    const double lambda = nodes_[done.size()];
+    const ColumnCycle& above = done.back();
+    double slope = -1.0;
+    if (done.size() >= 2) {
+      const ColumnCycle& before = done[done.size() - 2];
+      slope = std::clamp(std::log(above.period / before.period) / std::log(above.lambda / before.lambda), -2.0, -0.5);
+    }
+    const double period = above.period * std::pow(lambda / above.lambda, slope);
+    ColumnCycle c = blank(lambda, above.lambda);
+    return run(point_model(plan_, a_, lambda, plan_.size()), state, period, double(plan_.column_periods) * period, c, state);
+  }
+
+  ColumnCycle blank(double lambda, double from_lambda) const {
+    ColumnCycle c;
+    c.a = a_;
+    c.lambda = lambda;
+    c.from_lambda = from_lambda;
+    return c;
+  }
+
+  // The run from `from` to `end` (outputs period/50), its second half classified; `state` becomes the state at
+  // its last upward M0 crossing (the next step's start). A second half that is not yet a converged sustained
+  // oscillation (the envelope still settling from the cycle above: its amplitude shrinking by a few percent
+  // over the tail reads as damped, while the unstable steady state it would decay to repels at Re μ) is run
+  // on from that crossing for `end` again, up to `extensions` times, before the column stops.
+  ColumnCycle run(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
+                  std::vector<double>& state) const {
+    constexpr int extensions = 2;
+    c.run_end = 0;
+    for (int attempt = 0; attempt <= extensions; ++attempt) {
+      std::optional<CycleStart> start;
+      try {
+        start = cycle_start_from_run(model, end, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps));
+      } catch (const StepLimitReached& e) {
+        c.note = "the column stops here: the run to t = " + shortest_text(end) + " needs more than cycle_steps = " +
+                 std::to_string(plan_.cycle_steps) + " steps (" + e.what() + ")";
+        return c;
+      } catch (const std::exception& e) {
+        c.note = std::string("the column stops here: the run failed: ") + e.what();
+        return c;
+      }
+      c.run_end += end;
+      if (!start) {
+        c.note = "the column stops here: the run to t = " + shortest_text(end) + " does not oscillate";
+        return c;
+      }
+      classify(*start, c);
+      if (c.sustained) {
+        state = start->state;
+        return c;
+      }
+      from = start->state;
+      period = start->period;
+    }
+    c.note = "the column stops here: after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " +
+             c.regime + (c.converged ? "" : " (not converged)");
+    return c;
+  }
+
+  // The run's second half: classified like a point's run (amplitude, mean, decay rate), and settled on a cycle
+  // where its last three periods between upward crossings of M0's mid-range agree to 1 % and M0's largest value
+  // over the last two to 2 %. The crossings, not the classifier's turning points, give the period: far below
+  // the curve M0 has secondary maxima within each period (a = 0.9, λ = 1e-4 on a 34-class grid: peaks 0.097,
+  // 0.0062, 0.0032, 0.0025 in a period of 1335), which the classifier counts as cycles of their own. The
+  // steady state being unstable, a settled bounded oscillation is sustained.
+  void classify(const CycleStart& start, ColumnCycle& c) const {
+    OscillationCriteria criteria = plan_.criteria;
+    criteria.tail_fraction = 1.0;  // the series is the run's second half already
+    const OscillationClassification k = classify_oscillation(start.times, start.m0, criteria);
+    c.amplitude = k.amplitude;
+    c.mean = k.mean;
+    c.decay_rate = k.decay_rate;
+    c.decay_rate_error = k.decay_rate_error;
+    const std::vector<double>& t = start.times;
+    const std::vector<double>& x = start.m0;
+    const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+    c.m0_min = *lo;
+    c.m0_max = *hi;
+    const double middle = 0.5 * (*lo + *hi);
+    std::vector<double> up;               // upward crossings of the mid-range
+    std::vector<std::size_t> up_index;
+    for (std::size_t i = 1; i < x.size(); ++i)
+      if (x[i - 1] < middle && x[i] >= middle) {
+        up.push_back(t[i - 1] + (middle - x[i - 1]) * (t[i] - t[i - 1]) / (x[i] - x[i - 1]));
+        up_index.push_back(i);
+      }
+    c.cycles = up.size() > 1 ? up.size() - 1 : 0;
+    c.converged = false;
+    c.sustained = false;
+    c.regime = to_string(k.regime);
+    c.period = k.period;
+    if (up.size() < 4) return;
+    const std::size_t n = up.size();
+    const double p1 = up[n - 1] - up[n - 2], p2 = up[n - 2] - up[n - 3], p3 = up[n - 3] - up[n - 4];
+    const double period = (p1 + p2 + p3) / 3.0;
+    const double spread = std::max({p1, p2, p3}) - std::min({p1, p2, p3});
+    const auto peak = [&](std::size_t from, std::size_t to) { return *std::max_element(x.begin() + long(from), x.begin() + long(to)); };
+    const double last = peak(up_index[n - 2], up_index[n - 1]), before = peak(up_index[n - 3], up_index[n - 2]);
+    c.period = period;
+    c.regime = "sustained";
+    c.converged = spread <= 0.01 * period && std::abs(last - before) <= 0.02 * last;
+    c.sustained = c.converged;
+  }
+
+  void report(std::ostream* progress, int rank, const ColumnCycle& c, double seconds) const {
+    if (!progress) return;
+    char line[256];
+    std::snprintf(line, sizeof line, "aggkit scan: [rank %d] cycle column a = %s, lambda = %s: ", rank,
+                  shortest_text(a_).c_str(), short_number(c.lambda).c_str());
+    *progress << line
+              << (c.sustained ? "sustained, period " + short_number(c.period) + ", M0 " + short_number(c.m0_min) + " .. " +
+                                    short_number(c.m0_max)
+                              : c.note)
+              << " (run to t = " << short_number(c.run_end) << ", " << short_number(seconds) << " s)\n" << std::flush;
+  }
+
+  const ScanPlan& plan_;
+  std::filesystem::path points_;
+  double a_;
+  std::string grid_;
+  std::vector<double> nodes_;  // the first cycle's λ, then the plan's λ below it, descending
+};
+
+}  // namespace
+
+CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::path& points,
+                                  const std::vector<LambdaCritRow>& crit, std::ostream* progress) {
+  CycleColumns result;
+  if (plan.column_periods == 0) return result;
+  std::vector<Column> columns;
+  for (const LambdaCritRow& row : crit)
+    if (row.criticality == "supercritical" && row.lambda_crit_model_grid > 0.0)
+      columns.emplace_back(plan, points, row.a, row.lambda_crit_model_grid);
+  const MpiWorld world = mpi_world();
+  compute_unfinished_runs(
+      columns.size(), [&](std::size_t i) { return columns[i].finished(); },
+      [&](std::size_t i, std::size_t, std::size_t) { return columns[i].walk(progress, world.rank); }, "aggkit scan",
+      "the attracting cycles continued down " + std::to_string(columns.size()) + " columns of lambda", progress);
+  for (const Column& column : columns)
+    for (const ColumnCycle& c : column.cached()) result[{c.a, c.lambda}] = c;
+  return result;
+}
+
+bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r) {
+  if (r.verdict != "unstable" || !c.sustained) return false;
+  r.regime = c.regime;
+  r.period = c.period;
+  r.amplitude = c.amplitude;
+  r.mean = c.mean;
+  r.decay_rate = c.decay_rate;
+  r.decay_rate_error = c.decay_rate_error;
+  r.cycles = c.cycles;
+  r.converged = c.converged;
+  r.run_end = c.run_end;
+  r.verdict = "sustained";
+  r.agree = "yes";
+  r.note = "sustained on the cycle continued down the column: the run is " + std::to_string(periods) +
+           " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) + " (its second half classified; M0 " +
+           shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + ")" + (r.note.empty() ? "" : "; " + r.note);
+  return true;
+}
+
+}  // namespace aggkit

@@ -1,0 +1,63 @@
+#pragma once
+// The attracting cycle followed down each a's column of λ below the Hopf point, with the flow as the corrector:
+// natural-parameter continuation of the periodic orbit in λ [Kuznetsov2004, Sec. 10.1], each step a CVODE run
+// of a few predicted periods started on the cycle of the λ above. Far below the curve the cycles are relaxation
+// oscillations whose periods grow ~1/λ (a = 1: 20.9 at 0.95 λ_crit, 837 at λ = 3.2e-4); the growth away from
+// the unstable steady state takes 24/Re μ, beyond any affordable run there, and a shooting solve with its
+// Floquet multipliers costs tens of period maps at rtol 1e-10. Started on the cycle above, the run needs only
+// the few periods in which the attracting cycle pulls it in (nontrivial Floquet multipliers 0.1–0.8 per period
+// where shot), and its second half, classified like a point's run, is the evidence: a sustained oscillation
+// that neither grows nor decays, with its period and M0 range.
+//
+// The walk per a: the first run starts on the Hopf normal form's cycle at 0.95 λ_crit (λ_crit and the form on
+// the scan's own grid, solvers/hopf_normal_form.hpp), for ln(1e3)/(2 Re μ) + 16 periods; then each of the
+// scan's λ below it, in descending order, runs `periods` predicted periods (the period extrapolated in ln T
+// against ln λ from the two cycles above, or ∝ 1/λ from one) from the state the run above ended in. The walk
+// stops at the first λ whose run does not show a sustained, converged oscillation, or needs more than
+// cycle_steps CVODE steps; the λ below it get no column cycle. A column's results depend only on the plan and a,
+// never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
+// DIR/points/cycle_column_* (the record and the state it ended in), so an interrupted scan resumes mid-column.
+#include <cstddef>
+#include <filesystem>
+#include <map>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "validation/scan/scan_output.hpp"
+#include "validation/scan/scan_plan.hpp"
+#include "validation/scan/scan_record.hpp"
+
+namespace aggkit {
+
+struct ColumnCycle {
+  static constexpr double nan = ScanRecord::nan;
+  double a = 0, lambda = 0;
+  bool sustained = false;                     // the run's second half: sustained and converged
+  std::string regime;                         // its classification ("" where the run failed)
+  double period = nan, amplitude = nan, mean = nan, decay_rate = nan, decay_rate_error = nan;
+  std::size_t cycles = 0;
+  bool converged = false;
+  double m0_min = nan, m0_max = nan;          // over the run's second half
+  double run_end = nan;                       // the run's length
+  double from_lambda = nan;                   // the λ of the cycle it started on
+  std::string note;                           // why the walk stopped here ("" where it did not)
+};
+
+// (a, λ) -> the column's cycle there.
+using CycleColumns = std::map<std::pair<double, double>, ColumnCycle>;
+
+// Walks (or reads back) the column of every a whose crossing on the scan's grid is supercritical
+// (crit's lambda_crit_model_grid and criticality, from add_hopf_criticality), over the plan's λ below
+// 0.95 λ_crit, with runs of plan.column_periods predicted periods. Called on every rank; every rank returns the
+// same columns.
+CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::path& points,
+                                  const std::vector<LambdaCritRow>& crit, std::ostream* progress);
+
+// A point whose steady state is unstable and whose own search found no attracting cycle (verdict "unstable")
+// takes the column's sustained run as its run: regime, period, amplitude and run_end from it, the verdict then
+// sustained, and a note saying where the run started. Other points are left as they are. Returns whether r changed.
+bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r);
+
+}  // namespace aggkit
