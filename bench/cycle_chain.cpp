@@ -3,7 +3,7 @@
 // (on the cycle of the λ above), runs `periods` predicted periods at rtol 1e-6 and measures the period from the
 // crossings of its second half. Prints per λ: CPU seconds, period, crossings, M0 range, and the spread of the
 // last periods (how settled the run is).
-//   bench_cycle_chain a lambda_crit lambda_first lambda_last [periods]
+//   bench_cycle_chain a lambda_crit lambda_first lambda_last [periods] [ratio]   (λ divided by ratio each step; sqrt(10))
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   double lambda = std::atof(argv[3]);
   const double last = std::atof(argv[4]);
   const double periods = argc > 5 ? std::atof(argv[5]) : 14.0;
+  const double ratio = argc > 6 ? std::atof(argv[6]) : std::sqrt(10.0);
   AggregationModel model;
   model.kernel = Kernel::brownian(a);
   model.size = std::size_t(1) << 40;
@@ -57,7 +58,8 @@ int main(int argc, char** argv) {
     const double t0 = cpu_now();
     std::optional<CycleStart> start;
     try {
-      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, 400000);
+      for (double& n : from) n = std::max(n, 0.0);
+      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, 40000);
     } catch (const std::exception& e) {
       std::printf("%12.5g %10.4g %10.1f  failed: %s\n", first ? near : lambda, t_end, cpu_now() - t0, e.what());
       return 1;
@@ -84,9 +86,9 @@ int main(int argc, char** argv) {
                 start->period, start->crossings, *lo, *hi, spread);
     std::fflush(stdout);
     from = start->state;
-    if (!first) lambda /= std::sqrt(10.0);
+    if (!first) lambda /= ratio;
     first = false;
-    period = 3.0 * start->period;
+    period = (first ? 1.0 : ratio) * start->period;
     t_end = periods * period;
   }
   return 0;

@@ -11,8 +11,9 @@
 //
 // The walk per a: the first run starts on the Hopf normal form's cycle at 0.95 λ_crit (λ_crit and the form on
 // the scan's own grid, solvers/hopf_normal_form.hpp), for ln(1e3)/(2 Re μ) + 16 periods; then each of the
-// scan's λ below it, in descending order, runs `periods` predicted periods (the period extrapolated in ln T
-// against ln λ from the two cycles above, or ∝ 1/λ from one) from the state the run above ended in. The walk
+// scan's λ below it, in descending order and with geometric steps between them of at most a factor 10^(1/4),
+// runs `periods` predicted periods (the period extrapolated in ln T against ln λ from the two cycles above, or
+// ∝ 1/λ from one) from the state the run above ended in, run on (up to 3 times) until it has settled. The walk
 // stops at the first λ whose run does not show a sustained, converged oscillation, or needs more than
 // cycle_steps CVODE steps; the λ below it get no column cycle. A column's results depend only on the plan and a,
 // never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
