@@ -455,6 +455,19 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   REQUIRE(column_cycle.size() == 1);
   CHECK(std::stod(column_cycle.front().at("period")) == Approx(shot_period).epsilon(1e-3));
 
+  // A column that stops (here at once: its first run needs more than cycle_steps = 100) decides nothing, and
+  // the points below it say where and why.
+  const auto stopped = aggkit::testing::write_text(folder / "stopped.toml", text + "cycle_column = 12\ncycle_steps = 100\n");
+  const Outcome stop = run(scan_command("", stopped, folder / "stopped"), folder);
+  INFO(stop.err);
+  REQUIRE(stop.exit_code == 0);
+  for (const double lambda : {0.000316227766, 0.0001}) {
+    const auto row = scan_row(folder / "stopped" / "scan.csv", 0.9, lambda);
+    CHECK(row.at("verdict") == "unstable");
+    CHECK_THAT(row.at("note"), Contains("no cycle from the column either: at lambda = 0.00251999") &&
+                                   Contains("needs more than cycle_steps = 100 steps"));
+  }
+
   // Resumed: nothing is computed again and scan.csv is the same, byte for byte.
   const std::string first = aggkit::testing::read_text(csv);
   const Outcome again = run(scan_command("", with, folder / "out"), folder);

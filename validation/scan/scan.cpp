@@ -508,9 +508,7 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
 
   if (plan.stability) add_hopf_criticality(plan, points, crit, options.progress);
   if (plan.column_periods > 0) {
-    const CycleColumns columns = follow_cycle_columns(plan, points, crit, options.progress);
-    for (ScanRecord& r : records)
-      if (const auto c = columns.find({r.a, r.lambda}); c != columns.end()) adopt_column_cycle(c->second, plan.column_periods, r);
+    adopt_column_cycles(follow_cycle_columns(plan, points, crit, options.progress), plan.column_periods, records);
   }
   if (world.rank == 0) {
     write_scan_csv(options.out / "scan.csv", records);

@@ -353,6 +353,21 @@ CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::p
   return result;
 }
 
+void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::vector<ScanRecord>& records) {
+  for (ScanRecord& r : records) {
+    if (r.verdict != "unstable") continue;
+    if (const auto c = columns.find({r.a, r.lambda}); c != columns.end() && adopt_column_cycle(c->second, periods, r))
+      continue;
+    // Where the column stopped above this λ (or at it): say where and why.
+    for (const auto& [key, c] : columns)
+      if (key.first == r.a && !c.sustained && c.lambda >= r.lambda) {
+        r.note = "no cycle from the column either: at lambda = " + shortest_text(c.lambda) + " " + c.note +
+                 (r.note.empty() ? "" : "; " + r.note);
+        break;
+      }
+  }
+}
+
 bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r) {
   if (r.verdict != "unstable" || !c.sustained) return false;
   r.regime = c.regime;

@@ -61,4 +61,8 @@ CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::p
 // sustained, and a note saying where the run started. Other points are left as they are. Returns whether r changed.
 bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r);
 
+// adopt_column_cycle for every record from its column; an "unstable" point at or below the λ where its column
+// stopped gets the column's reason in its note.
+void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::vector<ScanRecord>& records);
+
 }  // namespace aggkit
