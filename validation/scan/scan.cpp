@@ -401,6 +401,90 @@ void judge_by_refined(const ScanRecord& fine, const std::string& fine_grid, Scan
 
 }  // namespace
 
+namespace {
+
+// Phase 2: λ_crit at 2N. From the grid, the two points that bracket λ_crit(a) are repeated at 2N: if both
+// keep their regimes, λ_crit(2N) lies in the same bracket and the change is below the bracket's width.
+void check_brackets_at_2N(RunCache& cache, std::size_t N, std::vector<LambdaCritRow>& crit) {
+  std::vector<Run> bracket_runs;
+  for (const auto& row : crit)
+    if (std::isfinite(row.lambda_crit)) {
+      bracket_runs.push_back({row.a, row.lambda_sustained, 2 * N});
+      bracket_runs.push_back({row.a, row.lambda_relaxing, 2 * N});
+    }
+  cache.compute(bracket_runs, "lambda_crit brackets at 2N = " + std::to_string(2 * N), false);
+  for (auto& row : crit) {
+    if (!std::isfinite(row.lambda_crit)) continue;
+    const auto below = cache.finished({row.a, row.lambda_sustained, 2 * N});
+    const auto above = cache.finished({row.a, row.lambda_relaxing, 2 * N});
+    if (!below || !above) continue;
+    const bool kept = below->regime == "sustained" && (above->regime == "damped" || above->regime == "steady");
+    if (kept) {
+      row.lambda_crit_2N = row.lambda_crit;
+      row.change_2N = 0;
+      row.note += std::string(row.note.empty() ? "" : "; ") + "at 2N the bracket keeps its regimes: |change| < the bracket width";
+    } else {
+      row.note += std::string(row.note.empty() ? "" : "; ") + "at 2N the bracket changes (" + below->regime + ", " +
+                  above->regime + "): N too small";
+    }
+  }
+}
+
+// λ_crit(a) bracketed by the grid's time-series verdicts: one lambda_crit.csv row per a.
+std::vector<LambdaCritRow> lambda_crit_rows_from_grid(const ScanPlan& plan,
+                                                      const std::map<double, std::vector<ScanRecord>>& by_a) {
+  std::vector<LambdaCritRow> crit;
+  for (double a : plan.a) {
+    const auto points = by_a.find(a);
+    const GridLambdaCrit g = lambda_crit_from_grid(a, points == by_a.end() ? std::vector<ScanRecord>{} : points->second,
+                                                   plan.lambda_log);
+    LambdaCritRow row;
+    row.a = a;
+    row.lambda_crit = g.lambda_crit;
+    row.error = g.error;
+    row.method = "grid";
+    row.lambda_sustained = g.lambda_sustained;
+    row.lambda_relaxing = g.lambda_relaxing;
+    row.size = plan.size();
+    row.note = g.note;
+    crit.push_back(row);
+  }
+  return crit;
+}
+
+// Rank 0: scan.csv, timing.csv, lambda_crit.csv, truncation_check.csv and the pictures, then the summary line.
+void write_outputs(const ScanPlan& plan, const ScanOptions& options, const RunCache& cache,
+                   const std::vector<ScanRecord>& records, const std::vector<LambdaCritRow>& crit,
+                   const ScanOutcome& outcome) {
+  const std::size_t N = plan.size();
+  write_scan_csv(options.out / "scan.csv", records);
+  write_timing_csv(options.out / "timing.csv", records);
+  write_lambda_crit_csv(options.out / "lambda_crit.csv", crit);
+  if (!plan.check_points.empty()) {
+    std::vector<TruncationCheckRow> rows;
+    for (const auto& [a, lambda] : plan.check_points) {
+      const auto n = cache.finished({a, lambda, N});
+      const auto n2 = cache.finished({a, lambda, 2 * N});
+      if (n && n2) rows.push_back({*n, *n2});
+    }
+    write_truncation_check_csv(options.out / "truncation_check.csv", rows);
+  }
+  if (options.plot) {
+    const std::string why = plot_phase_diagram(options.out / "scan.csv", options.out / "lambda_crit.csv",
+                                               options.out / "phase_diagram.png", options.out / "bifurcation.png",
+                                               plan.scene.name, plan.lambda_log);
+    if (!why.empty() && options.progress) *options.progress << "aggkit scan: phase diagram not drawn: " << why << "\n";
+  }
+  if (options.progress) {
+    *options.progress << "aggkit scan: " << records.size() << "/" << plan.point_count() << " points in "
+                      << (options.out / "scan.csv").string();
+    if (outcome.failed) *options.progress << "; " << outcome.failed << " runs failed (run again to retry them)";
+    *options.progress << "\n";
+  }
+}
+
+}  // namespace
+
 ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   const MpiWorld world = mpi_world();
   const std::filesystem::path points = options.out / "points";
@@ -447,48 +531,9 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
     records.push_back(*r);
     by_a[p.a].push_back(*r);
   }
-  std::vector<LambdaCritRow> crit;
-  for (double a : plan.a) {
-    const GridLambdaCrit g = lambda_crit_from_grid(a, by_a[a], plan.lambda_log);
-    LambdaCritRow row;
-    row.a = a;
-    row.lambda_crit = g.lambda_crit;
-    row.error = g.error;
-    row.method = "grid";
-    row.lambda_sustained = g.lambda_sustained;
-    row.lambda_relaxing = g.lambda_relaxing;
-    row.size = N;
-    row.note = g.note;
-    crit.push_back(row);
-  }
+  std::vector<LambdaCritRow> crit = lambda_crit_rows_from_grid(plan, by_a);
 
-  // Phase 2: λ_crit at 2N. From the grid, the two points that bracket λ_crit(a) are repeated at 2N: if both
-  // keep their regimes, λ_crit(2N) lies in the same bracket and the change is below the bracket's width.
-  if (plan.check_lambda_crit) {
-    std::vector<Run> bracket_runs;
-    for (const auto& row : crit)
-      if (std::isfinite(row.lambda_crit)) {
-        bracket_runs.push_back({row.a, row.lambda_sustained, 2 * N});
-        bracket_runs.push_back({row.a, row.lambda_relaxing, 2 * N});
-      }
-    cache.compute(bracket_runs, "lambda_crit brackets at 2N = " + std::to_string(2 * N), false);
-    for (auto& row : crit) {
-      if (!std::isfinite(row.lambda_crit)) continue;
-      const auto below = cache.finished({row.a, row.lambda_sustained, 2 * N});
-      const auto above = cache.finished({row.a, row.lambda_relaxing, 2 * N});
-      if (!below || !above) continue;
-      const bool kept = below->regime == "sustained" && (above->regime == "damped" || above->regime == "steady");
-      if (kept) {
-        row.lambda_crit_2N = row.lambda_crit;
-        row.change_2N = 0;
-        row.note += std::string(row.note.empty() ? "" : "; ") +
-                    "at 2N the bracket keeps its regimes: |change| < the bracket width";
-      } else {
-        row.note += std::string(row.note.empty() ? "" : "; ") + "at 2N the bracket changes (" + below->regime + ", " +
-                    above->regime + "): N too small";
-      }
-    }
-  }
+  if (plan.check_lambda_crit) check_brackets_at_2N(cache, N, crit);
 
   // λ_crit(a) from the Hopf point of the linear stability (solvers/stability.hpp), where the grid gave only
   // a bracket.
@@ -510,32 +555,7 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   if (plan.column_periods > 0) {
     adopt_column_cycles(follow_cycle_columns(plan, points, crit, options.progress), plan.column_periods, records);
   }
-  if (world.rank == 0) {
-    write_scan_csv(options.out / "scan.csv", records);
-    write_timing_csv(options.out / "timing.csv", records);
-    write_lambda_crit_csv(options.out / "lambda_crit.csv", crit);
-    if (!plan.check_points.empty()) {
-      std::vector<TruncationCheckRow> rows;
-      for (const auto& [a, lambda] : plan.check_points) {
-        const auto n = cache.finished({a, lambda, N});
-        const auto n2 = cache.finished({a, lambda, 2 * N});
-        if (n && n2) rows.push_back({*n, *n2});
-      }
-      write_truncation_check_csv(options.out / "truncation_check.csv", rows);
-    }
-    if (options.plot) {
-      const std::string why = plot_phase_diagram(options.out / "scan.csv", options.out / "lambda_crit.csv",
-                                                 options.out / "phase_diagram.png", options.out / "bifurcation.png",
-                                                 plan.scene.name, plan.lambda_log);
-      if (!why.empty() && options.progress) *options.progress << "aggkit scan: phase diagram not drawn: " << why << "\n";
-    }
-    if (options.progress) {
-      *options.progress << "aggkit scan: " << records.size() << "/" << plan.point_count() << " points in "
-                        << (options.out / "scan.csv").string();
-      if (outcome.failed) *options.progress << "; " << outcome.failed << " runs failed (run again to retry them)";
-      *options.progress << "\n";
-    }
-  }
+  if (world.rank == 0) write_outputs(plan, options, cache, records, crit, outcome);
   mpi_barrier();
   return outcome;
 }
