@@ -85,9 +85,11 @@ struct CycleStart {
   std::vector<double> times, m0;  // the run's second half: M0 at each output, whose crossings these are
 };
 // `max_steps` bounds the run's CVODE steps (0: the integrator's default); a run that needs more throws
-// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached.
+// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached. `atol_floor`: the
+// integrator's option (the lower bound of every atol_k relative to the largest density of the model's initial
+// state; 0: its default).
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing,
                                                double rtol = 1e-8, std::span<const double> from = {},
-                                               long max_steps = 0);
+                                               long max_steps = 0, double atol_floor = 0.0);
 
 }  // namespace aggkit

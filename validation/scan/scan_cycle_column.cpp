@@ -24,6 +24,13 @@ namespace {
 constexpr double start_fraction = 0.95;  // the first cycle, on the normal form's, at 0.95 λ_crit (as the criticality)
 constexpr double branch_anchor = 0.1;    // as the scan points' steady branches (scan_point.cpp)
 constexpr double search_rtol = 1e-6;     // as the points' cycle searches (scan_point.cpp)
+// Every density's absolute tolerance at least 1e-8 (of the unit monodisperse start's density). With the
+// integrator's default floor (1e-16 here) CVODE tracks the far tail's ~1e-16 densities through the relaxation
+// bursts, and runs down the column stalled: a = 0.75, λ = 1.78e-4, 40000 steps reached t = 3792 of 24873 (and
+// t = 10041 at rtol 1e-7; the Krylov dimension 30 instead of 5 changed nothing). With the floor at 1e-8 that
+// step took 15 s and the column went on to λ = 1.8e-5; the period at λ = 1e-4 is 3588.1 (floor 1e-7: 3590.6,
+// 1e-6: 3586.7) against 3589 shot by Newton–Krylov at rtol 1e-10 from the point's own search.
+constexpr double column_atol_floor = 1e-8;
 constexpr double outputs_per_period = 50;
 const double largest_step = std::pow(10.0, 0.25);  // the largest ratio of consecutive λ of a column
 
@@ -240,7 +247,8 @@ class Column {
     for (int attempt = 0; attempt <= extensions; ++attempt) {
       std::optional<CycleStart> start;
       try {
-        start = cycle_start_from_run(model, end, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps));
+        start = cycle_start_from_run(model, end, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps),
+                                     column_atol_floor);
       } catch (const StepLimitReached& e) {
         c.run_end += end;
         c.note = "the column stops here: the run to t = " + shortest_text(end) + " needs more than cycle_steps = " +
