@@ -1,6 +1,6 @@
 #pragma once
 // The attracting cycle followed down each a's column of λ below the Hopf point, with the flow as the corrector:
-// natural-parameter continuation of the periodic orbit in λ [Kuznetsov2004, Sec. 10.1], each step a CVODE run
+// natural-parameter continuation of the periodic orbit in λ [Kuznetsov2004, Sec. 10.2], each step a CVODE run
 // of a few predicted periods started on the cycle of the λ above. Far below the curve the cycles are relaxation
 // oscillations whose periods grow ~1/λ (a = 1: 20.9 at 0.95 λ_crit, 837 at λ = 3.2e-4); the growth away from
 // the unstable steady state takes 24/Re μ, beyond any affordable run there, and a shooting solve with its
