@@ -3,7 +3,8 @@
 // (on the cycle of the λ above), runs `periods` predicted periods at rtol 1e-6 and measures the period from the
 // crossings of its second half. Prints per λ: CPU seconds, period, crossings, M0 range, and the spread of the
 // last periods (how settled the run is).
-//   bench_cycle_chain a lambda_crit lambda_first lambda_last [periods] [ratio]   (λ divided by ratio each step; sqrt(10))
+//   bench_cycle_chain a lambda_crit lambda_first lambda_last [periods] [ratio] [atol_floor]
+// (λ divided by ratio each step, default sqrt(10); atol_floor the integrator's, default 0: its own)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   const double last = std::atof(argv[4]);
   const double periods = argc > 5 ? std::atof(argv[5]) : 14.0;
   const double ratio = argc > 6 ? std::atof(argv[6]) : std::sqrt(10.0);
+  const double floor = argc > 7 ? std::atof(argv[7]) : 0.0;
   AggregationModel model;
   model.kernel = Kernel::brownian(a);
   model.size = std::size_t(1) << 40;
@@ -59,7 +61,7 @@ int main(int argc, char** argv) {
     std::optional<CycleStart> start;
     try {
       for (double& n : from) n = std::max(n, 0.0);
-      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, 40000);
+      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, 40000, floor);
     } catch (const std::exception& e) {
       std::printf("%12.5g %10.4g %10.1f  failed: %s\n", first ? near : lambda, t_end, cpu_now() - t0, e.what());
       return 1;
