@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/scan_model.hpp"
 #include "solvers/cycle_branch.hpp"
 #include "solvers/steady_branch.hpp"
 
@@ -39,19 +40,8 @@ Case parse_case(const std::string& text) {
   return c;
 }
 
-AggregationModel model_at(const SizeGrid& grid, double a) {
-  AggregationModel model;
-  model.kernel = Kernel::brownian(a);
-  model.lambda = ShatteringRate::constant(0.1);
-  model.size = std::size_t(1) << 40;
-  model.truncation = Truncation::drop;
-  model.initial = {1.0};
-  model.grid = grid;
-  return model;
-}
-
 void run_case(const SizeGrid& grid, const Case& c, const CycleBranchOptions& options) {
-  const AggregationModel model = model_at(grid, c.a);
+  const AggregationModel model = bench::scan_model(grid, c.a);
   SteadyBranch steady(model, 0.1);
   const double started = cpu_now();
   double lambda_crit = c.lambda_crit;
@@ -92,7 +82,7 @@ void criticality(const SizeGrid& grid, const std::vector<double>& a_values, doub
               "M0 half-range", "at lambda", "cpu s");
   for (double a : a_values) {
     const double t0 = cpu_now();
-    const AggregationModel model = model_at(grid, a);
+    const AggregationModel model = bench::scan_model(grid, a);
     SteadyBranch steady(model, 0.1);
     const HopfPoint h = hopf_on_branch(steady, model, a, 1e-12);
     if (!h.found) {

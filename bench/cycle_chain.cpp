@@ -3,8 +3,9 @@
 // (on the cycle of the λ above), runs `periods` predicted periods at rtol 1e-6 and measures the period from the
 // crossings of its second half. Prints per λ: CPU seconds, period, crossings, M0 range, and the spread of the
 // last periods (how settled the run is).
-//   bench_cycle_chain a lambda_crit lambda_first lambda_last [periods] [ratio] [atol_floor]
-// (λ divided by ratio each step, default sqrt(10); atol_floor the integrator's, default 0: its own)
+//   bench_cycle_chain a lambda_crit lambda_first lambda_last [periods] [ratio] [atol_floor] [max_steps]
+// (λ divided by ratio each step, default sqrt(10); atol_floor the integrator's, default 0: its own; max_steps
+// the CVODE steps one run may take, default 40000)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/scan_model.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/hopf_normal_form.hpp"
 #include "solvers/limit_cycle.hpp"
@@ -35,13 +37,11 @@ int main(int argc, char** argv) {
   const double periods = argc > 5 ? std::atof(argv[5]) : 14.0;
   const double ratio = argc > 6 ? std::atof(argv[6]) : std::sqrt(10.0);
   const double floor = argc > 7 ? std::atof(argv[7]) : 0.0;
-  AggregationModel model;
-  model.kernel = Kernel::brownian(a);
-  model.size = std::size_t(1) << 40;
-  model.truncation = Truncation::drop;
-  model.initial = {1.0};
-  model.grid.resolved = 64;
-  model.grid.ratio = 1.05;
+  const long max_steps = argc > 8 ? std::atol(argv[8]) : 40000;
+  SizeGrid grid;
+  grid.resolved = 64;
+  grid.ratio = 1.05;
+  AggregationModel model = bench::scan_model(grid, a);
   SteadyBranch steady(model, 0.1);
   const double near = 0.95 * lambda_crit;
   model.lambda = ShatteringRate::constant(near);
@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     std::optional<CycleStart> start;
     try {
       for (double& n : from) n = std::max(n, 0.0);
-      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, 40000, floor);
+      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, max_steps, floor);
     } catch (const std::exception& e) {
       std::printf("%12.5g %10.4g %10.1f  failed: %s\n", first ? near : lambda, t_end, cpu_now() - t0, e.what());
       return 1;

@@ -52,9 +52,10 @@ std::string csv_safe(std::string text) {
 
 std::string file_text(const ColumnCycle& c, std::size_t periods, const std::string& grid) {
   const auto n = [](double x) { return shortest_text(x); };
+  const OscillationClassification& k = c.run;
   return std::string(header) + "\n" + n(c.a) + "," + n(c.lambda) + "," + std::to_string(periods) + "," + csv_safe(grid) +
-         "," + c.regime + "," + n(c.period) + "," + n(c.amplitude) + "," + n(c.mean) + "," + n(c.decay_rate) + "," +
-         n(c.decay_rate_error) + "," + std::to_string(c.cycles) + "," + (c.converged ? "yes" : "no") + "," +
+         "," + (c.classified ? to_string(k.regime) : "") + "," + n(k.period) + "," + n(k.amplitude) + "," + n(k.mean) + "," +
+         n(k.decay_rate) + "," + n(k.decay_rate_error) + "," + std::to_string(k.cycles) + "," + (k.converged ? "yes" : "no") + "," +
          n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + csv_safe(c.note) + "\n";
 }
 
@@ -76,20 +77,24 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   ColumnCycle c;
   c.a = a;
   c.lambda = lambda;
-  c.regime = (*f)[4];
-  c.period = x[2];
-  c.amplitude = x[3];
-  c.mean = x[4];
-  c.decay_rate = x[5];
-  c.decay_rate_error = x[6];
-  c.cycles = std::size_t(*cycles);
-  c.converged = (*f)[11] == "yes";
+  for (Regime regime : {Regime::steady, Regime::damped, Regime::sustained, Regime::irregular})
+    if ((*f)[4] == to_string(regime)) {
+      c.classified = true;
+      c.run.regime = regime;
+    }
+  if (!c.classified && !(*f)[4].empty()) return std::nullopt;
+  c.run.period = x[2];
+  c.run.amplitude = x[3];
+  c.run.mean = x[4];
+  c.run.decay_rate = x[5];
+  c.run.decay_rate_error = x[6];
+  c.run.cycles = std::size_t(*cycles);
+  c.run.converged = (*f)[11] == "yes";
   c.m0_min = x[7];
   c.m0_max = x[8];
   c.run_end = x[9];
   c.from_lambda = x[10];
   c.note = (*f)[16];
-  c.sustained = c.regime == "sustained" && c.converged;
   return c;
 }
 
@@ -139,21 +144,35 @@ class Column {
       const auto c = parse_file(read_text_file(file(lambda, ".csv")), a_, lambda, plan_.column_periods, grid_);
       if (!c) break;
       done.push_back(*c);
-      if (!c->sustained) break;
+      if (!c->sustained()) break;
     }
     return done;
   }
 
   bool finished() const {
     const std::vector<ColumnCycle> done = cached();
-    return !done.empty() && (!done.back().sustained || done.size() == nodes_.size());
+    return !done.empty() && (!done.back().sustained() || done.size() == nodes_.size());
   }
 
-  // Walks on from the last cached step. Returns false where a step could not be written.
+  // Walks on from the last cached step. False (reported) where a step threw, e.g. could not be written: the
+  // column is then unfinished and a rerun walks on from its last cached step.
   bool walk(std::ostream* progress, int rank) {
+    try {
+      walk_on(progress, rank);
+      return true;
+    } catch (const std::exception& e) {
+      if (progress)
+        *progress << "aggkit scan: [rank " << rank << "] cycle column a = " << shortest_text(a_) << " failed: " << e.what()
+                  << "\n" << std::flush;
+      return false;
+    }
+  }
+
+ private:
+  void walk_on(std::ostream* progress, int rank) {
     std::vector<ColumnCycle> done = cached();
     std::vector<double> state;
-    while (done.size() < nodes_.size() && (done.empty() || done.back().sustained)) {
+    while (done.size() < nodes_.size() && (done.empty() || done.back().sustained())) {
       if (!done.empty() && state.empty()) {
         const auto s = parse_state(read_text_file(file(done.back().lambda, "_state.txt")), unknowns());
         if (!s) {  // its state is lost: that step is done again
@@ -164,15 +183,13 @@ class Column {
       }
       const auto started = std::chrono::steady_clock::now();
       ColumnCycle c = done.empty() ? first_step(state) : next_step(done, state);
-      if (c.sustained) write_file_atomically(file(c.lambda, "_state.txt"), state_text(state));
+      if (c.sustained()) write_file_atomically(file(c.lambda, "_state.txt"), state_text(state));
       write_file_atomically(file(c.lambda, ".csv"), file_text(c, plan_.column_periods, grid_));
       report(progress, rank, c, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
       done.push_back(c);
     }
-    return true;
   }
 
- private:
   std::filesystem::path file(double lambda, const std::string& suffix) const {
     return points_ / ("cycle_column_a" + shortest_text(a_) + "_lambda" + shortest_text(lambda) + "_N" +
                       std::to_string(plan_.size()) + suffix);
@@ -215,9 +232,9 @@ class Column {
     double slope = -1.0;
     if (done.size() >= 2) {
       const ColumnCycle& before = done[done.size() - 2];
-      slope = std::clamp(std::log(above.period / before.period) / std::log(above.lambda / before.lambda), -2.0, -0.5);
+      slope = std::clamp(std::log(above.run.period / before.run.period) / std::log(above.lambda / before.lambda), -2.0, -0.5);
     }
-    const double period = above.period * std::pow(lambda / above.lambda, slope);
+    const double period = above.run.period * std::pow(lambda / above.lambda, slope);
     ColumnCycle c = blank(lambda, above.lambda);
     return run(point_model(plan_, a_, lambda, plan_.size()), state, period, double(plan_.column_periods) * period, c, state);
   }
@@ -264,7 +281,7 @@ class Column {
         return c;
       }
       classify(*start, c);
-      if (c.sustained) {
+      if (c.sustained()) {
         state = start->state;
         return c;
       }
@@ -272,7 +289,7 @@ class Column {
       period = start->period;
     }
     c.note = "the column stops here: after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " +
-             c.regime + (c.converged ? "" : " (not converged)");
+             to_string(c.run.regime) + (c.run.converged ? "" : " (not converged)");
     return c;
   }
 
@@ -286,11 +303,9 @@ class Column {
   void classify(const CycleStart& start, ColumnCycle& c) const {
     OscillationCriteria criteria = plan_.criteria;
     criteria.tail_fraction = 1.0;  // the series is the run's second half already
-    const OscillationClassification k = classify_oscillation(start.times, start.m0, criteria);
-    c.amplitude = k.amplitude;
-    c.mean = k.mean;
-    c.decay_rate = k.decay_rate;
-    c.decay_rate_error = k.decay_rate_error;
+    OscillationClassification& k = c.run;
+    k = classify_oscillation(start.times, start.m0, criteria);
+    c.classified = true;
     const std::vector<double>& t = start.times;
     const std::vector<double>& x = start.m0;
     const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
@@ -304,22 +319,20 @@ class Column {
         up.push_back(t[i - 1] + (middle - x[i - 1]) * (t[i] - t[i - 1]) / (x[i] - x[i - 1]));
         up_index.push_back(i);
       }
-    c.cycles = up.size() > 1 ? up.size() - 1 : 0;
-    c.converged = false;
-    c.sustained = false;
-    c.regime = to_string(k.regime);
-    c.period = k.period;
+    k.converged = false;
     if (up.size() < 4) return;
+    // The crossings' verdict replaces the classifier's (and its note, which counted turning points).
     const std::size_t n = up.size();
     const double p1 = up[n - 1] - up[n - 2], p2 = up[n - 2] - up[n - 3], p3 = up[n - 3] - up[n - 4];
     const double period = (p1 + p2 + p3) / 3.0;
     const double spread = std::max({p1, p2, p3}) - std::min({p1, p2, p3});
     const auto peak = [&](std::size_t from, std::size_t to) { return *std::max_element(x.begin() + long(from), x.begin() + long(to)); };
     const double last = peak(up_index[n - 2], up_index[n - 1]), before = peak(up_index[n - 3], up_index[n - 2]);
-    c.period = period;
-    c.regime = "sustained";
-    c.converged = spread <= 2e-3 * period && std::abs(last - before) <= 5e-3 * last;
-    c.sustained = c.converged;
+    k.regime = Regime::sustained;
+    k.period = period;
+    k.cycles = n - 1;
+    k.converged = spread <= 2e-3 * period && std::abs(last - before) <= 5e-3 * last;
+    k.note.clear();
   }
 
   void report(std::ostream* progress, int rank, const ColumnCycle& c, double seconds) const {
@@ -328,7 +341,7 @@ class Column {
     std::snprintf(line, sizeof line, "aggkit scan: [rank %d] cycle column a = %s, lambda = %s: ", rank,
                   shortest_text(a_).c_str(), short_number(c.lambda).c_str());
     *progress << line
-              << (c.sustained ? "sustained, period " + short_number(c.period) + ", M0 " + short_number(c.m0_min) + " .. " +
+              << (c.sustained() ? "sustained, period " + short_number(c.run.period) + ", M0 " + short_number(c.m0_min) + " .. " +
                                     short_number(c.m0_max)
                               : c.note)
               << " (run to t = " << short_number(c.run_end) << ", " << short_number(seconds) << " s)\n" << std::flush;
@@ -368,7 +381,7 @@ void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::
       continue;
     // Where the column stopped above this λ (or at it): say where and why.
     for (const auto& [key, c] : columns)
-      if (key.first == r.a && !c.sustained && c.lambda >= r.lambda) {
+      if (key.first == r.a && !c.sustained() && c.lambda >= r.lambda) {
         r.note = "no cycle from the column either: at lambda = " + shortest_text(c.lambda) + " " + c.note +
                  (r.note.empty() ? "" : "; " + r.note);
         break;
@@ -377,16 +390,8 @@ void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::
 }
 
 bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r) {
-  if (r.verdict != "unstable" || !c.sustained) return false;
-  r.regime = c.regime;
-  r.period = c.period;
-  r.amplitude = c.amplitude;
-  r.mean = c.mean;
-  r.decay_rate = c.decay_rate;
-  r.decay_rate_error = c.decay_rate_error;
-  r.cycles = c.cycles;
-  r.converged = c.converged;
-  r.run_end = c.run_end;
+  if (r.verdict != "unstable" || !c.sustained()) return false;
+  record_run(c.run, c.run_end, r);
   r.verdict = "sustained";
   r.agree = "yes";
   r.note = "sustained on the cycle continued down the column: the run is " + std::to_string(periods) +

@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/oscillation.hpp"
 #include "validation/scan/scan_output.hpp"
 #include "validation/scan/scan_plan.hpp"
 #include "validation/scan/scan_record.hpp"
@@ -35,11 +36,11 @@ namespace aggkit {
 struct ColumnCycle {
   static constexpr double nan = ScanRecord::nan;
   double a = 0, lambda = 0;
-  bool sustained = false;                     // the run's second half: sustained and converged
-  std::string regime;                         // its classification ("" where the run failed)
-  double period = nan, amplitude = nan, mean = nan, decay_rate = nan, decay_rate_error = nan;
-  std::size_t cycles = 0;
-  bool converged = false;
+  bool classified = false;                    // the run's second half was classified (else the run failed)
+  // Its classification: amplitude, mean and decay rate from classify_oscillation; regime, period, cycles and
+  // converged from the crossings (Column::classify).
+  OscillationClassification run;
+  bool sustained() const { return classified && run.regime == Regime::sustained && run.converged; }
   double m0_min = nan, m0_max = nan;          // over the run's second half
   double run_end = nan;                       // the run's length
   double from_lambda = nan;                   // the λ of the cycle it started on

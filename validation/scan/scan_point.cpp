@@ -339,20 +339,6 @@ Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r, const st
   return c;
 }
 
-// A run's classification into r's run columns (its note first).
-void record_run(const OscillationClassification& c, double end, ScanRecord& r) {
-  r.regime = to_string(c.regime);
-  r.period = c.period;
-  r.amplitude = c.amplitude;
-  r.mean = c.mean;
-  r.decay_rate = c.decay_rate;
-  r.decay_rate_error = c.decay_rate_error;
-  r.cycles = c.cycles;
-  r.converged = c.converged;
-  r.run_end = end;
-  if (!c.note.empty()) r.note = c.note + (r.note.empty() ? "" : "; " + r.note);
-}
-
 // The time series of the point's model over `time`, classified over `criteria`'s tail into r's run columns.
 void classify_run(const ScanPlan& plan, Scene run, const OscillationCriteria& criteria,
                   const std::function<void(double t, double end)>& progress, ScanRecord& r) {

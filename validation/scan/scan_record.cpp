@@ -11,6 +11,19 @@
 
 namespace aggkit {
 
+void record_run(const OscillationClassification& c, double end, ScanRecord& r) {
+  r.regime = to_string(c.regime);
+  r.period = c.period;
+  r.amplitude = c.amplitude;
+  r.mean = c.mean;
+  r.decay_rate = c.decay_rate;
+  r.decay_rate_error = c.decay_rate_error;
+  r.cycles = c.cycles;
+  r.converged = c.converged;
+  r.run_end = end;
+  if (!c.note.empty()) r.note = c.note + (r.note.empty() ? "" : "; " + r.note);
+}
+
 namespace {
 
 const char* const columns =

@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "analysis/oscillation.hpp"
+
 namespace aggkit {
 
 struct ScanRecord {
@@ -53,6 +55,9 @@ struct ScanRecord {
   double seconds = 0;
   int rank = 0;
 };
+
+// A run's classification into r's run columns (regime .. converged, run_end = end; its note first).
+void record_run(const OscillationClassification& c, double end, ScanRecord& r);
 
 // A relaxing verdict: damped or steady.
 inline bool is_relaxing(const ScanRecord& r) { return r.regime == "damped" || r.regime == "steady"; }
