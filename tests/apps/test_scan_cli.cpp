@@ -454,6 +454,8 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   const auto column_cycle = aggkit::testing::read_csv(folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576.csv");
   REQUIRE(column_cycle.size() == 1);
   CHECK(std::stod(column_cycle.front().at("period")) == Approx(shot_period).epsilon(1e-3));
+  // Next to the curve the coarsest absolute-tolerance floor settles (the finer ones stall in the bursts).
+  CHECK(column_cycle.front().at("atol_floor") == "1e-08");
 
   // A column that stops (here at once: its first run needs more than cycle_steps = 100) decides nothing, and
   // the points below it say where and why.
@@ -466,6 +468,8 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
     CHECK(row.at("verdict") == "unstable");
     CHECK_THAT(row.at("note"), Contains("no cycle from the column either: at lambda = 0.00251999") &&
                                    Contains("needs more than cycle_steps = 100 steps"));
+    // Every floor was tried before the column stopped, each with its reason.
+    CHECK_THAT(row.at("note"), Contains("atol floor 1e-08: ") && Contains("; atol floor 1e-10: ") && Contains("; atol floor 1e-12: "));
   }
 
   // Resumed: nothing is computed again and scan.csv is the same, byte for byte.

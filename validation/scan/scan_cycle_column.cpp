@@ -1,6 +1,7 @@
 #include "validation/scan/scan_cycle_column.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/hopf_normal_form.hpp"
 #include "solvers/limit_cycle.hpp"
+#include "solvers/size_grid.hpp"
 #include "solvers/steady_branch.hpp"
 #include "validation/io/atomic_file.hpp"
 #include "validation/runs/mpi_ranks.hpp"
@@ -24,19 +26,31 @@ namespace {
 constexpr double start_fraction = 0.95;  // the first cycle, on the normal form's, at 0.95 λ_crit (as the criticality)
 constexpr double branch_anchor = 0.1;    // as the scan points' steady branches (scan_point.cpp)
 constexpr double search_rtol = 1e-6;     // as the points' cycle searches (scan_point.cpp)
-// Every density's absolute tolerance at least 1e-8 (of the unit monodisperse start's density). With the
-// integrator's default floor (1e-16 here) CVODE tracks the far tail's ~1e-16 densities through the relaxation
-// bursts, and runs down the column stalled: a = 0.75, λ = 1.78e-4, 40000 steps reached t = 3792 of 24873 (and
-// t = 10041 at rtol 1e-7; the Krylov dimension 30 instead of 5 changed nothing). With the floor at 1e-8 that
-// step took 15 s and the column went on to λ = 1.8e-5; the period at λ = 1e-4 is 3588.1 (floor 1e-7: 3590.6,
-// 1e-6: 3586.7) against 3589 shot by Newton–Krylov at rtol 1e-10 from the point's own search.
-constexpr double column_atol_floor = 1e-8;
+// Every density's absolute tolerance at least a floor (relative to the unit monodisperse start's density),
+// tried in turn from the coarsest. With the integrator's default floor (1e-16 here) CVODE tracks the far tail's
+// ~1e-16 densities through the relaxation bursts, and runs down the column stalled: a = 0.75, λ = 1.78e-4,
+// 40000 steps reached t = 3792 of 24873 (and t = 10041 at rtol 1e-7; the Krylov dimension 30 instead of 5
+// changed nothing); from the same start the floor 1e-10 stalled at t = 17 and 1e-12 at t = 12111 (200000 steps
+// each), while with 1e-8 that step took 15 s and the column went on to λ = 3.2e-6. The period at λ = 1e-4 is
+// 3588.1 (floor 1e-7: 3590.6, 1e-6: 3586.7) against 3589 shot by Newton–Krylov at rtol 1e-10 from the point's
+// own search. Further down the floor 1e-8 is too coarse: at λ = 1.78e-6 the run from the cycle above first
+// falls into a quiescent phase with M0 ≈ 3e-6 and n_1 ≈ 1e-9, every density below 1e-8, and CVODE crossed
+// t = 2e6 in 103 steps with the mass drifting 3 % and no oscillation; with 1e-10 the same run bursts at
+// t ≈ 1e5 and every ~1.7e5 after it (mass kept to 1e-4). Each floor is a legitimate tolerance; a run is taken
+// only where it settles on a cycle without gaining mass (below).
+constexpr std::array<double, 3> column_atol_floors = {1e-8, 1e-10, 1e-12};
+// The largest relative gain of the mass Σ x_i N_i over a run that is taken. Aggregation and shattering keep
+// the mass and drop truncation only removes it, so a gain is the integrator's error alone: the leaked mass,
+// integrated beside the densities with their sum kept on M (solvers/cvode_integrator.hpp), goes negative where
+// a floor is too coarse for the densities (a = 0.75, λ = 1.78e-6, floor 1e-8: +3.3 % over the quiescent phase).
+// A loss is legitimate (on a coarse grid up to N = 2^20 the cycles leak 0.5 % a run) and is not bounded here.
+constexpr double mass_gain_limit = 1e-3;
 constexpr double outputs_per_period = 50;
 const double largest_step = std::pow(10.0, 0.25);  // the largest ratio of consecutive λ of a column
 
 const char* const header =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
-    "run_end,from_lambda,note";
+    "run_end,from_lambda,atol_floor,note";
 
 std::string short_number(double x) {
   char text[32];
@@ -56,16 +70,16 @@ std::string file_text(const ColumnCycle& c, std::size_t periods, const std::stri
   return std::string(header) + "\n" + n(c.a) + "," + n(c.lambda) + "," + std::to_string(periods) + "," + csv_safe(grid) +
          "," + (c.classified ? to_string(k.regime) : "") + "," + n(k.period) + "," + n(k.amplitude) + "," + n(k.mean) + "," +
          n(k.decay_rate) + "," + n(k.decay_rate_error) + "," + std::to_string(k.cycles) + "," + (k.converged ? "yes" : "no") + "," +
-         n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + csv_safe(c.note) + "\n";
+         n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + csv_safe(c.note) + "\n";
 }
 
 // The cached step, if its file is whole and was computed with these settings.
 std::optional<ColumnCycle> parse_file(const std::string& text, double a, double lambda, std::size_t periods,
                                       const std::string& grid) {
   const auto f = one_row_record(text, header);
-  if (!f || f->size() != 17) return std::nullopt;
+  if (!f || f->size() != 18) return std::nullopt;
   std::vector<double> x;
-  for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15}) {
+  for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16}) {
     const auto v = record_number((*f)[i], true);
     if (!v) return std::nullopt;
     x.push_back(*v);
@@ -94,7 +108,8 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   c.m0_max = x[8];
   c.run_end = x[9];
   c.from_lambda = x[10];
-  c.note = (*f)[16];
+  c.atol_floor = x[11];
+  c.note = (*f)[17];
   return c;
 }
 
@@ -247,40 +262,74 @@ class Column {
     return c;
   }
 
-  // The run from `from` to `end` (outputs period/50), its second half classified; `state` becomes the state at
-  // its last upward M0 crossing (the next step's start). A second half that is not yet a converged sustained
-  // oscillation (the envelope still settling from the cycle above: its amplitude shrinking by a few percent
-  // over the tail reads as damped, while the unstable steady state it would decay to repels at Re μ) is run
-  // on from that crossing for `end` again, up to 3 times, before the column stops (near the curve the cycle
-  // attracts weakly: largest nontrivial Floquet multiplier 0.8 at a = 0.8, λ = 3.2e-3).
+  // The run from `from` to `end` (outputs period/50) at each of column_atol_floors in turn, until one settles on
+  // a cycle (run_at_floor); the walk stops where none does, with each floor's reason.
   ColumnCycle run(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
                   std::vector<double>& state) const {
-    constexpr int extensions = 3;
     // The start's far tail holds densities ~1e-20 below zero (the graded grid's shares undershoot at the steep
     // front): set to zero, a change far below every density's absolute tolerance, so that a run never starts
     // outside the positive cone.
     for (double& n : from) n = std::max(n, 0.0);
+    const std::vector<double> pivots = grid_pivots(model.grid, model.size);
+    std::string reasons;
+    for (double floor : column_atol_floors) {
+      ColumnCycle tried = run_at_floor(model, from, period, end, c, state, floor, pivots);
+      if (tried.sustained()) return tried;
+      reasons += (reasons.empty() ? "" : "; ") + std::string("atol floor ") + shortest_text(floor) + ": " + tried.note;
+      c.run_end = tried.run_end;
+      c.run = tried.run;
+      c.classified = tried.classified;
+      c.m0_min = tried.m0_min;
+      c.m0_max = tried.m0_max;
+    }
+    c.atol_floor = column_atol_floors.back();
+    c.note = "the column stops here: " + reasons;
+    return c;
+  }
+
+  // The run at one atol floor, its second half classified; `state` becomes the state at its last upward M0
+  // crossing (the next step's start) where it settled. A second half that is not yet a converged sustained
+  // oscillation (the envelope still settling from the cycle above: its amplitude shrinking by a few percent
+  // over the tail reads as damped, while the unstable steady state it would decay to repels at Re μ) is run
+  // on from that crossing for `end` again, up to 3 times (near the curve the cycle attracts weakly: largest
+  // nontrivial Floquet multiplier 0.8 at a = 0.8, λ = 3.2e-3). A run whose mass grows beyond
+  // mass_gain_limit is not taken. c.note says why where it did not settle.
+  ColumnCycle run_at_floor(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
+                           std::vector<double>& state, double floor, const std::vector<double>& pivots) const {
+    constexpr int extensions = 3;
+    const auto mass = [&](const std::vector<double>& n) {
+      double m = 0.0;
+      for (std::size_t i = 0; i < n.size(); ++i) m += pivots[i] * n[i];
+      return m;
+    };
+    const double start_mass = mass(from);
+    c.atol_floor = floor;
     c.run_end = 0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
       std::optional<CycleStart> start;
       try {
-        start = cycle_start_from_run(model, end, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps),
-                                     column_atol_floor);
+        start = cycle_start_from_run(model, end, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps), floor);
       } catch (const StepLimitReached& e) {
         c.run_end += end;
-        c.note = "the column stops here: the run to t = " + shortest_text(end) + " needs more than cycle_steps = " +
-                 std::to_string(plan_.cycle_steps) + " steps (" + e.what() + ")";
+        c.note = "the run to t = " + shortest_text(end) + " needs more than cycle_steps = " + std::to_string(plan_.cycle_steps) +
+                 " steps (" + e.what() + ")";
         return c;
       } catch (const std::exception& e) {
-        c.note = std::string("the column stops here: the run failed: ") + e.what();
+        c.note = std::string("the run failed: ") + e.what();
         return c;
       }
       c.run_end += end;
       if (!start) {
-        c.note = "the column stops here: the run to t = " + shortest_text(end) + " does not oscillate";
+        c.note = "the run to t = " + shortest_text(end) + " does not oscillate";
         return c;
       }
       classify(*start, c);
+      if (const double gain = mass(start->state) / start_mass - 1.0; gain > mass_gain_limit) {
+        c.classified = false;
+        c.note = "the mass grew by " + short_number(gain) + " over the run (more than " + shortest_text(mass_gain_limit) +
+                 "; aggregation, shattering and drop truncation never add mass: densities below the floor)";
+        return c;
+      }
       if (c.sustained()) {
         state = start->state;
         return c;
@@ -288,8 +337,8 @@ class Column {
       from = start->state;
       period = start->period;
     }
-    c.note = "the column stops here: after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " +
-             to_string(c.run.regime) + (c.run.converged ? "" : " (not converged)");
+    c.note = "after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " + to_string(c.run.regime) +
+             (c.run.converged ? "" : " (not converged)");
     return c;
   }
 
@@ -396,7 +445,7 @@ bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r
   r.agree = "yes";
   r.note = "sustained on the cycle continued down the column: the run is " + std::to_string(periods) +
            " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) + " (its second half classified; M0 " +
-           shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + ")" + (r.note.empty() ? "" : "; " + r.note);
+           shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; every atol_k >= " + shortest_text(c.atol_floor) + ")" + (r.note.empty() ? "" : "; " + r.note);
   return true;
 }
 

@@ -13,9 +13,11 @@
 // the scan's own grid, solvers/hopf_normal_form.hpp), for ln(1e3)/(2 Re μ) + 16 periods; then each of the
 // scan's λ below it, in descending order and with geometric steps between them of at most a factor 10^(1/4),
 // runs `periods` predicted periods (the period extrapolated in ln T against ln λ from the two cycles above, or
-// ∝ 1/λ from one) from the state the run above ended in, run on (up to 3 times) until it has settled. The walk
-// stops at the first λ whose run does not show a sustained, converged oscillation, or needs more than
-// cycle_steps CVODE steps; the λ below it get no column cycle. A column's results depend only on the plan and a,
+// ∝ 1/λ from one) from the state the run above ended in, run on (up to 3 times) until it has settled. Each step
+// tries the absolute-tolerance floors 1e-8, 1e-10, 1e-12 in turn (the coarsest that settles: finer floors stall
+// CVODE in the bursts near the curve, coarser ones lose the quiescent phase far below it). The walk stops at the
+// first λ where no floor's run shows a sustained, converged oscillation without gaining mass, within cycle_steps
+// CVODE steps; the λ below it get no column cycle. A column's results depend only on the plan and a,
 // never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
 // DIR/points/cycle_column_* (the record and the state it ended in), so an interrupted scan resumes mid-column.
 #include <cstddef>
@@ -44,6 +46,7 @@ struct ColumnCycle {
   double m0_min = nan, m0_max = nan;          // over the run's second half
   double run_end = nan;                       // the run's length
   double from_lambda = nan;                   // the λ of the cycle it started on
+  double atol_floor = nan;                    // the floor of every atol_k its run took (the last tried where none settled)
   std::string note;                           // why the walk stopped here ("" where it did not)
 };
 
