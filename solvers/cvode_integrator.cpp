@@ -58,8 +58,11 @@ std::string to_string(Preconditioner p) {
   return p == Preconditioner::monomer ? "monomer" : p == Preconditioner::jacobi ? "jacobi" : "none";
 }
 
+// 10 rtol, not rtol: the factorisation meets a request with 10-100x to spare, and on the ballistic kernel
+// (λ = 0.01, N = 2000) 10 rtol cut auto's and erk's CPU time by 0-22% with the moments still within 0.6 rtol of
+// a tight reference (bench/lowrank_tolerance.py); bdf-gmres, whose time goes elsewhere, unchanged.
 double IntegratorOptions::effective_lowrank_tolerance() const {
-  return lowrank_tolerance > 0.0 ? lowrank_tolerance : std::clamp(rtol, 1e-12, 1e-6);
+  return lowrank_tolerance > 0.0 ? lowrank_tolerance : std::clamp(10.0 * rtol, 1e-12, 1e-5);
 }
 
 void IntegratorOptions::validate() const { integrator_option_rows().check(*this); }

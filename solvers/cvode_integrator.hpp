@@ -96,11 +96,12 @@ struct IntegratorOptions {
   bool project_mass = true;
   long max_steps = 10'000'000;
   // Max relative entry error of the low-rank kernel form (kernels without an exact factorisation);
-  // 0 chooses rtol within [1e-12, 1e-6] (1e-12 about the attainable floor). The factorisation meets a
-  // requested tolerance with ~100x to spare (requested 1e-8: 1.1e-10 measured), and a kernel error moves the
+  // 0 chooses 10 rtol within [1e-12, 1e-5] (1e-12 about the attainable floor). The factorisation meets a
+  // requested tolerance with ~10-100x to spare (requested 1e-8: 1.1e-10 measured), and a kernel error moves the
   // moments by ~1e-2 of itself: on the ballistic kernel (λ = 0.01, N = 2000, rtol 1e-10) requests of 1e-12
   // (rank 25), 1e-8 (rank 19) and 1e-6 (rank 15) left M0, M2, M3 within 9.6e-12, 7.9e-12 and 1.0e-10 of a
   // tight reference. The rank sets the cost of a right-hand side (2 R FFTs): 19 instead of 25 is ~30% less.
+  // Why 10 rtol: effective_lowrank_tolerance().
   double lowrank_tolerance = 0.0;
   // Relative entry error of the cheaper kernel form used for J·v (approximated kernels only; Newton's
   // method needs only an approximate Jacobian). 0 uses the right-hand side's form. At 1e-2 instead of 1e-4

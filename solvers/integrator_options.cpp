@@ -23,7 +23,7 @@ const OptionRows<IntegratorOptions>& integrator_option_rows() {
       B::named("rhs", &O::rates, std::vector{RatesPath::fast, RatesPath::direct},
                "right-hand side: FFT/low-rank O(N R log N), or the direct O(N^2) sums"),
       B::number("lowrank_tolerance", &O::lowrank_tolerance, right_open(0.0, 0.1),
-                "relative error of the low-rank kernel (0: default)", "rtol within [1e-12, 1e-6]"),
+                "relative error of the low-rank kernel (0: default)", "10 rtol within [1e-12, 1e-5]"),
       B::number("jacobian_tolerance", &O::jacobian_tolerance, right_open(0.0, 0.1),
                 "low-rank tolerance of the Jacobian-vector products"),
       B::number("negligible_fraction", &O::negligible_fraction, closed(0.0, 0.1),
