@@ -398,15 +398,23 @@ TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the s
   CHECK(again == Approx(before).epsilon(1e-4));  // the bracket: 8.5e-8 of 0.00157 (5e-5)
 }
 
-TEST_CASE("scan cli: the cycle continued down a column decides the points whose own search cannot reach it") {
-  // a = 0.9 on the coarse grid (λ_crit 0.0027 there): with cycle_run = 100 no point's own search can reach its
-  // cycle, so all three stay "unstable". The column starts on the Hopf normal form's cycle at 0.95 λ_crit and
-  // steps down to λ = 0.001, 3.2e-4 and 1e-4, each a run of 12 predicted periods from the cycle above.
-  const auto folder = aggkit::testing::scratch_folder("scan-cli-column");
+namespace {
+// a = 0.9 on the coarse grid (λ_crit 0.0027 there) at λ = 1e-4, 3.2e-4 and 0.001: with cycle_run = 100 no
+// point's own search can reach its cycle below 0.001.
+std::string column_scan() {
   std::string text = coarse_scan;
   text.replace(text.find("a = [0.85, 0.9]"), 15, "a = [0.9]");
   text.replace(text.find("lambda = [0.001, 0.004, 0.012]"), 30, "lambda = [0.0001, 0.000316227766, 0.001]");
-  text += "refine = false\ncycle_run = 100\n";
+  return text + "refine = false\ncycle_run = 100\n";
+}
+}  // namespace
+
+TEST_CASE("scan cli: the cycle continued down a column decides the points whose own search cannot reach it") {
+  // The points below 0.001 stay "unstable" without the column. The column starts on the Hopf normal form's
+  // cycle at 0.95 λ_crit and steps down to λ = 0.001, 3.2e-4 and 1e-4, each a run of 12 predicted periods from
+  // the cycle above.
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-column");
+  const std::string text = column_scan();
   const auto without = aggkit::testing::write_text(folder / "without.toml", text);
   const auto with = aggkit::testing::write_text(folder / "with.toml", text + "cycle_column = 12\n");
   const Outcome plain = run(scan_command("", without, folder / "out"), folder);
@@ -457,9 +465,18 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   // Next to the curve the coarsest absolute-tolerance floor settles (the finer ones stall in the bursts).
   CHECK(column_cycle.front().at("atol_floor") == "1e-08");
 
-  // A column that stops (here at once: its first run needs more than cycle_steps = 100) decides nothing, and
-  // the points below it say where and why.
-  const auto stopped = aggkit::testing::write_text(folder / "stopped.toml", text + "cycle_column = 12\ncycle_steps = 100\n");
+  // Resumed: nothing is computed again and scan.csv is the same, byte for byte.
+  const std::string first = aggkit::testing::read_text(csv);
+  const Outcome again = run(scan_command("", with, folder / "out"), folder);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("continued down 1 columns of lambda: 1 runs, 1 finished earlier, 0 to compute"));
+  CHECK(aggkit::testing::read_text(csv) == first);
+}
+
+TEST_CASE("scan cli: a column that stops decides nothing and the points below say where and why") {
+  // Here at once: the first run needs more than cycle_steps = 100 at every absolute-tolerance floor.
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-column-stopped");
+  const auto stopped = aggkit::testing::write_text(folder / "stopped.toml", column_scan() + "cycle_column = 12\ncycle_steps = 100\n");
   const Outcome stop = run(scan_command("", stopped, folder / "stopped"), folder);
   INFO(stop.err);
   REQUIRE(stop.exit_code == 0);
@@ -471,13 +488,6 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
     // Every floor was tried before the column stopped, each with its reason.
     CHECK_THAT(row.at("note"), Contains("atol floor 1e-08: ") && Contains("; atol floor 1e-10: ") && Contains("; atol floor 1e-12: "));
   }
-
-  // Resumed: nothing is computed again and scan.csv is the same, byte for byte.
-  const std::string first = aggkit::testing::read_text(csv);
-  const Outcome again = run(scan_command("", with, folder / "out"), folder);
-  REQUIRE(again.exit_code == 0);
-  CHECK_THAT(again.err, Contains("continued down 1 columns of lambda: 1 runs, 1 finished earlier, 0 to compute"));
-  CHECK(aggkit::testing::read_text(csv) == first);
 }
 
 TEST_CASE("scan cli: where the grid's roots go negative the steady state is sought on the refined grid") {
