@@ -50,7 +50,7 @@ const double largest_step = std::pow(10.0, 0.25);  // the largest ratio of conse
 
 const char* const header =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
-    "run_end,from_lambda,atol_floor,note";
+    "run_end,from_lambda,atol_floor,mass_change,note";
 
 std::string short_number(double x) {
   char text[32];
@@ -70,16 +70,16 @@ std::string file_text(const ColumnCycle& c, std::size_t periods, const std::stri
   return std::string(header) + "\n" + n(c.a) + "," + n(c.lambda) + "," + std::to_string(periods) + "," + csv_safe(grid) +
          "," + (c.classified ? to_string(k.regime) : "") + "," + n(k.period) + "," + n(k.amplitude) + "," + n(k.mean) + "," +
          n(k.decay_rate) + "," + n(k.decay_rate_error) + "," + std::to_string(k.cycles) + "," + (k.converged ? "yes" : "no") + "," +
-         n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + csv_safe(c.note) + "\n";
+         n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + n(c.mass_change) + "," + csv_safe(c.note) + "\n";
 }
 
 // The cached step, if its file is whole and was computed with these settings.
 std::optional<ColumnCycle> parse_file(const std::string& text, double a, double lambda, std::size_t periods,
                                       const std::string& grid) {
   const auto f = one_row_record(text, header);
-  if (!f || f->size() != 18) return std::nullopt;
+  if (!f || f->size() != 19) return std::nullopt;
   std::vector<double> x;
-  for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16}) {
+  for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16, 17}) {
     const auto v = record_number((*f)[i], true);
     if (!v) return std::nullopt;
     x.push_back(*v);
@@ -109,7 +109,8 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   c.run_end = x[9];
   c.from_lambda = x[10];
   c.atol_floor = x[11];
-  c.note = (*f)[17];
+  c.mass_change = x[12];
+  c.note = (*f)[18];
   return c;
 }
 
@@ -281,6 +282,7 @@ class Column {
       c.classified = tried.classified;
       c.m0_min = tried.m0_min;
       c.m0_max = tried.m0_max;
+      c.mass_change = tried.mass_change;
     }
     c.atol_floor = column_atol_floors.back();
     c.note = "the column stops here: " + reasons;
@@ -324,9 +326,10 @@ class Column {
         return c;
       }
       classify(*start, c);
-      if (const double gain = mass(start->state) / start_mass - 1.0; gain > mass_gain_limit) {
+      c.mass_change = mass(start->state) / start_mass - 1.0;
+      if (c.mass_change > mass_gain_limit) {
         c.classified = false;
-        c.note = "the mass grew by " + short_number(gain) + " over the run (more than " + shortest_text(mass_gain_limit) +
+        c.note = "the mass grew by " + short_number(c.mass_change) + " over the run (more than " + shortest_text(mass_gain_limit) +
                  "; aggregation, shattering and drop truncation never add mass: densities below the floor)";
         return c;
       }
