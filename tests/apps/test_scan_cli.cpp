@@ -268,6 +268,24 @@ std::map<std::string, std::string> scan_row(const fs::path& csv, double a, doubl
     if (std::stod(row.at("a")) == a && std::stod(row.at("lambda")) == lambda) return row;
   return {};
 }
+// The Hopf bifurcation's criticality on the coarse scan's own grid: its crossing lies between the unstable
+// (0.9, 0.001) and the stable (0.9, 0.004) of this grid (0.0027, far from the converged 0.0096), and the first
+// Lyapunov coefficient there is negative: supercritical, as on the converged grid (bench/results/RESULTS.md).
+void check_coarse_criticality(const fs::path& out) {
+  const auto crit_rows = aggkit::testing::read_csv(out / "lambda_crit.csv");
+  REQUIRE(crit_rows.size() == 2);
+  for (const auto& row : crit_rows) {
+    INFO("a = " << row.at("a") << ": " << row.at("note"));
+    CHECK(row.at("criticality") == "supercritical");
+    CHECK(std::stod(row.at("lyapunov")) < 0);
+    CHECK(std::stod(row.at("m0_half_range_predicted")) > 0);
+    if (row.at("a") == "0.9") {
+      CHECK(std::stod(row.at("lambda_crit_scan_grid")) > 0.001);
+      CHECK(std::stod(row.at("lambda_crit_scan_grid")) < 0.004);
+    }
+  }
+  CHECK(fs::exists(out / "points" / "hopf_criticality_a0.9_N1048576.csv"));  // what a resumed scan reads
+}
 }  // namespace
 
 TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is unresolved") {
@@ -294,22 +312,7 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
   CHECK(sustained.at("regime_refined").empty());
   CHECK(!fs::exists(folder / "out" / "points" / "a0.9_lambda0.001_N2097152_refined.csv"));
 
-  // The Hopf bifurcation's criticality on the scan's own grid: its crossing lies between the unstable
-  // (0.9, 0.001) and the stable (0.9, 0.004) of this grid (0.0027, far from the converged 0.0096), and the first
-  // Lyapunov coefficient there is negative: supercritical, as on the converged grid (bench/results/RESULTS.md).
-  const auto crit_rows = aggkit::testing::read_csv(folder / "out" / "lambda_crit.csv");
-  REQUIRE(crit_rows.size() == 2);
-  for (const auto& row : crit_rows) {
-    INFO("a = " << row.at("a") << ": " << row.at("note"));
-    CHECK(row.at("criticality") == "supercritical");
-    CHECK(std::stod(row.at("lyapunov")) < 0);
-    CHECK(std::stod(row.at("m0_half_range_predicted")) > 0);
-    if (row.at("a") == "0.9") {
-      CHECK(std::stod(row.at("lambda_crit_scan_grid")) > 0.001);
-      CHECK(std::stod(row.at("lambda_crit_scan_grid")) < 0.004);
-    }
-  }
-  CHECK(fs::exists(folder / "out" / "points" / "hopf_criticality_a0.9_N1048576.csv"));  // what a resumed scan reads
+  check_coarse_criticality(folder / "out");
 
   // Every point has a steady state reached by continuation from λ = 0.1 and a converged spectrum; the verdict
   // comes from the spectrum and the cycle, the run confirming: (0.9, 0.001) unstable, oscillating in the run and
@@ -333,16 +336,6 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
   CHECK(sustained.at("cycle_stable") == "yes");
   CHECK(std::isnan(std::stod(high.at("cycle_period"))));  // no cycle around a stable focus
 
-  // A run budget too short to reach the cycle (cycle_run = 100, below the scene's own t_end): no cycle is sought,
-  // the point without an oscillating run stays unstable and says why.
-  const auto budget = aggkit::testing::write_text(folder / "budget.toml", std::string(coarse_scan) + "refine = false\ncycle_run = 100\n");
-  const Outcome budgeted = run(scan_command("", budget, folder / "budget"), folder);
-  INFO(budgeted.err);
-  REQUIRE(budgeted.exit_code == 0);
-  const auto unsought = scan_row(folder / "budget" / "scan.csv", 0.85, 0.001);
-  CHECK(unsought.at("verdict") == "unstable");
-  CHECK(unsought.at("cycle_stable").empty());
-  CHECK_THAT(unsought.at("note"), Contains("no cycle sought") && Contains("beyond cycle_run = 100"));
   CHECK(high.at("verdict") == "damped");
   CHECK(high.at("agree") == "yes");
   CHECK(low.at("verdict") == "unresolved");
@@ -359,6 +352,19 @@ TEST_CASE("scan cli: a relaxing point that does not relax on the refined grid is
   CHECK_THAT(again.err, Contains("7 runs, 7 finished earlier, 0 to compute"));  // 6 points and the Hopf curve
   CHECK(scan_row(csv, 0.9, 0.004).at("regime") == "damped");
   CHECK(scan_row(csv, 0.9, 0.004).at("regime_refined").empty());
+}
+
+TEST_CASE("scan cli: a run budget too short to reach the cycle leaves the point unstable and says why") {
+  // cycle_run = 100, below the scene's own t_end: no cycle is sought at (0.85, 0.001), whose run shows none.
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-budget");
+  const auto budget = aggkit::testing::write_text(folder / "budget.toml", std::string(coarse_scan) + "refine = false\ncycle_run = 100\n");
+  const Outcome budgeted = run(scan_command("", budget, folder / "budget"), folder);
+  INFO(budgeted.err);
+  REQUIRE(budgeted.exit_code == 0);
+  const auto unsought = scan_row(folder / "budget" / "scan.csv", 0.85, 0.001);
+  CHECK(unsought.at("verdict") == "unstable");
+  CHECK(unsought.at("cycle_stable").empty());
+  CHECK_THAT(unsought.at("note"), Contains("no cycle sought") && Contains("beyond cycle_run = 100"));
 }
 
 TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the same results on 2 ranks", "[mpi]") {
