@@ -496,6 +496,11 @@ TEST_CASE("scan cli: a column that stops decides nothing and the points below sa
     // Every floor was tried before the column stopped, each with its reason.
     CHECK_THAT(row.at("note"), Contains("atol floor 1e-08: ") && Contains("; atol floor 1e-10: ") && Contains("; atol floor 1e-12: "));
   }
+  // The stopped step's record is the finest floor's run.
+  const auto record = aggkit::testing::read_csv(folder / "stopped" / "points" / "cycle_column_a0.9_lambda0.0025199989150533402_N1048576.csv");
+  REQUIRE(record.size() == 1);
+  CHECK(record.front().at("atol_floor") == "1e-12");
+  CHECK(record.front().at("regime").empty());
 }
 
 TEST_CASE("scan cli: where the grid's roots go negative the steady state is sought on the refined grid") {

@@ -14,6 +14,7 @@
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/hopf_normal_form.hpp"
 #include "solvers/limit_cycle.hpp"
+#include "solvers/mass_constrained_system.hpp"
 #include "solvers/size_grid.hpp"
 #include "solvers/steady_branch.hpp"
 #include "validation/io/atomic_file.hpp"
@@ -273,20 +274,14 @@ class Column {
     for (double& n : from) n = std::max(n, 0.0);
     const std::vector<double> pivots = grid_pivots(model.grid, model.size);
     std::string reasons;
+    ColumnCycle tried;
     for (double floor : column_atol_floors) {
-      ColumnCycle tried = run_at_floor(model, from, period, end, c, state, floor, pivots);
+      tried = run_at_floor(model, from, period, end, c, state, floor, pivots);
       if (tried.sustained()) return tried;
       reasons += (reasons.empty() ? "" : "; ") + std::string("atol floor ") + shortest_text(floor) + ": " + tried.note;
-      c.run_end = tried.run_end;
-      c.run = tried.run;
-      c.classified = tried.classified;
-      c.m0_min = tried.m0_min;
-      c.m0_max = tried.m0_max;
-      c.mass_change = tried.mass_change;
     }
-    c.atol_floor = column_atol_floors.back();
-    c.note = "the column stops here: " + reasons;
-    return c;
+    tried.note = "the column stops here: " + reasons;  // the record of the finest floor's run
+    return tried;
   }
 
   // The run at one atol floor, its second half classified; `state` becomes the state at its last upward M0
@@ -299,12 +294,7 @@ class Column {
   ColumnCycle run_at_floor(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
                            std::vector<double>& state, double floor, const std::vector<double>& pivots) const {
     constexpr int extensions = 3;
-    const auto mass = [&](const std::vector<double>& n) {
-      double m = 0.0;
-      for (std::size_t i = 0; i < n.size(); ++i) m += pivots[i] * n[i];
-      return m;
-    };
-    const double start_mass = mass(from);
+    const double start_mass = total_mass(from, pivots);
     c.atol_floor = floor;
     c.run_end = 0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
@@ -326,7 +316,7 @@ class Column {
         return c;
       }
       classify(*start, c);
-      c.mass_change = mass(start->state) / start_mass - 1.0;
+      c.mass_change = total_mass(start->state, pivots) / start_mass - 1.0;
       if (c.mass_change > mass_gain_limit) {
         c.classified = false;
         c.note = "the mass grew by " + short_number(c.mass_change) + " over the run (more than " + shortest_text(mass_gain_limit) +
