@@ -481,6 +481,37 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   CHECK(aggkit::testing::read_text(csv) == first);
 }
 
+TEST_CASE("scan cli: the columns are walked first, and a point its column reached seeks no cycle of its own") {
+  // A fresh scan with cycle_column: the criticality and the column come before the points, and the points the
+  // column reached (0.001 and below, all under 0.95 lambda_crit = 0.00252 on this grid) neither search nor shoot
+  // a cycle of their own; those below 0.001, whose runs over [time] do not show the cycle, take the column's.
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-column-first");
+  const auto with = aggkit::testing::write_text(folder / "with.toml", column_scan() + "cycle_column = 12\n");
+  const Outcome first = run(scan_command("", with, folder / "out"), folder);
+  INFO(first.err);
+  REQUIRE(first.exit_code == 0);
+  const std::size_t column = first.err.find("continued down 1 columns of lambda: 1 runs, 0 finished earlier, 1 to compute");
+  REQUIRE(column != std::string::npos);
+  CHECK(first.err.find("grid of 1 a x 3 lambda") > column);
+  const fs::path csv = folder / "out" / "scan.csv";
+  for (const double lambda : {0.001, 0.000316227766, 0.0001}) {
+    const auto row = scan_row(csv, 0.9, lambda);
+    INFO(lambda << ": " << row.at("note"));
+    CHECK(row.at("verdict") == "sustained");
+    CHECK_THAT(row.at("note"), Contains("no cycle search of its own: the cycle continued down the column reached this point (period "));
+    CHECK(row.at("cycle_period") == "nan");  // nothing shot
+  }
+  for (const double lambda : {0.000316227766, 0.0001}) {
+    const auto row = scan_row(csv, 0.9, lambda);
+    const auto step = aggkit::testing::read_csv(folder / "out" / "points" /
+                                                ("cycle_column_a0.9_lambda" + std::string(lambda == 0.0001 ? "1e-04" : "0.000316227766") +
+                                                 "_N1048576.csv"));
+    REQUIRE(step.size() == 1);
+    CHECK(row.at("period") == step.front().at("period"));
+    CHECK_THAT(row.at("note"), Contains("sustained on the cycle continued down the column"));
+  }
+}
+
 TEST_CASE("scan cli: a column that stops decides nothing and the points below say where and why") {
   // Here at once: the first run needs more than cycle_steps = 100 at every absolute-tolerance floor.
   const auto folder = aggkit::testing::scratch_folder("scan-cli-column-stopped");

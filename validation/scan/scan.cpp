@@ -103,6 +103,13 @@ class RunCache {
     failed_ += done.failed;
   }
 
+  // The periods of the cycles continued down the columns: a grid point (size N, not refined) that its column
+  // reached seeks no cycle of its own (ScanPoint::column_period).
+  void take_column_cycles(const CycleColumns& columns) {
+    for (const auto& [key, c] : columns)
+      if (c.sustained()) column_periods_[key] = c.run.period;
+  }
+
   std::size_t reused() const { return reused_; }
   std::size_t computed() const { return computed_; }
   std::size_t failed() const { return failed_; }
@@ -118,7 +125,11 @@ class RunCache {
     Progress progress(progress_, std::chrono::seconds(10));
     progress.start(label, number, count, plan.scene.time.end);
     try {
-      ScanRecord r = run_scan_point(plan, {0, run.a, run.lambda}, run.size, [&](double t, double end) {
+      ScanPoint point{0, run.a, run.lambda};
+      if (const auto c = column_periods_.find({run.a, run.lambda});
+          !run.refined && run.size == plan_.size() && c != column_periods_.end())
+        point.column_period = c->second;
+      ScanRecord r = run_scan_point(plan, point, run.size, [&](double t, double end) {
                                       progress.set_end(end);
                                       progress.reached(t);
                                     },
@@ -144,6 +155,7 @@ class RunCache {
   std::filesystem::path folder_;
   std::ostream* progress_;
   MpiWorld world_;
+  std::map<std::pair<double, double>, double> column_periods_;  // (a, λ) -> the column's period there
   std::size_t reused_ = 0, computed_ = 0, failed_ = 0;
 };
 
@@ -497,6 +509,18 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   RunCache cache(plan, points, options.progress);
   const std::size_t N = plan.size();
 
+  // Phase 0, with cycle columns: the Hopf bifurcation's criticality per a and the attracting cycles continued
+  // down each a's column, before the points, so that a point the column reached takes its cycle instead of
+  // searching and shooting its own (both cached in DIR/points; the later calls read them back).
+  CycleColumns columns;
+  if (plan.column_periods > 0) {  // implies stability and cycles (scan_plan.cpp)
+    std::vector<LambdaCritRow> early(plan.a.size());
+    for (std::size_t i = 0; i < plan.a.size(); ++i) early[i].a = plan.a[i];
+    add_hopf_criticality(plan, points, early, options.progress);
+    columns = follow_cycle_columns(plan, points, early, options.progress);
+    cache.take_column_cycles(columns);
+  }
+
   // Phase 1: the grid (each relaxing point followed by its refined repeat), the truncation-check points at N
   // and 2N, and, drawn first so that it runs beside the points, the converged Hopf curve on a graded hopf_grid.
   std::vector<Run> runs;
@@ -552,9 +576,7 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   outcome.exit_code = outcome.failed > 0 || records.size() < plan.point_count() ? 1 : 0;
 
   if (plan.stability) add_hopf_criticality(plan, points, crit, options.progress);
-  if (plan.column_periods > 0) {
-    adopt_column_cycles(follow_cycle_columns(plan, points, crit, options.progress), plan.column_periods, records);
-  }
+  if (plan.column_periods > 0) adopt_column_cycles(columns, plan.column_periods, records);
   if (world.rank == 0) write_outputs(plan, options, cache, records, crit, outcome);
   mpi_barrier();
   return outcome;

@@ -61,8 +61,9 @@ using CycleColumns = std::map<std::pair<double, double>, ColumnCycle>;
 CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::path& points,
                                   const std::vector<LambdaCritRow>& crit, std::ostream* progress);
 
-// A point whose steady state is unstable and whose own search found no attracting cycle (verdict "unstable")
-// takes the column's sustained run as its run: regime, period, amplitude and run_end from it, the verdict then
+// A point whose steady state is unstable and that has no attracting cycle of its own (verdict "unstable": its
+// search found none, or it sought none because the column reached it, ScanPoint::column_period) takes the
+// column's sustained run as its run: regime, period, amplitude and run_end from it, the verdict then
 // sustained, and a note saying where the run started. Other points are left as they are. Returns whether r changed.
 bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r);
 

@@ -37,9 +37,11 @@
 //                                         a's column of λ below the Hopf point (scan_cycle_column.hpp), each
 //                                         step a run of this many predicted periods (at least 10: its second
 //                                         half must hold the 4 cycles a converged verdict needs) from the
-//                                         cycle of the λ above, at most cycle_steps CVODE steps; a point whose
-//                                         own search found no cycle takes the column's sustained run as its
-//                                         evidence. Needs series = "M0". Absent: no columns
+//                                         cycle of the λ above, at most cycle_steps CVODE steps. The columns
+//                                         are walked before the points: a point its column reached seeks no
+//                                         cycle of its own and takes the column's sustained run as its
+//                                         evidence (as does a point whose own search found none). Needs
+//                                         series = "M0". Absent: no columns
 //   confirm_run = 2e4                     with stability: each point's run is a confirmation whose length
 //                                         comes from the point's spectrum, not from [time] end: 1/λ for the
 //                                         relaxation from the initial state and 6 e-folding times 6/|Re μ|
@@ -60,6 +62,7 @@
 //
 // No [observe] or [compare]: a scan writes its own outputs (scan_output.hpp). Unknown keys are errors.
 #include <cstddef>
+#include <limits>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -76,6 +79,10 @@ namespace aggkit {
 struct ScanPoint {
   std::size_t index = 0;  // a-major: index = i_a * lambda_count + i_λ
   double a = 0, lambda = 0;
+  // The period of the attracting cycle continued down this a's column to this λ (validation/scan/
+  // scan_cycle_column.hpp), where the column reached it; the point then seeks no cycle of its own (the column's
+  // run is its evidence) and sizes its confirmation run by this period. NaN: the point seeks its own.
+  double column_period = std::numeric_limits<double>::quiet_NaN();
 };
 
 class SteadyBranches;  // validation/scan/scan_point.cpp

@@ -295,7 +295,10 @@ struct Confirmation {
 // classified over as long again (the second half); around an unstable one, 12/re of growth away
 // from it and 8 periods of the cycle (its shot period where found, else the cycle search run's, else 2π/im),
 // of which the cycle part is classified. Outputs 25 per period (at most [time] every apart, at most 2·10^5 in all).
-Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r, const std::optional<SearchRun>& search) {
+// `column_period`: the period of the cycle continued down the column to this point (NaN: none), used where the
+// point shot no cycle of its own.
+Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r, const std::optional<SearchRun>& search,
+                             double column_period) {
   Confirmation c;
   if (r.spectrum_converged != "yes" || !std::isfinite(r.rightmost_real)) {
     c.why_not = "not run: no spectrum to size a confirmation run by";
@@ -304,6 +307,7 @@ Confirmation confirmation_of(const ScanPlan& plan, const ScanRecord& r, const st
   const double re = r.rightmost_real, im = r.rightmost_imag;
   const bool focus = im > 0;
   const double period = std::isfinite(r.cycle_period)            ? r.cycle_period
+                        : std::isfinite(column_period)            ? column_period
                         : search && std::isfinite(search->period) ? search->period
                         : focus                                   ? 2.0 * M_PI / im
                                                                   : NAN;
@@ -403,13 +407,17 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
   r.a = point.a;
   r.lambda = point.lambda;
   r.size = size;
-  // The refined repeats (judge_relaxation false) only check a relaxing verdict: no cycles there.
-  const bool cycles = plan.cycles && judge_relaxation;
+  // The refined repeats (judge_relaxation false) only check a relaxing verdict: no cycles there. Nor where the
+  // cycle continued down the column reached the point: near the curve a search of its own grows from the
+  // unstable focus at Re μ and shooting converges slowly where the cycle attracts weakly (up to 2500 s a point
+  // on the scan grid, against 5–70 s for the column's step to the same cycle).
+  const bool from_column = std::isfinite(point.column_period);
+  const bool cycles = plan.cycles && judge_relaxation && !from_column;
   OscillationCriteria criteria = plan.criteria;
   if (plan.stability && plan.confirm_run > 0) {
     // The evidence first, then a run as long as the spectrum says the confirmation needs.
     const std::optional<SearchRun> search = classify_by_stability(plan, run.model, point.a, point.lambda, cycles, r);
-    const Confirmation c = confirmation_of(plan, r, search);
+    const Confirmation c = confirmation_of(plan, r, search, point.column_period);
     if (c.why_not.empty()) {
       run.time = c.time;
       criteria.tail_fraction = c.tail_fraction;
@@ -426,6 +434,9 @@ ScanRecord run_scan_point(const ScanPlan& plan, const ScanPoint& point, std::siz
     classify_run(plan, run, criteria, progress, r);
     if (plan.stability) classify_by_stability(plan, run.model, point.a, point.lambda, cycles, r);
   }
+  if (from_column && r.regime_stability == "sustained")
+    add_note(r, "no cycle search of its own: the cycle continued down the column reached this point (period " +
+                    shortest_text(point.column_period) + ")");
   settle_verdict(r);
   if (judge_relaxation) judge_relaxation_of(plan, r);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
