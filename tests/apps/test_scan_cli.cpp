@@ -367,16 +367,18 @@ TEST_CASE("scan cli: a run budget too short to reach the cycle leaves the point 
   CHECK_THAT(unsought.at("note"), Contains("no cycle sought") && Contains("beyond cycle_run = 100"));
 }
 
-TEST_CASE("scan cli: the converged Hopf curve runs beside the points, with the same results on 2 ranks", "[mpi]") {
+TEST_CASE("scan cli: the converged Hopf curve runs beside the columns, with the same results on 2 ranks", "[mpi]") {
   const auto folder = aggkit::testing::scratch_folder("scan-cli-curve-mpi");
-  // With the cycles continued down the columns too: one column per a, each walked by one rank.
+  // With the cycles continued down the columns too: one column per a, each walked by one rank, and the curve
+  // then beside the columns (the points come after them).
   const auto scene = aggkit::testing::write_text(folder / "scan.toml", std::string(coarse_scan) + "cycle_column = 12\n");
   const Outcome single = run(scan_command("", scene, folder / "single"), folder);
   REQUIRE(single.exit_code == 0);
   const Outcome two = run(scan_command(mpirun(2), scene, folder / "two"), folder);
   INFO(two.err);
   REQUIRE(two.exit_code == 0);
-  CHECK_THAT(two.err, Contains("and the converged Hopf curve: 7 runs") && Contains("continued down 2 columns of lambda"));
+  CHECK_THAT(two.err, Contains("continued down 2 columns of lambda, and the converged Hopf curve: 3 runs") &&
+                          Contains("grid of 2 a x 3 lambda at N = 1048576: 6 runs"));
   for (const char* file : {"scan.csv", "lambda_crit.csv"})
     CHECK(aggkit::testing::read_text(folder / "single" / file) == aggkit::testing::read_text(folder / "two" / file));
   CHECK_THAT(aggkit::testing::read_text(folder / "two" / "lambda_crit.csv"), Contains("hopf-converged"));
@@ -439,8 +441,8 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   const Outcome column = run(scan_command("", with, folder / "out"), folder);
   INFO(column.err);
   REQUIRE(column.exit_code == 0);
-  CHECK_THAT(column.err, Contains("4 runs, 4 finished earlier, 0 to compute") &&
-                             Contains("continued down 1 columns of lambda: 1 runs, 0 finished earlier, 1 to compute"));
+  CHECK_THAT(column.err, Contains("3 runs, 3 finished earlier, 0 to compute") &&
+                             Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 1 finished earlier, 1 to compute"));
   double above = std::stod(scan_row(csv, 0.9, 0.001).at("period"));
   for (const double lambda : {0.000316227766, 0.0001}) {
     const auto row = scan_row(csv, 0.9, lambda);
@@ -477,7 +479,7 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   const std::string first = aggkit::testing::read_text(csv);
   const Outcome again = run(scan_command("", with, folder / "out"), folder);
   REQUIRE(again.exit_code == 0);
-  CHECK_THAT(again.err, Contains("continued down 1 columns of lambda: 1 runs, 1 finished earlier, 0 to compute"));
+  CHECK_THAT(again.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
   CHECK(aggkit::testing::read_text(csv) == first);
 }
 
@@ -490,7 +492,7 @@ TEST_CASE("scan cli: the columns are walked first, and a point its column reache
   const Outcome first = run(scan_command("", with, folder / "out"), folder);
   INFO(first.err);
   REQUIRE(first.exit_code == 0);
-  const std::size_t column = first.err.find("continued down 1 columns of lambda: 1 runs, 0 finished earlier, 1 to compute");
+  const std::size_t column = first.err.find("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 0 finished earlier, 2 to compute");
   REQUIRE(column != std::string::npos);
   CHECK(first.err.find("grid of 1 a x 3 lambda") > column);
   const fs::path csv = folder / "out" / "scan.csv";

@@ -56,4 +56,10 @@ DistributedRuns compute_unfinished_runs(std::size_t count, const std::function<b
                                         const std::function<bool(std::size_t i, std::size_t number, std::size_t count)>& compute,
                                         const std::string& command, const std::string& what, std::ostream* progress);
 
+// A task drawn first with a batch of runs and run whole by one rank (the scan's converged Hopf curve), so
+// that it runs beside them: finished() reads the shared points folder, compute() returns false if it failed.
+struct SerialTask {
+  std::function<bool()> finished, compute;
+};
+
 }  // namespace aggkit

@@ -52,11 +52,6 @@ struct Run {
   }
 };
 
-// A task drawn with the runs but run whole by one rank (the converged Hopf curve, a continuation in a).
-struct SerialTask {
-  std::function<bool()> finished, compute;  // compute: false if it failed
-};
-
 class RunCache {
  public:
   RunCache(const ScanPlan& plan, std::filesystem::path folder, std::ostream* progress)
@@ -512,30 +507,33 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   // Phase 0, with cycle columns: the Hopf bifurcation's criticality per a and the attracting cycles continued
   // down each a's column, before the points, so that a point the column reached takes its cycle instead of
   // searching and shooting its own (both cached in DIR/points; the later calls read them back).
+  // The converged Hopf curve on a graded hopf_grid: drawn first with the columns, or else with the points,
+  // so that one rank computes it beside them.
+  const bool curve = plan.stability && !plan.hopf_grid.uniform();
+  const SerialTask hopf{[&] { return hopf_curve_todo(plan, points).empty(); },
+                        [&] { return converge_hopf_curve(plan, points, options.progress); }};
   CycleColumns columns;
   if (plan.column_periods > 0) {  // implies stability and cycles (scan_plan.cpp)
     std::vector<LambdaCritRow> early(plan.a.size());
     for (std::size_t i = 0; i < plan.a.size(); ++i) early[i].a = plan.a[i];
     add_hopf_criticality(plan, points, early, options.progress);
-    columns = follow_cycle_columns(plan, points, early, options.progress);
+    columns = follow_cycle_columns(plan, points, early, options.progress, curve ? &hopf : nullptr);
     cache.take_column_cycles(columns);
   }
 
   // Phase 1: the grid (each relaxing point followed by its refined repeat), the truncation-check points at N
-  // and 2N, and, drawn first so that it runs beside the points, the converged Hopf curve on a graded hopf_grid.
+  // and 2N (and the Hopf curve, where there are no columns).
+  const bool curve_beside_points = curve && plan.column_periods == 0;
   std::vector<Run> runs;
   for (std::size_t i = 0; i < plan.point_count(); ++i) runs.push_back({plan.point(i).a, plan.point(i).lambda, N});
   for (const auto& [a, lambda] : plan.check_points) {
     runs.push_back({a, lambda, N});
     runs.push_back({a, lambda, 2 * N});
   }
-  const bool curve = plan.stability && !plan.hopf_grid.uniform();
-  const SerialTask hopf{[&] { return hopf_curve_todo(plan, points).empty(); },
-                        [&] { return converge_hopf_curve(plan, points, options.progress); }};
   cache.compute(runs,
                 "grid of " + std::to_string(plan.a.size()) + " a x " + std::to_string(plan.lambda.size()) +
-                    " lambda at N = " + std::to_string(N) + (curve ? ", and the converged Hopf curve" : ""),
-                true, curve ? &hopf : nullptr);
+                    " lambda at N = " + std::to_string(N) + (curve_beside_points ? ", and the converged Hopf curve" : ""),
+                true, curve_beside_points ? &hopf : nullptr);
 
   // A relaxing verdict stands only if its refined repeat relaxes too, towards a steady state that linear
   // stability finds stable on the refined grid (every rank reads the same files).

@@ -399,7 +399,7 @@ class Column {
 }  // namespace
 
 CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::path& points,
-                                  const std::vector<LambdaCritRow>& crit, std::ostream* progress) {
+                                  const std::vector<LambdaCritRow>& crit, std::ostream* progress, const SerialTask* beside) {
   CycleColumns result;
   if (plan.column_periods == 0) return result;
   std::vector<Column> columns;
@@ -407,10 +407,17 @@ CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::p
     if (row.criticality == "supercritical" && row.lambda_crit_model_grid > 0.0)
       columns.emplace_back(plan, points, row.a, row.lambda_crit_model_grid);
   const MpiWorld world = mpi_world();
+  const std::size_t offset = beside ? 1 : 0;
   compute_unfinished_runs(
-      columns.size(), [&](std::size_t i) { return columns[i].finished(); },
-      [&](std::size_t i, std::size_t, std::size_t) { return columns[i].walk(progress, world.rank); }, "aggkit scan",
-      "the attracting cycles continued down " + std::to_string(columns.size()) + " columns of lambda", progress);
+      columns.size() + offset,
+      [&](std::size_t i) { return i < offset ? beside->finished() : columns[i - offset].finished(); },
+      [&](std::size_t i, std::size_t, std::size_t) {
+        return i < offset ? beside->compute() : columns[i - offset].walk(progress, world.rank);
+      },
+      "aggkit scan",
+      "the attracting cycles continued down " + std::to_string(columns.size()) + " columns of lambda" +
+          (beside ? ", and the converged Hopf curve" : ""),
+      progress);
   for (const Column& column : columns)
     for (const ColumnCycle& c : column.cached()) result[{c.a, c.lambda}] = c;
   return result;

@@ -30,6 +30,7 @@
 
 #include "analysis/oscillation.hpp"
 #include "validation/scan/scan_output.hpp"
+#include "validation/runs/run_store.hpp"
 #include "validation/scan/scan_plan.hpp"
 #include "validation/scan/scan_record.hpp"
 
@@ -57,9 +58,10 @@ using CycleColumns = std::map<std::pair<double, double>, ColumnCycle>;
 // Walks (or reads back) the column of every a whose crossing on the scan's grid is supercritical
 // (crit's lambda_crit_model_grid and criticality, from add_hopf_criticality), over the plan's λ below
 // 0.95 λ_crit, with runs of plan.column_periods predicted periods. Called on every rank; every rank returns the
-// same columns.
+// same columns. `beside`, if given, is drawn first and run by one rank beside the columns.
 CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::path& points,
-                                  const std::vector<LambdaCritRow>& crit, std::ostream* progress);
+                                  const std::vector<LambdaCritRow>& crit, std::ostream* progress,
+                                  const SerialTask* beside = nullptr);
 
 // A point whose steady state is unstable and that has no attracting cycle of its own (verdict "unstable": its
 // search found none, or it sought none because the column reached it, ScanPoint::column_period) takes the
