@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "analysis/text.hpp"
 #include "validation/runs/json_record.hpp"
 #include "validation/runs/run_store.hpp"
 
@@ -36,6 +37,11 @@ TEST_CASE("run records: a number field is the whole field read as a number") {
   CHECK(!record_number("0.25x"));
   CHECK(!record_number("yes"));
   CHECK(!record_number("1e999"));  // out of range
+  CHECK(!record_number("-1e999"));
+  // A subnormal number is read as written (a cached state's far tail holds densities ~1e-318).
+  CHECK(record_number("-6.888886e-318") == -6.888886e-318);
+  CHECK(record_number("4.9406564584124654e-324") == 4.9406564584124654e-324);
+  CHECK(record_number(aggkit::shortest_text(3e-320)) == 3e-320);
   CHECK(!record_number(""));
   REQUIRE(record_number("", /*empty_is_nan=*/true));
   CHECK(std::isnan(*record_number("", true)));

@@ -1,6 +1,8 @@
 #include "validation/runs/run_store.hpp"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <fstream>
 #include <sstream>
@@ -36,14 +38,14 @@ std::optional<std::vector<std::string>> one_row_record(const std::string& text, 
 
 std::optional<double> record_number(const std::string& field, bool empty_is_nan) {
   if (field.empty()) return empty_is_nan ? std::optional<double>(std::nan("")) : std::nullopt;
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(field, &used);
-    if (used != field.size()) return std::nullopt;
-    return value;
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
+  // strtod, not stod: stod refuses a subnormal number (ERANGE on underflow), and the states the scan caches
+  // hold densities of ~1e-318 in their far tails, written exactly by shortest_text. An overflow (±HUGE_VAL
+  // with ERANGE) is refused.
+  errno = 0;
+  char* end = nullptr;
+  const double value = std::strtod(field.c_str(), &end);
+  if (end != field.c_str() + field.size() || (errno == ERANGE && std::isinf(value))) return std::nullopt;
+  return value;
 }
 
 void prepare_points_folder(const std::filesystem::path& out, const std::filesystem::path& points) {
