@@ -490,6 +490,19 @@ void write_outputs(const ScanPlan& plan, const ScanOptions& options, const RunCa
   }
 }
 
+// Phase 0, with cycle columns: the Hopf bifurcation's criticality per a and the attracting cycles continued
+// down each a's column, before the points, so that a point the column reached takes its cycle instead of
+// searching and shooting its own (both cached in DIR/points; the later calls read them back). No columns:
+// nothing is computed.
+CycleColumns columns_first(const ScanPlan& plan, const std::filesystem::path& points, const SerialTask* beside,
+                           std::ostream* progress) {
+  if (plan.column_periods == 0) return {};  // > 0 implies stability and cycles (scan_plan.cpp)
+  std::vector<LambdaCritRow> early(plan.a.size());
+  for (std::size_t i = 0; i < plan.a.size(); ++i) early[i].a = plan.a[i];
+  add_hopf_criticality(plan, points, early, progress);
+  return follow_cycle_columns(plan, points, early, progress, beside);
+}
+
 }  // namespace
 
 ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
@@ -504,22 +517,13 @@ ScanOutcome run_scan(const ScanPlan& plan, const ScanOptions& options) {
   RunCache cache(plan, points, options.progress);
   const std::size_t N = plan.size();
 
-  // Phase 0, with cycle columns: the Hopf bifurcation's criticality per a and the attracting cycles continued
-  // down each a's column, before the points, so that a point the column reached takes its cycle instead of
-  // searching and shooting its own (both cached in DIR/points; the later calls read them back).
   // The converged Hopf curve on a graded hopf_grid: drawn first with the columns, or else with the points,
   // so that one rank computes it beside them.
   const bool curve = plan.stability && !plan.hopf_grid.uniform();
   const SerialTask hopf{[&] { return hopf_curve_todo(plan, points).empty(); },
                         [&] { return converge_hopf_curve(plan, points, options.progress); }};
-  CycleColumns columns;
-  if (plan.column_periods > 0) {  // implies stability and cycles (scan_plan.cpp)
-    std::vector<LambdaCritRow> early(plan.a.size());
-    for (std::size_t i = 0; i < plan.a.size(); ++i) early[i].a = plan.a[i];
-    add_hopf_criticality(plan, points, early, options.progress);
-    columns = follow_cycle_columns(plan, points, early, options.progress, curve ? &hopf : nullptr);
-    cache.take_column_cycles(columns);
-  }
+  const CycleColumns columns = columns_first(plan, points, curve ? &hopf : nullptr, options.progress);
+  cache.take_column_cycles(columns);
 
   // Phase 1: the grid (each relaxing point followed by its refined repeat), the truncation-check points at N
   // and 2N (and the Hopf curve, where there are no columns).
