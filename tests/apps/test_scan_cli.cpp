@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <sys/wait.h>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "tests/apps/command_fixture.hpp"
@@ -493,8 +494,10 @@ TEST_CASE("scan cli: the columns are walked first, and a point its column reache
   INFO(first.err);
   REQUIRE(first.exit_code == 0);
   const std::size_t column = first.err.find("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 0 finished earlier, 2 to compute");
+  const std::size_t points = first.err.find("grid of 1 a x 3 lambda");
   REQUIRE(column != std::string::npos);
-  CHECK(first.err.find("grid of 1 a x 3 lambda") > column);
+  REQUIRE(points != std::string::npos);
+  CHECK(points > column);
   const fs::path csv = folder / "out" / "scan.csv";
   for (const double lambda : {0.001, 0.000316227766, 0.0001}) {
     const auto row = scan_row(csv, 0.9, lambda);
@@ -503,11 +506,10 @@ TEST_CASE("scan cli: the columns are walked first, and a point its column reache
     CHECK_THAT(row.at("note"), Contains("no cycle search of its own: the cycle continued down the column reached this point (period "));
     CHECK(row.at("cycle_period") == "nan");  // nothing shot
   }
-  for (const double lambda : {0.000316227766, 0.0001}) {
+  for (const auto& [lambda, name] : {std::pair{0.000316227766, "0.000316227766"}, std::pair{0.0001, "1e-04"}}) {
     const auto row = scan_row(csv, 0.9, lambda);
     const auto step = aggkit::testing::read_csv(folder / "out" / "points" /
-                                                ("cycle_column_a0.9_lambda" + std::string(lambda == 0.0001 ? "1e-04" : "0.000316227766") +
-                                                 "_N1048576.csv"));
+                                                (std::string("cycle_column_a0.9_lambda") + name + "_N1048576.csv"));
     REQUIRE(step.size() == 1);
     CHECK(row.at("period") == step.front().at("period"));
     CHECK_THAT(row.at("note"), Contains("sustained on the cycle continued down the column"));
