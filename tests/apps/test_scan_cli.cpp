@@ -475,12 +475,31 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   CHECK(column_cycle.front().at("atol_floor") == "1e-08");
   // Its mass changed by less than the guard's 1e-3 (measured: -1.8e-5, the drop truncation's loss).
   CHECK(std::abs(std::stod(column_cycle.front().at("mass_change"))) < 1e-3);
+  // Its periods settled on one cycle (no modulation: spread within 2e-3).
+  CHECK(column_cycle.front().at("settling") == "settled");
+  CHECK(std::stod(column_cycle.front().at("spread")) <= 2e-3);
 
   // Resumed: nothing is computed again and scan.csv is the same, byte for byte.
   const std::string first = aggkit::testing::read_text(csv);
   const Outcome again = run(scan_command("", with, folder / "out"), folder);
   REQUIRE(again.exit_code == 0);
   CHECK_THAT(again.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
+  CHECK(aggkit::testing::read_text(csv) == first);
+
+  // A step cached before its settling was recorded (without the last three columns) reads back as settled:
+  // still nothing to compute, and the same scan.csv.
+  const auto step = folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576.csv";
+  std::istringstream lines(aggkit::testing::read_text(step));
+  std::string older;
+  for (std::string line; std::getline(lines, line);) {
+    for (int field = 0; field < 3; ++field) line.erase(line.rfind(','));
+    older += line + "\n";
+  }
+  REQUIRE(older.find("settl") == std::string::npos);
+  aggkit::testing::write_text(step, older);
+  const Outcome before = run(scan_command("", with, folder / "out"), folder);
+  REQUIRE(before.exit_code == 0);
+  CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
   CHECK(aggkit::testing::read_text(csv) == first);
 }
 

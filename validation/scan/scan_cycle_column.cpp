@@ -51,6 +51,10 @@ const double largest_step = std::pow(10.0, 0.25);  // the largest ratio of conse
 
 const char* const header =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
+    "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction";
+// The header of the steps cached before the settling was recorded: read back as settled where converged.
+const char* const header_before_settling =
+    "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
     "run_end,from_lambda,atol_floor,mass_change,note";
 
 std::string short_number(double x) {
@@ -71,14 +75,23 @@ std::string file_text(const ColumnCycle& c, std::size_t periods, const std::stri
   return std::string(header) + "\n" + n(c.a) + "," + n(c.lambda) + "," + std::to_string(periods) + "," + csv_safe(grid) +
          "," + (c.classified ? to_string(k.regime) : "") + "," + n(k.period) + "," + n(k.amplitude) + "," + n(k.mean) + "," +
          n(k.decay_rate) + "," + n(k.decay_rate_error) + "," + std::to_string(k.cycles) + "," + (k.converged ? "yes" : "no") + "," +
-         n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + n(c.mass_change) + "," + csv_safe(c.note) + "\n";
+         n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + n(c.mass_change) + "," + csv_safe(c.note) +
+         "," + to_string(c.settling) + "," + n(c.spread) + "," + n(c.contraction) + "\n";
+}
+
+std::optional<CycleSettling> settling_from(const std::string& text) {
+  for (CycleSettling s : {CycleSettling::too_few_crossings, CycleSettling::settling, CycleSettling::settled, CycleSettling::unsettled})
+    if (text == to_string(s)) return s;
+  return std::nullopt;
 }
 
 // The cached step, if its file is whole and was computed with these settings.
 std::optional<ColumnCycle> parse_file(const std::string& text, double a, double lambda, std::size_t periods,
                                       const std::string& grid) {
-  const auto f = one_row_record(text, header);
-  if (!f || f->size() != 19) return std::nullopt;
+  auto f = one_row_record(text, header);
+  const bool before_settling = !f;
+  if (before_settling) f = one_row_record(text, header_before_settling);
+  if (!f || f->size() != (before_settling ? 19u : 22u)) return std::nullopt;
   std::vector<double> x;
   for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16, 17}) {
     const auto v = record_number((*f)[i], true);
@@ -112,6 +125,16 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   c.atol_floor = x[11];
   c.mass_change = x[12];
   c.note = (*f)[18];
+  if (before_settling) {
+    c.settling = c.run.converged ? CycleSettling::settled : CycleSettling::settling;
+    return c;
+  }
+  const auto settling = settling_from((*f)[19]);
+  const auto spread = record_number((*f)[20], true), contraction = record_number((*f)[21], true);
+  if (!settling || !spread || !contraction) return std::nullopt;
+  c.settling = *settling;
+  c.spread = *spread;
+  c.contraction = *contraction;
   return c;
 }
 
@@ -285,34 +308,36 @@ class Column {
   }
 
   // The run at one atol floor, its second half classified; `state` becomes the state at its last upward M0
-  // crossing (the next step's start) where it settled. A second half that is not yet a converged sustained
-  // oscillation (the envelope still settling from the cycle above: its amplitude shrinking by a few percent
-  // over the tail reads as damped, while the unstable steady state it would decay to repels at Re μ) is run
-  // on from that crossing for `end` again, up to 3 times (near the curve the cycle attracts weakly: largest
-  // nontrivial Floquet multiplier 0.8 at a = 0.8, λ = 3.2e-3). A run whose mass grows beyond
-  // mass_gain_limit is not taken. c.note says why where it did not settle.
+  // crossing (the next step's start) where it settled. A second half that is not yet a sustained oscillation,
+  // settled or unsettled (the envelope still settling from the cycle above: its amplitude shrinking by a few
+  // percent over the tail reads as damped, while the unstable steady state it would decay to repels at Re μ),
+  // is run on from that crossing for twice `end`, up to 2 times: near the curve the cycle attracts weakly
+  // (largest nontrivial Floquet multiplier 0.8 at a = 0.8, λ = 3.2e-3), and a second half of 12 or more
+  // periods tells a modulation that persists from one that decays (cycle_settling needs 10). A run whose mass
+  // grows beyond mass_gain_limit is not taken. c.note says why where it did not settle.
   ColumnCycle run_at_floor(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
                            std::vector<double>& state, double floor, const std::vector<double>& pivots) const {
-    constexpr int extensions = 3;
+    constexpr int extensions = 2;
     const double start_mass = total_mass(from, pivots);
     c.atol_floor = floor;
     c.run_end = 0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
+      const double length = attempt == 0 ? end : 2.0 * end;
       std::optional<CycleStart> start;
       try {
-        start = cycle_start_from_run(model, end, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps), floor);
+        start = cycle_start_from_run(model, length, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps), floor);
       } catch (const StepLimitReached& e) {
-        c.run_end += end;
-        c.note = "the run to t = " + shortest_text(end) + " needs more than cycle_steps = " + std::to_string(plan_.cycle_steps) +
+        c.run_end += length;
+        c.note = "the run to t = " + shortest_text(length) + " needs more than cycle_steps = " + std::to_string(plan_.cycle_steps) +
                  " steps (" + e.what() + ")";
         return c;
       } catch (const std::exception& e) {
         c.note = std::string("the run failed: ") + e.what();
         return c;
       }
-      c.run_end += end;
+      c.run_end += length;
       if (!start) {
-        c.note = "the run to t = " + shortest_text(end) + " does not oscillate";
+        c.note = "the run to t = " + shortest_text(length) + " does not oscillate";
         return c;
       }
       classify(*start, c);
@@ -331,49 +356,41 @@ class Column {
       period = start->period;
     }
     c.note = "after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " + to_string(c.run.regime) +
-             (c.run.converged ? "" : " (not converged)");
+             (c.run.converged ? "" : " (not converged") +
+             (c.settling == CycleSettling::settling ? ": its last three periods spread by " + short_number(c.spread) +
+                                                          (std::isnan(c.contraction) ? "" : ", modulation contracting by " + short_number(c.contraction) + " a period")
+                                                    : std::string()) +
+             (c.run.converged ? "" : ")");
     return c;
   }
 
-  // The run's second half: classified like a point's run (amplitude, mean, decay rate), and settled on a cycle
-  // where its last three periods between upward crossings of M0's mid-range agree to 2e-3 and M0's largest
-  // value over the last two to 5e-3 (with 1 % and 2 %, a = 0.8, λ = 3.2e-3 on the scan grid was taken while its
-  // amplitude still grew from the cycle above: period 127.0 against the shot 128.33). The crossings, not the classifier's turning points, give the period: far below
-  // the curve M0 has secondary maxima within each period (a = 0.9, λ = 1e-4 on a 34-class grid: peaks 0.097,
-  // 0.0062, 0.0032, 0.0025 in a period of 1335), which the classifier counts as cycles of their own. The
-  // steady state being unstable, a settled bounded oscillation is sustained.
+  // The run's second half: classified like a point's run (amplitude, mean, decay rate), and its periods from
+  // the upward crossings of M0's mid-range (analysis/crossing_periods.hpp): settled where its last three agree
+  // to 2e-3 and M0's largest value over the last two to 5e-3 (with 1 % and 2 %, a = 0.8, λ = 3.2e-3 on the scan
+  // grid was taken while its amplitude still grew from the cycle above: period 127.0 against the shot 128.33),
+  // or unsettled where over 10 or more periods their modulation persists (a = 0.9, λ = 1.78e-4: periods
+  // 1647 … 1666 recurring every ~4.3 periods through 20 periods of a run). The steady state being unstable, a
+  // settled or unsettled bounded oscillation is sustained.
   void classify(const CycleStart& start, ColumnCycle& c) const {
     OscillationCriteria criteria = plan_.criteria;
     criteria.tail_fraction = 1.0;  // the series is the run's second half already
     OscillationClassification& k = c.run;
     k = classify_oscillation(start.times, start.m0, criteria);
     c.classified = true;
-    const std::vector<double>& t = start.times;
-    const std::vector<double>& x = start.m0;
-    const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
-    c.m0_min = *lo;
-    c.m0_max = *hi;
-    const double middle = 0.5 * (*lo + *hi);
-    std::vector<double> up;               // upward crossings of the mid-range
-    std::vector<std::size_t> up_index;
-    for (std::size_t i = 1; i < x.size(); ++i)
-      if (x[i - 1] < middle && x[i] >= middle) {
-        up.push_back(t[i - 1] + (middle - x[i - 1]) * (t[i] - t[i - 1]) / (x[i] - x[i - 1]));
-        up_index.push_back(i);
-      }
+    const CrossingPeriods crossings = crossing_periods(start.times, start.m0);
+    c.m0_min = crossings.lowest;
+    c.m0_max = crossings.highest;
+    const CycleSettlingVerdict verdict = cycle_settling(crossings, start.m0);
+    c.settling = verdict.settling;
+    c.spread = verdict.spread;
+    c.contraction = verdict.contraction;
     k.converged = false;
-    if (up.size() < 4) return;
+    if (verdict.settling == CycleSettling::too_few_crossings) return;
     // The crossings' verdict replaces the classifier's (and its note, which counted turning points).
-    const std::size_t n = up.size();
-    const double p1 = up[n - 1] - up[n - 2], p2 = up[n - 2] - up[n - 3], p3 = up[n - 3] - up[n - 4];
-    const double period = (p1 + p2 + p3) / 3.0;
-    const double spread = std::max({p1, p2, p3}) - std::min({p1, p2, p3});
-    const auto peak = [&](std::size_t from, std::size_t to) { return *std::max_element(x.begin() + long(from), x.begin() + long(to)); };
-    const double last = peak(up_index[n - 2], up_index[n - 1]), before = peak(up_index[n - 3], up_index[n - 2]);
     k.regime = Regime::sustained;
-    k.period = period;
-    k.cycles = n - 1;
-    k.converged = spread <= 2e-3 * period && std::abs(last - before) <= 5e-3 * last;
+    k.period = verdict.period;
+    k.cycles = verdict.periods;
+    k.converged = verdict.settling == CycleSettling::settled;
     k.note.clear();
   }
 
@@ -383,8 +400,8 @@ class Column {
     std::snprintf(line, sizeof line, "aggkit scan: [rank %d] cycle column a = %s, lambda = %s: ", rank,
                   shortest_text(a_).c_str(), short_number(c.lambda).c_str());
     *progress << line
-              << (c.sustained() ? "sustained, period " + short_number(c.run.period) + ", M0 " + short_number(c.m0_min) + " .. " +
-                                    short_number(c.m0_max)
+              << (c.sustained() ? "sustained, " + std::string(c.run.converged ? "" : "unsettled (periods vary by " + short_number(c.spread) + "), mean ") +
+                                    "period " + short_number(c.run.period) + ", M0 " + short_number(c.m0_min) + " .. " + short_number(c.m0_max)
                               : c.note)
               << " (run to t = " << short_number(c.run_end) << ", " << short_number(seconds) << " s)\n" << std::flush;
   }
@@ -443,9 +460,16 @@ bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r
   record_run(c.run, c.run_end, r);
   r.verdict = "sustained";
   r.agree = "yes";
-  r.note = "sustained on the cycle continued down the column: the run is " + std::to_string(periods) +
-           " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) + " (its second half classified; M0 " +
-           shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; every atol_k >= " + shortest_text(c.atol_floor) + ")" + (r.note.empty() ? "" : "; " + r.note);
+  const std::string unsettled =
+      c.settling == CycleSettling::unsettled
+          ? "; not periodic: its " + std::to_string(c.run.cycles) + " periods between M0's crossings vary by " + short_number(c.spread) +
+                " of their mean " + short_number(c.run.period) + " without settling (modulation contracting by " + short_number(c.contraction) +
+                " a period: quasi-periodic or period-k, or a cycle attracting with |mu| >= 0.9)"
+          : "";
+  r.note = "sustained on the " + std::string(c.run.converged ? "cycle" : "oscillation") + " continued down the column: the run is " +
+           std::to_string(periods) + " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) +
+           " (its second half classified; M0 " + shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; every atol_k >= " +
+           shortest_text(c.atol_floor) + ")" + unsettled + (r.note.empty() ? "" : "; " + r.note);
   return true;
 }
 

@@ -13,11 +13,14 @@
 // the scan's own grid, solvers/hopf_normal_form.hpp), for ln(1e3)/(2 Re μ) + 16 periods; then each of the
 // scan's λ below it, in descending order and with geometric steps between them of at most a factor 10^(1/4),
 // runs `periods` predicted periods (the period extrapolated in ln T against ln λ from the two cycles above, or
-// ∝ 1/λ from one) from the state the run above ended in, run on (up to 3 times) until it has settled. Each step
-// tries the absolute-tolerance floors 1e-8, 1e-10, 1e-12 in turn (the coarsest that settles: finer floors stall
-// CVODE in the bursts near the curve, coarser ones lose the quiescent phase far below it). The walk stops at the
-// first λ where no floor's run shows a sustained, converged oscillation without gaining mass, within cycle_steps
-// CVODE steps; the λ below it get no column cycle. A column's results depend only on the plan and a,
+// ∝ 1/λ from one) from the state the run above ended in, run on (up to 2 times, for twice as long) until its
+// periods have settled on one cycle or show a modulation that persists (a quasi-periodic or period-k
+// oscillation, or a cycle attracting with |μ| ≥ 0.9: analysis/crossing_periods.hpp; at a = 0.9 and 0.95 the
+// columns meet such oscillations below λ ≈ 3e-4). Each step tries the absolute-tolerance floors 1e-8, 1e-10,
+// 1e-12 in turn (the coarsest that settles: finer floors stall CVODE in the bursts near the curve, coarser ones
+// lose the quiescent phase far below it). The walk stops at the first λ where no floor's run shows a sustained
+// oscillation, settled or unsettled, without gaining mass, within cycle_steps CVODE steps; the λ below it get
+// no column cycle. A column's results depend only on the plan and a,
 // never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
 // DIR/points/cycle_column_* (the record and the state it ended in), so an interrupted scan resumes mid-column.
 #include <cstddef>
@@ -28,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/crossing_periods.hpp"
 #include "analysis/oscillation.hpp"
 #include "validation/scan/scan_output.hpp"
 #include "validation/runs/run_store.hpp"
@@ -43,7 +47,14 @@ struct ColumnCycle {
   // Its classification: amplitude, mean and decay rate from classify_oscillation; regime, period, cycles and
   // converged from the crossings (Column::classify).
   OscillationClassification run;
-  bool sustained() const { return classified && run.regime == Regime::sustained && run.converged; }
+  // How the periods between M0's upward mid-range crossings settled (analysis/crossing_periods.hpp): settled on
+  // one cycle (run.converged), or unsettled, a modulation that persists (quasi-periodic, period-k or a cycle
+  // attracting with |μ| ≥ 0.9), its relative spread and per-period contraction given. Both are sustained.
+  CycleSettling settling = CycleSettling::too_few_crossings;
+  double spread = nan, contraction = nan;
+  bool sustained() const {
+    return classified && run.regime == Regime::sustained && (run.converged || settling == CycleSettling::unsettled);
+  }
   double m0_min = nan, m0_max = nan;          // over the run's second half
   double run_end = nan;                       // the run's length
   double from_lambda = nan;                   // the λ of the cycle it started on

@@ -1,0 +1,116 @@
+#include "analysis/crossing_periods.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "analysis/input_error.hpp"
+
+namespace aggkit {
+
+namespace {
+
+constexpr double settled_spread = 2e-3;      // of the last three periods, relative to their mean
+constexpr double settled_peak = 5e-3;        // M0's largest value over the last two periods, relative
+constexpr double unsettled_contraction = 0.9;  // ρ per period at or above which a modulation persists
+// The halves' largest values, relative: an oscillation whose amplitude still shrinks towards a smaller cycle is
+// settling, not unsettled; a persisting modulation moves the largest value over ~5 periods by a few percent.
+constexpr double unsettled_peak = 5e-2;
+
+double spread_of(std::span<const double> p) {
+  const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
+  return *hi - *lo;
+}
+
+double mean_of(std::span<const double> p) {
+  double sum = 0.0;
+  for (double v : p) sum += v;
+  return sum / double(p.size());
+}
+
+// The largest x from sample `from` up to (not including) `to`.
+double peak(std::span<const double> x, std::size_t from, std::size_t to) {
+  return *std::max_element(x.begin() + std::ptrdiff_t(from), x.begin() + std::ptrdiff_t(to));
+}
+
+// The periods of `p` with each one of more than 1.5 times the median of `all` split into round(p / median)
+// equal parts: where the amplitude is modulated, a low swing can miss the mid-range and one interval then
+// spans two periods (a = 0.95, λ = 3.16e-4: 1781.2 among periods of 874 … 906).
+std::vector<double> whole_periods(std::span<const double> p, std::span<const double> all) {
+  std::vector<double> sorted(all.begin(), all.end());
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  std::vector<double> whole;
+  for (double v : p) {
+    const double parts = v > 1.5 * median ? std::round(v / median) : 1.0;
+    for (int k = 0; k < int(parts); ++k) whole.push_back(v / parts);
+  }
+  return whole;
+}
+
+}  // namespace
+
+CrossingPeriods crossing_periods(std::span<const double> t, std::span<const double> x) {
+  if (t.size() != x.size())
+    throw InputError("series", std::to_string(t.size()) + " times and " + std::to_string(x.size()) + " values",
+                     "as many values as times");
+  CrossingPeriods c;
+  if (x.empty()) return c;
+  const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+  c.lowest = *lo;
+  c.highest = *hi;
+  const double middle = 0.5 * (c.lowest + c.highest);
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (x[i - 1] < middle && x[i] >= middle) {
+      c.crossings.push_back(t[i - 1] + (middle - x[i - 1]) * (t[i] - t[i - 1]) / (x[i] - x[i - 1]));
+      c.after.push_back(i);
+    }
+  for (std::size_t i = 1; i < c.crossings.size(); ++i) c.periods.push_back(c.crossings[i] - c.crossings[i - 1]);
+  return c;
+}
+
+std::string to_string(CycleSettling s) {
+  switch (s) {
+    case CycleSettling::too_few_crossings: return "too few crossings";
+    case CycleSettling::settling: return "settling";
+    case CycleSettling::settled: return "settled";
+    case CycleSettling::unsettled: return "unsettled";
+  }
+  return "?";
+}
+
+CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const double> x) {
+  CycleSettlingVerdict v;
+  const std::size_t n = c.crossings.size();
+  v.periods = c.periods.size();
+  if (n < 4) return v;
+  const std::span<const double> p(c.periods);
+  const std::span<const double> last3 = p.last(3);
+  v.period = mean_of(last3);
+  v.spread = spread_of(last3) / v.period;
+  const double last = peak(x, c.after[n - 2], c.after[n - 1]), before = peak(x, c.after[n - 3], c.after[n - 2]);
+  v.settling = CycleSettling::settling;
+  if (v.spread <= settled_spread && std::abs(last - before) <= settled_peak * last) {
+    v.settling = CycleSettling::settled;
+    return v;
+  }
+  if (p.size() < min_unsettled_periods) return v;
+  const std::size_t m = p.size() / 2;  // periods a half; the earlier half drops the first period if odd
+  const std::vector<double> earlier = whole_periods(p.subspan(p.size() - 2 * m, m), p),
+                            later = whole_periods(p.last(m), p);
+  const double spread_earlier = spread_of(earlier), spread_later = spread_of(later);
+  const double mean_later = mean_of(later);
+  v.contraction = spread_earlier > 0.0 ? std::pow(spread_later / spread_earlier, 1.0 / double(later.size())) : std::nan("");
+  const std::size_t half = n - 1 - m;  // crossing index where the later half begins
+  const double peak_earlier = peak(x, c.after[n - 1 - 2 * m], c.after[half]);
+  const double peak_later = peak(x, c.after[half], c.after[n - 1]);
+  const bool persists = v.contraction >= unsettled_contraction && spread_later > settled_spread * mean_later &&
+                        std::abs(mean_of(earlier) - mean_later) <= 0.5 * spread_later &&
+                        std::abs(peak_earlier - peak_later) <= unsettled_peak * peak_later;
+  if (!persists) return v;
+  v.settling = CycleSettling::unsettled;
+  v.period = (mean_of(earlier) * double(earlier.size()) + mean_later * double(later.size())) / double(earlier.size() + later.size());
+  v.spread = spread_later / mean_later;
+  return v;
+}
+
+}  // namespace aggkit

@@ -1,0 +1,99 @@
+// One step of a scan's cycle column, rerun from the state a cached step ended in, with the integrator's
+// method, rtol and atol floor chosen: what a column step costs (CPU seconds, CVODE steps, right-hand sides,
+// linear iterations, failures) and what it finds (the period from the upward crossings of M0's mid-range over
+// the run's second half, M0's range, the mass change, and whether the periods settled: analysis/crossing_periods.hpp).
+//   bench_column_step a lambda state_file period periods method rtol atol_floor [max_steps]
+// state_file: DIR/points/cycle_column_a*_lambda*_N*_state.txt of the shipped scan (graded K = 64, r = 1.05,
+// N = 2^40); period: the predicted period; method: bdf-gmres, bdf-dense, ... With TRACE=m in the environment,
+// every m-th output prints t, M0, n_1 and the mass.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "analysis/crossing_periods.hpp"
+#include "bench/scan_model.hpp"
+#include "solvers/cvode_integrator.hpp"
+
+using namespace aggkit;
+
+int main(int argc, char** argv) {
+  if (argc < 9) {
+    std::fprintf(stderr, "usage: bench_column_step a lambda state_file period periods method rtol atol_floor [max_steps]\n");
+    return 2;
+  }
+  const double a = std::atof(argv[1]), lambda = std::atof(argv[2]);
+  const double period = std::atof(argv[4]), periods = std::atof(argv[5]);
+  IntegratorOptions options;
+  options.method = integrator_method_from_name(argv[6]);
+  options.rtol = std::atof(argv[7]);
+  options.atol_floor = std::atof(argv[8]);
+  options.max_steps = argc > 9 ? std::atol(argv[9]) : 40000;
+  SizeGrid grid;
+  grid.resolved = 64;
+  grid.ratio = 1.05;
+  AggregationModel model = bench::scan_model(grid, a);
+  model.lambda = ShatteringRate::constant(lambda);
+  IntegratorRestart restart;
+  std::ifstream in(argv[3]);
+  for (double v; in >> v;) restart.densities.push_back(std::max(v, 0.0));
+  if (restart.densities.size() != model.unknowns()) {
+    std::fprintf(stderr, "state has %zu values, the model %zu\n", restart.densities.size(), model.unknowns());
+    return 2;
+  }
+  const std::vector<double> pivots = model.pivots();
+  const auto mass = [&](const std::vector<double>& n) {
+    double m = 0;
+    for (std::size_t k = 0; k < n.size(); ++k) m += pivots[k] * n[k];
+    return m;
+  };
+  const double start_mass = mass(restart.densities);
+  const double end = periods * period, spacing = period / 50.0;
+  std::vector<double> times;
+  for (double t = spacing; t <= end * (1 + 1e-12); t += spacing) times.push_back(t);
+  std::vector<double> t_half, m0;
+  std::vector<double> last;
+  const std::clock_t c0 = std::clock();
+  IntegratorStatistics stats;
+  std::string failure;
+  try {
+    stats = integrate(model, times, options, [&](double t, std::span<const double> n, double) {
+      last.assign(n.begin(), n.end());
+      if (std::getenv("TRACE")) {
+        static int count = 0;
+        double s = 0, m = 0;
+        for (std::size_t k = 0; k < n.size(); ++k) s += n[k], m += pivots[k] * n[k];
+        if (count++ % std::atoi(std::getenv("TRACE")) == 0) std::printf("  t %.6g M0 %.4g n1 %.4g mass %.8g\n", t, s, n[0], m);
+      }
+      if (t < 0.5 * end) return;
+      double s = 0;
+      for (double v : n) s += v;
+      t_half.push_back(t);
+      m0.push_back(s);
+    }, &restart);
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+  std::printf("a %g lambda %g method %s rtol %g floor %g: cpu %.1f s\n", a, lambda, argv[6], options.rtol, options.atol_floor, cpu);
+  if (!failure.empty()) {
+    std::printf("  failed: %s\n", failure.c_str());
+    return 1;
+  }
+  std::printf("  steps %ld rhs %ld lin %ld jv %ld jac %ld psetup %ld etf %ld ncf %ld lcf %ld\n", stats.steps, stats.rhs_evaluations,
+              stats.linear_iterations, stats.jacobian_vector_products, stats.jacobian_evaluations, stats.preconditioner_setups,
+              stats.error_test_failures, stats.nonlinear_failures, stats.linear_convergence_failures);
+  if (m0.empty()) return 1;
+  const CrossingPeriods c = crossing_periods(t_half, m0);
+  const CycleSettlingVerdict v = cycle_settling(c, m0);
+  std::printf("  M0 %.6g .. %.6g, mass change %.3g, crossings %zu, periods:", c.lowest, c.highest, mass(last) / start_mass - 1,
+              c.crossings.size());
+  for (double p : c.periods) std::printf(" %.7g", p);
+  std::printf("\n  %s: period %.7g, spread %.3g, contraction %.3g a period\n", to_string(v.settling).c_str(), v.period, v.spread,
+              v.contraction);
+  return 0;
+}

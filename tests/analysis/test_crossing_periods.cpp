@@ -1,0 +1,123 @@
+// Periods from mid-range crossings and whether they settled, on synthetic series whose period and modulation
+// are known exactly. (The scan's cycle columns use them on CVODE runs: tests/apps/test_scan_cli.cpp.)
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <functional>
+#include <vector>
+
+#include "analysis/crossing_periods.hpp"
+#include "analysis/input_error.hpp"
+
+using namespace aggkit;
+
+namespace {
+
+const double two_pi = 2 * std::acos(-1.0);
+
+struct Series {
+  std::vector<double> t, x;
+};
+
+Series sample(double end, double dt, const std::function<double(double)>& f) {
+  Series s;
+  for (std::size_t i = 0; double(i) * dt <= end + 1e-12; ++i) {
+    s.t.push_back(double(i) * dt);
+    s.x.push_back(f(double(i) * dt));
+  }
+  return s;
+}
+
+CycleSettlingVerdict settling_of(const Series& s) { return cycle_settling(crossing_periods(s.t, s.x), s.x); }
+
+// A relaxation-like cycle of period T (a sharp pulse each period) whose phase is modulated by ε sin(2π t/(q T)):
+// the crossings move by (ε T/2π) sin(2π t/(q T)), so the time between them varies by up to ±(ε/2π) 2 sin(π/q) T
+// around T, recurring every q periods.
+std::function<double(double)> modulated_pulses(double T, double epsilon, double q, double decay = 0.0) {
+  return [=](double t) {
+    const double phase = two_pi * t / T + epsilon * std::exp(-decay * t) * std::sin(two_pi * t / (q * T));
+    return std::exp(4.0 * std::cos(phase));
+  };
+}
+
+}  // namespace
+
+TEST_CASE("crossing periods: a periodic pulse train settles on its period", "[unit][analysis]") {
+  const double T = 837.0;
+  const Series s = sample(12 * T, T / 400, modulated_pulses(T, 0.0, 1.0));
+  const CrossingPeriods c = crossing_periods(s.t, s.x);
+  REQUIRE(c.crossings.size() == 12);
+  // Linear interpolation between samples T/400 apart on a pulse: within 1e-4 T.
+  for (double p : c.periods) CHECK(std::abs(p - T) < 1e-4 * T);
+  const CycleSettlingVerdict v = cycle_settling(c, s.x);
+  CHECK(v.settling == CycleSettling::settled);
+  CHECK(std::abs(v.period - T) < 1e-4 * T);
+  CHECK(v.spread < 2e-4);
+  CHECK(v.periods == 11);
+}
+
+TEST_CASE("crossing periods: a quasi-periodic modulation that persists is unsettled, with its mean period", "[unit][analysis]") {
+  // The period modulated by about ±2 % and recurring every 4.3 periods, as the column found at a = 0.9.
+  const double T = 1655.0, q = 4.3, epsilon = 0.1;
+  const Series s = sample(24 * T, T / 50, modulated_pulses(T, epsilon, q));
+  const CycleSettlingVerdict v = settling_of(s);
+  REQUIRE(v.settling == CycleSettling::unsettled);
+  CHECK(v.periods >= 22);
+  // The mean is the first-to-last crossing time over the count: off by at most 2 (ε/2π) T / 22 = 1.4e-3 T.
+  CHECK(std::abs(v.period - T) < 1.5e-3 * T);
+  // Spread: up to 2 (ε/2π) 2 sin(π/q) = 0.042 peak to peak; a half samples most of it.
+  CHECK(v.spread > 0.03);
+  CHECK(v.spread < 0.045);
+  CHECK(v.contraction > 0.9);
+  CHECK(v.contraction < 1.1);
+}
+
+TEST_CASE("crossing periods: a modulation that decays is settling, never unsettled", "[unit][analysis]") {
+  // Decaying by e^{-0.5} a period: ρ ≈ 0.61, a cycle attracting well (|μ| ≈ 0.6): run on, not accepted.
+  const double T = 1000.0;
+  const Series s = sample(24 * T, T / 50, modulated_pulses(T, 0.3, 4.3, 0.5 / T));
+  const CycleSettlingVerdict v = settling_of(s);
+  // By the end the modulation is e^{-12} of 0.3 rad: the last periods agree far within 2e-3, so it settled.
+  CHECK(v.settling == CycleSettling::settled);
+  // Decaying by e^{-0.05} a period (ρ ≈ 0.95, as a cycle with |μ| = 0.95 would): unsettled. By e^{-0.2} (ρ ≈
+  // 0.82) over 16 periods: at the end the periods still vary by ~5e-3, and the modulation is seen to decay:
+  // settling.
+  const CycleSettlingVerdict slow = settling_of(sample(24 * T, T / 50, modulated_pulses(T, 0.3, 4.3, 0.05 / T)));
+  CHECK(slow.settling == CycleSettling::unsettled);
+  CHECK(slow.contraction > 0.9);
+  CHECK(slow.contraction < 1.0);
+  const CycleSettlingVerdict faster = settling_of(sample(16 * T, T / 50, modulated_pulses(T, 0.3, 4.3, 0.2 / T)));
+  CHECK(faster.settling == CycleSettling::settling);
+  CHECK(faster.contraction < 0.9);
+}
+
+TEST_CASE("crossing periods: a missed crossing counts as two periods, a shrinking amplitude is not unsettled", "[unit][analysis]") {
+  const double T = 889.0;
+  // Every seventh pulse too low to cross the mid-range: one interval of 2T in each seven.
+  const auto pulses = modulated_pulses(T, 0.1, 4.3);
+  const auto missing = [&](double t) {
+    const double x = pulses(t);
+    return int(std::floor(t / T + 0.5)) % 7 == 3 ? 1.0 + 0.2 * (x - 1.0) / std::exp(4.0) : x;
+  };
+  const Series s = sample(30 * T, T / 50, missing);
+  const CrossingPeriods c = crossing_periods(s.t, s.x);
+  bool long_interval = false;
+  for (double p : c.periods) long_interval = long_interval || p > 1.8 * T;
+  REQUIRE(long_interval);
+  const CycleSettlingVerdict v = cycle_settling(c, s.x);
+  REQUIRE(v.settling == CycleSettling::unsettled);
+  CHECK(std::abs(v.period - T) < 5e-3 * T);  // not (2T + 5T) / 6
+  // The same modulation on an amplitude shrinking by 30 % over the run: settling.
+  const Series shrinking = sample(24 * T, T / 50, [&](double t) { return (1.0 - 0.3 * t / (24 * T)) * pulses(t); });
+  CHECK(settling_of(shrinking).settling == CycleSettling::settling);
+}
+
+TEST_CASE("crossing periods: too few crossings, and series of different lengths", "[unit][analysis]") {
+  const double T = 10.0;
+  CHECK(settling_of(sample(2.5 * T, T / 50, modulated_pulses(T, 0.0, 1.0))).settling == CycleSettling::too_few_crossings);
+  // A modulation over only 8 periods: too short to call unsettled.
+  CHECK(settling_of(sample(9 * T, T / 50, modulated_pulses(T, 0.1, 4.3))).settling == CycleSettling::settling);
+  const std::vector<double> t = {0, 1, 2}, x = {0, 1};
+  CHECK_THROWS_AS(crossing_periods(t, x), InputError);
+  CHECK(to_string(CycleSettling::unsettled) == "unsettled");
+}
