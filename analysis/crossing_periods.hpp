@@ -6,9 +6,8 @@
 // turning-point classifier counts as cycles of their own.
 //
 // Three outcomes for a series that crosses its mid-range often enough:
-// - settled: the last three periods agree to 2e-3 and M0's largest value over the last two to 5e-3 — one
-//   periodic orbit, its period the mean of the last three;
-// - unsettled: the periods keep varying and do not converge, a modulation that persists: over at least
+// - unsettled (tested first, since three periods of a modulated oscillation can agree by chance): the periods
+//   keep varying and do not converge, a modulation that persists: over at least
 //   `min_unsettled_periods` periods, split into an earlier and a later half, the spread (largest − smallest)
 //   of the later half's periods is at least ρ^m of the earlier half's (m periods a half, ρ = 0.9 per period),
 //   the spread is more than 2e-3 of the period, the halves' mean periods agree within half the spread, and
@@ -18,6 +17,8 @@
 //   or a cycle whose nontrivial Floquet multipliers have |μ| ≥ 0.9; either way a bounded oscillation that
 //   neither grows nor decays, its mean period the mean of the halves' periods, and the per-period contraction
 //   ρ of the modulation reported;
+// - settled: otherwise, where the last three periods agree to 2e-3 and M0's largest value over the last two to
+//   5e-3 — one periodic orbit, its period the mean of the last three;
 // - settling: neither yet (a run on may settle it).
 #include <cstddef>
 #include <limits>

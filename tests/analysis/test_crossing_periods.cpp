@@ -2,8 +2,10 @@
 // are known exactly. (The scan's cycle columns use them on CVODE runs: tests/apps/test_scan_cli.cpp.)
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "analysis/crossing_periods.hpp"
@@ -70,6 +72,24 @@ TEST_CASE("crossing periods: a quasi-periodic modulation that persists is unsett
   CHECK(v.spread < 0.045);
   CHECK(v.contraction > 0.9);
   CHECK(v.contraction < 1.1);
+}
+
+TEST_CASE("crossing periods: a persisting modulation whose last three periods agree by chance is still unsettled", "[unit][analysis]") {
+  // A slow modulation (every 12 periods, ±0.8 %): near its turning points three consecutive periods agree to
+  // 2e-3. Among the run lengths 24 T … 36 T some end there; each is unsettled, none settled.
+  const double T = 1000.0;
+  int lucky = 0;
+  for (double end = 24 * T; end <= 36 * T; end += T / 4) {
+    const Series s = sample(end, T / 50, modulated_pulses(T, 0.1, 12.0));
+    const CrossingPeriods c = crossing_periods(s.t, s.x);
+    const std::span<const double> last3 = std::span<const double>(c.periods).last(3);
+    const auto [lo, hi] = std::minmax_element(last3.begin(), last3.end());
+    if (*hi - *lo <= 2e-3 * T) ++lucky;
+    const CycleSettlingVerdict v = cycle_settling(c, s.x);
+    INFO("end " << end << ": " << to_string(v.settling));
+    CHECK(v.settling == CycleSettling::unsettled);
+  }
+  CHECK(lucky >= 4);
 }
 
 TEST_CASE("crossing periods: a modulation that decays is settling, never unsettled", "[unit][analysis]") {
