@@ -27,9 +27,17 @@ double mean_of(std::span<const double> p) {
   return sum / double(p.size());
 }
 
-// The largest x from sample `from` up to (not including) `to`.
+// The largest x from sample `from` up to (not including) `to`: the vertex of the parabola through the largest
+// sample and its neighbours. A sampled maximum alone misses a peak by up to Δ²/8 of its curvature (Δ the
+// spacing): a relaxation burst a few spacings wide (a = 0.85, λ = 3.16e-5, 400 outputs a period: neighbours at
+// 0.88–1.0 of the largest sample) gave maxima differing by 1 % between periods that agree to 1.5e-4.
 double peak(std::span<const double> x, std::size_t from, std::size_t to) {
-  return *std::max_element(x.begin() + std::ptrdiff_t(from), x.begin() + std::ptrdiff_t(to));
+  const auto top = std::max_element(x.begin() + std::ptrdiff_t(from), x.begin() + std::ptrdiff_t(to));
+  const std::size_t i = std::size_t(top - x.begin());
+  if (i == 0 || i + 1 >= x.size()) return *top;
+  const double before = x[i - 1], at = x[i], after = x[i + 1];
+  const double curvature = before - 2.0 * at + after;
+  return curvature < 0.0 ? at - (after - before) * (after - before) / (8.0 * curvature) : at;
 }
 
 // The periods of `p` with each one of more than 1.5 times the median of `all` split into round(p / median)

@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     return m;
   };
   const double start_mass = mass(restart.densities);
-  const double end = periods * period, spacing = period / 50.0;
+  const double end = periods * period, spacing = period / (std::getenv("OUTPUTS") ? std::atof(std::getenv("OUTPUTS")) : 50.0);
   std::vector<double> times;
   for (double t = spacing; t <= end * (1 + 1e-12); t += spacing) times.push_back(t);
   std::vector<double> t_half, m0;
@@ -93,6 +93,13 @@ int main(int argc, char** argv) {
   std::printf("  M0 %.6g .. %.6g, mass change %.3g, crossings %zu, periods:", c.lowest, c.highest, mass(last) / start_mass - 1,
               c.crossings.size());
   for (double p : c.periods) std::printf(" %.7g", p);
+  std::printf("\n  peaks (largest output of each period, its larger neighbour / it, and the parabola's vertex through them):");
+  for (std::size_t i = 1; i < c.after.size(); ++i) {
+    const auto top = std::max_element(m0.begin() + long(c.after[i - 1]), m0.begin() + long(c.after[i]));
+    const double before = *(top - 1), after = *(top + 1), curvature = before - 2 * *top + after;
+    std::printf(" %.6g (%.2f, %.6g)", *top, std::max(before, after) / *top,
+                curvature < 0 ? *top - (after - before) * (after - before) / (8 * curvature) : *top);
+  }
   std::printf("\n  %s: period %.7g, spread %.3g, contraction %.3g a period\n", to_string(v.settling).c_str(), v.period, v.spread,
               v.contraction);
   return 0;
