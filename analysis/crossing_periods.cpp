@@ -9,7 +9,7 @@ namespace aggkit {
 
 namespace {
 
-constexpr double settled_spread = 2e-3;      // of the last three periods, relative to their mean
+constexpr double settled_spread = 2e-3;      // of the last four periods, relative to their mean
 constexpr double settled_peak = 5e-3;        // M0's largest value over the last two periods, relative
 constexpr double unsettled_contraction = 0.9;  // ρ per period at or above which a modulation persists
 // The halves' largest values, relative: an oscillation whose amplitude still shrinks towards a smaller cycle is
@@ -42,7 +42,7 @@ double peak(std::span<const double> x, std::size_t from, std::size_t to) {
 
 // The periods of `p` with each one of more than 1.5 times the median of `all` split into round(p / median)
 // equal parts: where the amplitude is modulated, a low swing can miss the mid-range and one interval then
-// spans two periods (a = 0.95, λ = 3.16e-4: 1781.2 among periods of 874 … 906).
+// spans two periods (a = 0.95, λ = 3.16e-4 at 50 outputs a period: 1781.2 among periods of 874 … 906).
 std::vector<double> whole_periods(std::span<const double> p, std::span<const double> all) {
   std::vector<double> sorted(all.begin(), all.end());
   std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
@@ -113,13 +113,13 @@ CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const do
   CycleSettlingVerdict v;
   const std::size_t n = c.crossings.size();
   v.periods = c.periods.size();
-  if (n < 4) return v;
-  // A persisting modulation first: three consecutive periods of a quasi-periodic oscillation can agree to 2e-3
-  // by chance (a = 0.9, λ = 1.78e-4: periods varying by 1.1 % were taken as settled from their last three).
+  // A persisting modulation first: a few consecutive periods of a modulated oscillation can agree to 2e-3 by
+  // chance.
   if (v.periods >= min_unsettled_periods && persisting_modulation(c, x, v)) return v;
-  const std::span<const double> last3 = std::span<const double>(c.periods).last(3);
-  v.period = mean_of(last3);
-  v.spread = spread_of(last3) / v.period;
+  if (n < 5) return v;
+  const std::span<const double> last4 = std::span<const double>(c.periods).last(4);
+  v.period = mean_of(last4);
+  v.spread = spread_of(last4) / v.period;
   const double last = peak(x, c.after[n - 2], c.after[n - 1]), before = peak(x, c.after[n - 3], c.after[n - 2]);
   v.settling = v.spread <= settled_spread && std::abs(last - before) <= settled_peak * last ? CycleSettling::settled
                                                                                              : CycleSettling::settling;

@@ -6,7 +6,7 @@
 // turning-point classifier counts as cycles of their own.
 //
 // Three outcomes for a series that crosses its mid-range often enough:
-// - unsettled (tested first, since three periods of a modulated oscillation can agree by chance): the periods
+// - unsettled (tested first, since a few periods of a modulated oscillation can agree by chance): the periods
 //   keep varying and do not converge, a modulation that persists: over at least
 //   `min_unsettled_periods` periods, split into an earlier and a later half, the spread (largest − smallest)
 //   of the later half's periods is at least ρ^m of the earlier half's (m periods a half, ρ = 0.9 per period),
@@ -16,9 +16,13 @@
 //   invariant torus after a Neimark–Sacker bifurcation of the cycle [Kuznetsov2004, Ch. 4]), a period-k cycle,
 //   or a cycle whose nontrivial Floquet multipliers have |μ| ≥ 0.9; either way a bounded oscillation that
 //   neither grows nor decays, its mean period the mean of the halves' periods, and the per-period contraction
-//   ρ of the modulation reported;
-// - settled: otherwise, where the last three periods agree to 2e-3 and M0's largest value over the last two to
-//   5e-3 — one periodic orbit, its period the mean of the last three;
+//   ρ of the modulation reported. Sampling alone can make such a modulation: a burst narrower than the output
+//   spacing Δ is crossed at a sampling phase that drifts by frac(T/Δ) a period, so the interpolated crossings
+//   wander with a beat of 1/frac(T/Δ) periods (a = 0.9, λ = 1.78e-4 at 50 outputs a period: T/Δ = 49.23, periods
+//   1647 … 1666 recurring every 4.3 periods; at 400 outputs a period the same cycle settled);
+// - settled: otherwise, where the last four periods agree to 2e-3 and M0's largest value over the last two to
+//   5e-3 — one periodic orbit, its period the mean of the last four (near the turning points of a slow
+//   modulation three consecutive periods can agree to 2e-3 by chance: tests/analysis/test_crossing_periods.cpp);
 // - settling: neither yet (a run on may settle it).
 #include <cstddef>
 #include <limits>
@@ -45,8 +49,8 @@ std::string to_string(CycleSettling s);
 struct CycleSettlingVerdict {
   static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   CycleSettling settling = CycleSettling::too_few_crossings;
-  double period = nan;       // settled: the mean of the last three periods; otherwise the mean of all
-  double spread = nan;       // the last three periods' spread (settled, settling) or the later half's (unsettled), / period
+  double period = nan;       // settled: the mean of the last four periods; otherwise the mean of all
+  double spread = nan;       // the last four periods' spread (settled, settling) or the later half's (unsettled), / period
   double contraction = nan;  // ρ, the per-period ratio of the later half's spread to the earlier half's (nan: too few)
   std::size_t periods = 0;   // periods between crossings
 };

@@ -49,8 +49,11 @@ constexpr double mass_gain_limit = 1e-3;
 // Outputs a predicted period: the crossings and peaks are read from them. Far below the curve a relaxation
 // burst is a few hundredths of a period wide: at 50 outputs a period (a = 0.85, λ = 3.16e-5, period 9486) the
 // sampled peaks ranged over 0.033 … 0.060, the mid-range crossing was missed in 2 of 7 periods and the others
-// varied by 1 %; at 400 the periods agree to 1.5e-4 and every crossing is found. The outputs cost an
-// interpolation and a copy of the state each, far less than the ~1100 CVODE steps a period there.
+// varied by 1 %; at 400 the periods agree to 1.5e-4 and every crossing is found. At 50 the columns at a = 0.9
+// and 0.95 stopped at λ = 1.78e-4 and 3.16e-4 on periods that seemed modulated (1647 … 1666 recurring every
+// 4.3 periods at a = 0.9: the beat of the sampling phase, T/Δ = 49.23); at 400 both steps settled (periods
+// 1653.94 and 889.46). The outputs cost an interpolation and a copy of the state each, far less than the
+// ~1100 CVODE steps a period there.
 constexpr double outputs_per_period = 400;
 const double largest_step = std::pow(10.0, 0.25);  // the largest ratio of consecutive λ of a column
 
@@ -362,7 +365,7 @@ class Column {
     }
     c.note = "after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " + to_string(c.run.regime) +
              (c.run.converged ? "" : " (not converged") +
-             (c.settling == CycleSettling::settling ? ": its last three periods spread by " + short_number(c.spread) +
+             (c.settling == CycleSettling::settling ? ": its last four periods spread by " + short_number(c.spread) +
                                                           (std::isnan(c.contraction) ? "" : ", modulation contracting by " + short_number(c.contraction) + " a period")
                                                     : std::string()) +
              (c.run.converged ? "" : ")");
@@ -370,11 +373,10 @@ class Column {
   }
 
   // The run's second half: classified like a point's run (amplitude, mean, decay rate), and its periods from
-  // the upward crossings of M0's mid-range (analysis/crossing_periods.hpp): settled where its last three agree
+  // the upward crossings of M0's mid-range (analysis/crossing_periods.hpp): settled where its last four agree
   // to 2e-3 and M0's largest value over the last two to 5e-3 (with 1 % and 2 %, a = 0.8, λ = 3.2e-3 on the scan
   // grid was taken while its amplitude still grew from the cycle above: period 127.0 against the shot 128.33),
-  // or unsettled where over 10 or more periods their modulation persists (a = 0.9, λ = 1.78e-4: periods
-  // 1647 … 1666 recurring every ~4.3 periods through 20 periods of a run). The steady state being unstable, a
+  // or unsettled where over 10 or more periods their modulation persists. The steady state being unstable, a
   // settled or unsettled bounded oscillation is sustained.
   void classify(const CycleStart& start, ColumnCycle& c) const {
     OscillationCriteria criteria = plan_.criteria;

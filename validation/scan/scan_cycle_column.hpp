@@ -15,8 +15,7 @@
 // runs `periods` predicted periods (the period extrapolated in ln T against ln λ from the two cycles above, or
 // ∝ 1/λ from one) from the state the run above ended in, run on (up to 2 times, for twice as long) until its
 // periods have settled on one cycle or show a modulation that persists (a quasi-periodic or period-k
-// oscillation, or a cycle attracting with |μ| ≥ 0.9: analysis/crossing_periods.hpp; at a = 0.9 and 0.95 the
-// columns meet such oscillations below λ ≈ 3e-4). Each step tries the absolute-tolerance floors 1e-8, 1e-10,
+// oscillation, or a cycle attracting with |μ| ≥ 0.9: analysis/crossing_periods.hpp). Each step tries the absolute-tolerance floors 1e-8, 1e-10,
 // 1e-12 in turn (the coarsest that settles: finer floors stall CVODE in the bursts near the curve, coarser ones
 // lose the quiescent phase far below it). The walk stops at the first λ where no floor's run shows a sustained
 // oscillation, settled or unsettled, without gaining mass, within cycle_steps CVODE steps; the λ below it get
