@@ -90,7 +90,8 @@ int main(int argc, char** argv) {
   if (m0.empty()) return 1;
   const CrossingPeriods c = crossing_periods(t_half, m0);
   const CycleSettlingVerdict v = cycle_settling(c, m0);
-  std::printf("  M0 %.6g .. %.6g, mass change %.3g, crossings %zu, periods:", c.lowest, c.highest, mass(last) / start_mass - 1,
+  // The integrator holds Σ x n + L on the unit start's mass: the change against it, as the column's guard.
+  std::printf("  M0 %.6g .. %.6g, start mass %.8g, mass change %.3g, crossings %zu, periods:", c.lowest, c.highest, start_mass, mass(last) - 1,
               c.crossings.size());
   for (double p : c.periods) std::printf(" %.7g", p);
   std::printf("\n  peaks (largest output of each period, its larger neighbour / it, and the parabola's vertex through them):");

@@ -58,7 +58,8 @@ struct ColumnCycle {
   double run_end = nan;                       // the run's length
   double from_lambda = nan;                   // the λ of the cycle it started on
   double atol_floor = nan;                    // the floor of every atol_k its run took (the last tried where none settled)
-  double mass_change = nan;                   // the run's relative change of the mass Σ x_i N_i (< 0: drop truncation's loss)
+  double mass_change = nan;                   // the mass Σ x_i N_i the run ended on, relative to the model's initial mass, - 1
+                                              // (< 0: drop truncation's loss)
   std::string note;                           // why the walk stopped here ("" where it did not)
 };
 
