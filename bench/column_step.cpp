@@ -21,6 +21,35 @@
 
 using namespace aggkit;
 
+namespace {
+
+// The run's second half: M0 at each output.
+struct Tail {
+  std::vector<double> t, m0;
+};
+
+// Its crossings, periods, peaks and settling verdict.
+void report(const Tail& tail, double start_mass, double end_mass) {
+  const CrossingPeriods c = crossing_periods(tail.t, tail.m0);
+  const CycleSettlingVerdict v = cycle_settling(c, tail.m0);
+  const std::vector<double>& m0 = tail.m0;
+  // The integrator holds Σ x n + L on the unit start's mass: the change against it, as the column's guard.
+  std::printf("  M0 %.6g .. %.6g, start mass %.8g, mass change %.3g, crossings %zu, periods:", c.lowest, c.highest, start_mass,
+              end_mass - 1, c.crossings.size());
+  for (double p : c.periods) std::printf(" %.7g", p);
+  std::printf("\n  peaks (largest output of each period, its larger neighbour / it, and the parabola's vertex through them):");
+  for (std::size_t i = 1; i < c.after.size(); ++i) {
+    const auto top = std::max_element(m0.begin() + long(c.after[i - 1]), m0.begin() + long(c.after[i]));
+    const double before = *(top - 1), after = *(top + 1), curvature = before - 2 * *top + after;
+    std::printf(" %.6g (%.2f, %.6g)", *top, std::max(before, after) / *top,
+                curvature < 0 ? *top - (after - before) * (after - before) / (8 * curvature) : *top);
+  }
+  std::printf("\n  %s: period %.7g, spread %.3g, contraction %.3g a period\n", to_string(v.settling).c_str(), v.period, v.spread,
+              v.contraction);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc < 9) {
     std::fprintf(stderr, "usage: bench_column_step a lambda state_file period periods method rtol atol_floor [max_steps]\n");
@@ -55,7 +84,7 @@ int main(int argc, char** argv) {
   const double end = periods * period, spacing = period / (std::getenv("OUTPUTS") ? std::atof(std::getenv("OUTPUTS")) : 50.0);
   std::vector<double> times;
   for (double t = spacing; t <= end * (1 + 1e-12); t += spacing) times.push_back(t);
-  std::vector<double> t_half, m0;
+  Tail tail;
   std::vector<double> last;
   const std::clock_t c0 = std::clock();
   IntegratorStatistics stats;
@@ -72,8 +101,8 @@ int main(int argc, char** argv) {
       if (t < 0.5 * end) return;
       double s = 0;
       for (double v : n) s += v;
-      t_half.push_back(t);
-      m0.push_back(s);
+      tail.t.push_back(t);
+      tail.m0.push_back(s);
     }, &restart);
   } catch (const std::exception& e) {
     failure = e.what();
@@ -87,21 +116,7 @@ int main(int argc, char** argv) {
   std::printf("  steps %ld rhs %ld lin %ld jv %ld jac %ld psetup %ld etf %ld ncf %ld lcf %ld\n", stats.steps, stats.rhs_evaluations,
               stats.linear_iterations, stats.jacobian_vector_products, stats.jacobian_evaluations, stats.preconditioner_setups,
               stats.error_test_failures, stats.nonlinear_failures, stats.linear_convergence_failures);
-  if (m0.empty()) return 1;
-  const CrossingPeriods c = crossing_periods(t_half, m0);
-  const CycleSettlingVerdict v = cycle_settling(c, m0);
-  // The integrator holds Σ x n + L on the unit start's mass: the change against it, as the column's guard.
-  std::printf("  M0 %.6g .. %.6g, start mass %.8g, mass change %.3g, crossings %zu, periods:", c.lowest, c.highest, start_mass, mass(last) - 1,
-              c.crossings.size());
-  for (double p : c.periods) std::printf(" %.7g", p);
-  std::printf("\n  peaks (largest output of each period, its larger neighbour / it, and the parabola's vertex through them):");
-  for (std::size_t i = 1; i < c.after.size(); ++i) {
-    const auto top = std::max_element(m0.begin() + long(c.after[i - 1]), m0.begin() + long(c.after[i]));
-    const double before = *(top - 1), after = *(top + 1), curvature = before - 2 * *top + after;
-    std::printf(" %.6g (%.2f, %.6g)", *top, std::max(before, after) / *top,
-                curvature < 0 ? *top - (after - before) * (after - before) / (8 * curvature) : *top);
-  }
-  std::printf("\n  %s: period %.7g, spread %.3g, contraction %.3g a period\n", to_string(v.settling).c_str(), v.period, v.spread,
-              v.contraction);
+  if (tail.m0.empty()) return 1;
+  report(tail, start_mass, mass(last));
   return 0;
 }
