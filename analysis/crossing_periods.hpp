@@ -21,7 +21,8 @@
 //   wander with a beat of 1/frac(T/Δ) periods (a = 0.9, λ = 1.78e-4 at 50 outputs a period: T/Δ = 49.23, periods
 //   1647 … 1666 recurring every 4.3 periods; at 400 outputs a period the same cycle settled);
 // - settled: otherwise, where the last four periods agree to 2e-3 and M0's largest value over the last two to
-//   5e-3 — one periodic orbit, its period the mean of the last four (near the turning points of a slow
+//   5e-3 (its smallest, where the outputs do not resolve a peak: a neighbour of the largest sample below 95 %
+//   of it) — one periodic orbit, its period the mean of the last four (near the turning points of a slow
 //   modulation three consecutive periods can agree to 2e-3 by chance: tests/analysis/test_crossing_periods.cpp);
 // - settling: neither yet (a run on may settle it).
 #include <cstddef>
