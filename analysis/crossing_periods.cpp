@@ -55,13 +55,16 @@ double trough(std::span<const double> x, std::size_t from, std::size_t to) {
   return *std::min_element(x.begin() + std::ptrdiff_t(from), x.begin() + std::ptrdiff_t(to));
 }
 
-// The periods of `p` with each one of more than 1.5 times the median of `all` split into round(p / median)
-// equal parts: where the amplitude is modulated, a low swing can miss the mid-range and one interval then
-// spans two periods (a = 0.95, λ = 3.16e-4 at 50 outputs a period: 1781.2 among periods of 874 … 906).
-std::vector<double> whole_periods(std::span<const double> p, std::span<const double> all) {
-  std::vector<double> sorted(all.begin(), all.end());
+double median_of(std::span<const double> p) {
+  std::vector<double> sorted(p.begin(), p.end());
   std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  return sorted[sorted.size() / 2];
+}
+
+// The periods of `p` with each one of more than 1.5 times `median` split into round(p / median) equal parts:
+// where the amplitude is modulated, a low swing can miss the mid-range and one interval then spans two periods
+// (a = 0.95, λ = 3.16e-4 at 50 outputs a period: 1781.2 among periods of 874 … 906).
+std::vector<double> whole_periods(std::span<const double> p, double median) {
   std::vector<double> whole;
   for (double v : p) {
     const double parts = v > 1.5 * median ? std::round(v / median) : 1.0;
@@ -107,7 +110,9 @@ bool persisting_modulation(const CrossingPeriods& c, std::span<const double> x, 
   const std::span<const double> p(c.periods);
   const std::size_t n = c.crossings.size();
   const std::size_t m = p.size() / 2;  // periods a half; the earlier half drops the first period if odd
-  const std::vector<double> earlier = whole_periods(p.subspan(p.size() - 2 * m, m), p), later = whole_periods(p.last(m), p);
+  const double median = median_of(p);
+  const std::vector<double> earlier = whole_periods(p.subspan(p.size() - 2 * m, m), median),
+                            later = whole_periods(p.last(m), median);
   const double spread_earlier = spread_of(earlier), spread_later = spread_of(later);
   const double mean_later = mean_of(later);
   v.contraction = spread_earlier > 0.0 ? std::pow(spread_later / spread_earlier, 1.0 / double(later.size())) : std::nan("");

@@ -86,17 +86,18 @@ int main(int argc, char** argv) {
   for (double t = spacing; t <= end * (1 + 1e-12); t += spacing) times.push_back(t);
   Tail tail;
   std::vector<double> last;
+  const long trace = std::getenv("TRACE") ? std::atol(std::getenv("TRACE")) : 0;
+  long outputs = 0;
   const std::clock_t c0 = std::clock();
   IntegratorStatistics stats;
   std::string failure;
   try {
     stats = integrate(model, times, options, [&](double t, std::span<const double> n, double) {
       last.assign(n.begin(), n.end());
-      if (std::getenv("TRACE")) {
-        static int count = 0;
+      if (trace > 0 && outputs++ % trace == 0) {
         double s = 0, m = 0;
         for (std::size_t k = 0; k < n.size(); ++k) s += n[k], m += pivots[k] * n[k];
-        if (count++ % std::atoi(std::getenv("TRACE")) == 0) std::printf("  t %.6g M0 %.4g n1 %.4g mass %.8g\n", t, s, n[0], m);
+        std::printf("  t %.6g M0 %.4g n1 %.4g mass %.8g\n", t, s, n[0], m);
       }
       if (t < 0.5 * end) return;
       double s = 0;

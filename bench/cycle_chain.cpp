@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/crossing_periods.hpp"
 #include "bench/scan_model.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/hopf_normal_form.hpp"
@@ -70,22 +71,15 @@ int main(int argc, char** argv) {
       std::printf("%12.5g %10.4g %10.1f  no oscillation\n", first ? near : lambda, t_end, cpu_now() - t0);
       return 1;
     }
-    const auto [lo, hi] = std::minmax_element(start->m0.begin(), start->m0.end());
-    // spacings of the second half's upward crossings of the mean
-    const double mean = 0.5 * (*lo + *hi);
-    std::vector<double> up;
-    for (std::size_t i = 1; i < start->m0.size(); ++i)
-      if (start->m0[i - 1] < mean && start->m0[i] >= mean)
-        up.push_back(start->times[i - 1] + (mean - start->m0[i - 1]) * (start->times[i] - start->times[i - 1]) /
-                                                (start->m0[i] - start->m0[i - 1]));
+    // The spread of the second half's periods between upward crossings of M0's mid-range.
+    const CrossingPeriods c = crossing_periods(start->times, start->m0);
     double spread = NAN;
-    if (up.size() >= 3) {
-      double mn = 1e300, mx = 0;
-      for (std::size_t i = 1; i < up.size(); ++i) mn = std::min(mn, up[i] - up[i - 1]), mx = std::max(mx, up[i] - up[i - 1]);
-      spread = (mx - mn) / start->period;
+    if (c.periods.size() >= 2) {
+      const auto [shortest, longest] = std::minmax_element(c.periods.begin(), c.periods.end());
+      spread = (*longest - *shortest) / start->period;
     }
     std::printf("%12.5g %10.4g %10.1f %12.6g %6d %10.4g %10.4g %10.2g\n", first ? near : lambda, t_end, cpu_now() - t0,
-                start->period, start->crossings, *lo, *hi, spread);
+                start->period, start->crossings, c.lowest, c.highest, spread);
     std::fflush(stdout);
     from = start->state;
     if (!first) lambda /= ratio;

@@ -10,24 +10,21 @@
 
 #include "analysis/crossing_periods.hpp"
 #include "analysis/input_error.hpp"
+#include "tests/analysis/sampled_series.hpp"
 
 using namespace aggkit;
 
 namespace {
 
-const double two_pi = 2 * std::acos(-1.0);
+using aggkit::testing::Series;
+using aggkit::testing::sample;
+using aggkit::testing::two_pi;
 
-struct Series {
-  std::vector<double> t, x;
-};
-
-Series sample(double end, double dt, const std::function<double(double)>& f) {
-  Series s;
-  for (std::size_t i = 0; double(i) * dt <= end + 1e-12; ++i) {
-    s.t.push_back(double(i) * dt);
-    s.x.push_back(f(double(i) * dt));
-  }
-  return s;
+// Whether the last three periods agree to 2e-3 of T (what settled on three periods would accept).
+bool last_three_agree(const CrossingPeriods& c, double T) {
+  const std::span<const double> last3 = std::span<const double>(c.periods).last(3);
+  const auto [lo, hi] = std::minmax_element(last3.begin(), last3.end());
+  return *hi - *lo <= 2e-3 * T;
 }
 
 CycleSettlingVerdict settling_of(const Series& s) { return cycle_settling(crossing_periods(s.t, s.x), s.x); }
@@ -104,9 +101,7 @@ TEST_CASE("crossing periods: a persisting modulation whose last three periods ag
   for (double end = 24 * T; end <= 36 * T; end += T / 4) {
     const Series s = sample(end, T / 50, modulated_pulses(T, 0.1, 12.0));
     const CrossingPeriods c = crossing_periods(s.t, s.x);
-    const std::span<const double> last3 = std::span<const double>(c.periods).last(3);
-    const auto [lo, hi] = std::minmax_element(last3.begin(), last3.end());
-    if (*hi - *lo <= 2e-3 * T) ++lucky;
+    if (last_three_agree(c, T)) ++lucky;
     const CycleSettlingVerdict v = cycle_settling(c, s.x);
     INFO("end " << end << ": " << to_string(v.settling));
     CHECK(v.settling == CycleSettling::unsettled);
@@ -122,9 +117,7 @@ TEST_CASE("crossing periods: a slow modulation is never settled from four period
   for (double end = 6 * T; end <= 18 * T; end += T / 8) {
     const Series s = sample(end, T / 400, modulated_pulses(T, 0.12, 12.7));
     const CrossingPeriods c = crossing_periods(s.t, s.x);
-    const std::span<const double> last3 = std::span<const double>(c.periods).last(3);
-    const auto [lo, hi] = std::minmax_element(last3.begin(), last3.end());
-    if (*hi - *lo <= 2e-3 * T) ++three_agree;
+    if (last_three_agree(c, T)) ++three_agree;
     const CycleSettlingVerdict v = cycle_settling(c, s.x);
     INFO("end " << end << ": " << to_string(v.settling));
     CHECK(v.settling != CycleSettling::settled);

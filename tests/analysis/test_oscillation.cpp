@@ -8,26 +8,16 @@
 #include <vector>
 
 #include "analysis/input_error.hpp"
+#include "tests/analysis/sampled_series.hpp"
 #include "analysis/oscillation.hpp"
 
 using namespace aggkit;
 
 namespace {
 
-const double two_pi = 2 * std::acos(-1.0);
-
-struct Series {
-  std::vector<double> t, x;
-};
-
-Series sample(double end, double dt, const std::function<double(double)>& f) {
-  Series s;
-  for (std::size_t i = 0; i * dt <= end + 1e-12; ++i) {
-    s.t.push_back(double(i) * dt);
-    s.x.push_back(f(double(i) * dt));
-  }
-  return s;
-}
+using aggkit::testing::Series;
+using aggkit::testing::sample;
+using aggkit::testing::two_pi;
 
 OscillationClassification classify(const Series& s, const OscillationCriteria& criteria = {}) {
   return classify_oscillation(s.t, s.x, criteria);

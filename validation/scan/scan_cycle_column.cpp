@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -42,7 +43,7 @@ constexpr double search_rtol = 1e-6;     // as the points' cycle searches (scan_
 // only where it settles on a cycle without gaining mass (below).
 constexpr std::array<double, 3> column_atol_floors = {1e-8, 1e-10, 1e-12};
 // The largest relative gain of the mass Σ x_i N_i over a run that is taken, against the model's initial mass
-// (the shell the integrator holds Σ x_i N_i + L on; run_at_floor). Aggregation and shattering keep
+// (the shell the integrator holds Σ x_i N_i + L on; Column::shell_mass_). Aggregation and shattering keep
 // the mass and drop truncation only removes it, so a gain is the integrator's error alone: the leaked mass,
 // integrated beside the densities with their sum kept on M (solvers/cvode_integrator.hpp), goes negative where
 // a floor is too coarse for the densities (a = 0.75, λ = 1.78e-6, floor 1e-8: +3.3 % over the quiescent phase).
@@ -171,6 +172,8 @@ class Column {
  public:
   Column(const ScanPlan& plan, const std::filesystem::path& points, double a, double lambda_crit)
       : plan_(plan), points_(points), a_(a), grid_(point_model(plan, a, branch_anchor, plan.size()).grid.describe()) {
+    const std::unique_ptr<Discretisation> classes = make_discretisation(point_model(plan, a, branch_anchor, plan.size()));
+    shell_mass_ = total_mass(classes->initial_state(), classes->sizes());
     nodes_.push_back(start_fraction * lambda_crit);
     std::vector<double> below;
     for (double l : plan.lambda)
@@ -328,12 +331,6 @@ class Column {
   ColumnCycle run_at_floor(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
                            std::vector<double>& state, double floor, const std::vector<double>& pivots) const {
     constexpr int extensions = 2;
-    // The integrator holds Σ x_k n_k + L on the model's initial mass (the run's own leak L starting at 0), so a
-    // start that lost mass to drop truncation in the runs before gets it back, and the cycles live on that mass
-    // shell as the shooting's do (solvers/limit_cycle.cpp). A gain is measured against the shell: against the
-    // start's mass, a = 0.85, λ = 1.78e-5 "gained" 0.19 % at every floor (from 0.99825 to 1.0000002 one period
-    // later, then 1.0003) and the column stopped there.
-    const double shell_mass = total_mass(make_discretisation(model)->initial_state(), pivots);
     c.atol_floor = floor;
     c.run_end = 0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
@@ -356,7 +353,7 @@ class Column {
         return c;
       }
       classify(*start, c);
-      c.mass_change = total_mass(start->state, pivots) / shell_mass - 1.0;
+      c.mass_change = total_mass(start->state, pivots) / shell_mass_ - 1.0;
       if (c.mass_change > mass_gain_limit) {
         c.classified = false;
         c.note = "the mass grew by " + short_number(c.mass_change) + " beyond the model's over the run (more than " + shortest_text(mass_gain_limit) +
@@ -370,12 +367,13 @@ class Column {
       from = start->state;
       period = start->period;
     }
-    c.note = "after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " + to_string(c.run.regime) +
-             (c.run.converged ? "" : " (not converged") +
-             (c.settling == CycleSettling::settling ? ": its last four periods spread by " + short_number(c.spread) +
-                                                          (std::isnan(c.contraction) ? "" : ", modulation contracting by " + short_number(c.contraction) + " a period")
-                                                    : std::string()) +
-             (c.run.converged ? "" : ")");
+    // Not sustained after every run, so not settled either (a settled run is sustained and returned above).
+    std::string why = " (not converged";
+    if (c.settling == CycleSettling::settling) {
+      why += ": its last four periods spread by " + short_number(c.spread);
+      if (!std::isnan(c.contraction)) why += ", modulation contracting by " + short_number(c.contraction) + " a period";
+    }
+    c.note = "after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " + to_string(c.run.regime) + why + ")";
     return c;
   }
 
@@ -424,6 +422,12 @@ class Column {
   std::filesystem::path points_;
   double a_;
   std::string grid_;
+  // The model's initial mass, on which the integrator holds Σ x_k n_k + L (the run's own leak L starting at 0):
+  // a start that lost mass to drop truncation in the runs before gets it back, and the cycles live on that mass
+  // shell as the shooting's do (solvers/limit_cycle.cpp). A run's gain is measured against it: against the
+  // start's mass, a = 0.85, λ = 1.78e-5 "gained" 0.19 % at every floor (from 0.99825 to 1.0000002 one period
+  // later, then 1.0003) and the column stopped there.
+  double shell_mass_ = 0;
   std::vector<double> nodes_;  // the first cycle's λ, then the plan's λ below it, descending
 };
 
