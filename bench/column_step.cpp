@@ -4,8 +4,10 @@
 // the run's second half, M0's range, the mass change, and whether the periods settled: analysis/crossing_periods.hpp).
 //   bench_column_step a lambda state_file period periods method rtol atol_floor [max_steps]
 // state_file: DIR/points/cycle_column_a*_lambda*_N*_state.txt of the shipped scan (graded K = 64, r = 1.05,
-// N = 2^40); period: the predicted period; method: bdf-gmres, bdf-dense, ... With TRACE=m in the environment,
-// every m-th output prints t, M0, n_1 and the mass.
+// N = 2^40); period: the predicted period; method: bdf-gmres, bdf-dense, ... ATOL= and ATOL_MASS= in the
+// environment set the integrator's atol and atol_mass. With TRACE=m, every m-th output prints t, M0, n_1, the
+// mass, the leaked mass, the most negative density (its class and pivot) and the largest, and the last class
+// that is not empty.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -44,6 +46,13 @@ void report(const Tail& tail, double start_mass, double end_mass) {
     std::printf(" %.6g (%.2f, %.6g)", *top, std::max(before, after) / *top,
                 curvature < 0 ? *top - (after - before) * (after - before) / (8 * curvature) : *top);
   }
+  std::printf("\n  troughs and means over each period:");
+  for (std::size_t i = 1; i < c.after.size(); ++i) {
+    const auto low = std::min_element(m0.begin() + long(c.after[i - 1]), m0.begin() + long(c.after[i]));
+    double sum = 0;
+    for (std::size_t k = c.after[i - 1]; k < c.after[i]; ++k) sum += 0.5 * (m0[k] + m0[k + 1]) * (tail.t[k + 1] - tail.t[k]);
+    std::printf(" %.6g (%.6g)", *low, sum / (tail.t[c.after[i]] - tail.t[c.after[i - 1]]));
+  }
   std::printf("\n  %s: period %.7g, spread %.3g, contraction %.3g a period\n", to_string(v.settling).c_str(), v.period, v.spread,
               v.contraction);
 }
@@ -62,6 +71,8 @@ int main(int argc, char** argv) {
   options.rtol = std::atof(argv[7]);
   options.atol_floor = std::atof(argv[8]);
   options.max_steps = argc > 9 ? std::atol(argv[9]) : 40000;
+  if (const char* atol = std::getenv("ATOL")) options.atol = std::atof(atol);
+  if (const char* mass = std::getenv("ATOL_MASS")) options.atol_mass = std::atof(mass);
   SizeGrid grid;
   grid.resolved = 64;
   grid.ratio = 1.05;
@@ -92,12 +103,18 @@ int main(int argc, char** argv) {
   IntegratorStatistics stats;
   std::string failure;
   try {
-    stats = integrate(model, times, options, [&](double t, std::span<const double> n, double) {
+    stats = integrate(model, times, options, [&](double t, std::span<const double> n, double leaked) {
       last.assign(n.begin(), n.end());
       if (trace > 0 && outputs++ % trace == 0) {
         double s = 0, m = 0;
         for (std::size_t k = 0; k < n.size(); ++k) s += n[k], m += pivots[k] * n[k];
-        std::printf("  t %.6g M0 %.4g n1 %.4g mass %.8g\n", t, s, n[0], m);
+        const auto lowest = std::min_element(n.begin(), n.end());
+        const auto largest = std::max_element(n.begin(), n.end());
+        std::size_t last = n.size();
+        while (last > 0 && std::abs(n[last - 1]) < 1e-30) --last;
+        std::printf("  t %.6g M0 %.4g n1 %.4g mass %.8g leaked %.3g lowest %.3g at %zu (%.3g; %.3g at %zu), last %zu\n", t, s, n[0], m,
+                    leaked, *lowest, std::size_t(lowest - n.begin()), pivots[std::size_t(lowest - n.begin())], *largest,
+                    std::size_t(largest - n.begin()), last);
       }
       if (t < 0.5 * end) return;
       double s = 0;
@@ -109,7 +126,8 @@ int main(int argc, char** argv) {
     failure = e.what();
   }
   const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
-  std::printf("a %g lambda %g method %s rtol %g floor %g: cpu %.1f s\n", a, lambda, argv[6], options.rtol, options.atol_floor, cpu);
+  std::printf("a %g lambda %g method %s rtol %g atol %g floor %g atol_mass %g: cpu %.1f s\n", a, lambda, argv[6], options.rtol,
+              options.atol, options.atol_floor, options.atol_mass, cpu);
   if (!failure.empty()) {
     std::printf("  failed: %s\n", failure.c_str());
     return 1;

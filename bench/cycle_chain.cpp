@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     std::optional<CycleStart> start;
     try {
       for (double& n : from) n = std::max(n, 0.0);
-      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, max_steps, floor);
+      start = cycle_start_from_run(model, t_end, period / 50.0, 1e-6, from, max_steps, RunTolerance{.atol_floor = floor});
     } catch (const std::exception& e) {
       std::printf("%12.5g %10.4g %10.1f  failed: %s\n", first ? near : lambda, t_end, cpu_now() - t0, e.what());
       return 1;

@@ -99,9 +99,11 @@ double prepare_state(const Discretisation& grid, const IntegratorOptions& option
     density_scale = std::max(density_scale, y[k]);
     problem.mass += problem.sizes[k] * y[k];
   }
-  for (std::size_t k = 0; k < N; ++k)
+  for (std::size_t k = 0; k < N; ++k) {
     abstol[k] = std::max(options.effective_atol() * std::pow(problem.sizes[k], -options.atol_exponent),
                          options.effective_atol_floor() * density_scale);
+    if (options.atol_mass > 0.0) abstol[k] = std::min(abstol[k], options.atol_mass * problem.mass / problem.sizes[k]);
+  }
   y[N] = 0.0;
   if (restart) {  // the tolerances and the mass above stay those of the start
     const double t0 = restart->time;

@@ -69,6 +69,14 @@ struct IntegratorOptions {
   // round-off below the floor then sets M3 to ~1e-5 whatever rtol (N = 32768; bench/results/log/cvode-tolerance-proportionality.md).
   double atol_floor = 0.0;
   double effective_atol_floor() const { return atol_floor > 0.0 ? atol_floor : 1e-10 * rtol; }
+  // Upper bound of the mass a class's absolute tolerance stands for, relative to the initial mass M:
+  // atol_k <= atol_mass · M / x_k, over the floor (0, default: no bound). On a graded grid reaching N = 2^40 the
+  // floor lets a far-tail class of size x ~ 1e12 hold junk worth 1e12 · floor of mass; in a relaxation burst
+  // the Newton corrections spread such junk of both signs over the empty tail, the leak through N (drop)
+  // then swings by ~1e-4 of M a burst, and the mass projection hands that to n_1, which went to -5e-4
+  // (brownian a = 0.75, λ = 1e-6, atol 1e-14, floor 1e-14: bench/results/RESULTS.md, "The monomer's
+  // tolerance and the far tail's mass"). With the bound 1e-15 the same run kept its mass to 1.2e-5.
+  double atol_mass = 0.0;
   // Adaptive active size range (fast right-hand side): sizes beyond the last one with |n_k| above
   // negligible_fraction · atol_k take no part in collisions, and the FFTs shrink to the sizes that do
   // (solvers/rates_fast.cpp). What that leaves out is of order the fraction times atol_k, far below the

@@ -20,6 +20,9 @@ const OptionRows<IntegratorOptions>& integrator_option_rows() {
       B::number("atol_exponent", &O::atol_exponent, closed(0.0, 6.0), "q of atol_k = atol / k^q (3 controls M0..M3)"),
       B::number("atol_floor", &O::atol_floor, at_least(0.0),
                 "lower bound of atol_k relative to the largest initial density (0: 1e-10 rtol)"),
+      B::number("atol_mass", &O::atol_mass, right_open(0.0, 1.0),
+                "upper bound of x_k atol_k, the mass a class's tolerance stands for, relative to the initial mass; over "
+                "the floor (0: none)"),
       B::named("rhs", &O::rates, std::vector{RatesPath::fast, RatesPath::direct},
                "right-hand side: FFT/low-rank O(N R log N), or the direct O(N^2) sums"),
       B::number("lowrank_tolerance", &O::lowrank_tolerance, right_open(0.0, 0.1),

@@ -84,12 +84,14 @@ struct CycleStart {
   int crossings = 0;
   std::vector<double> times, m0;  // the run's second half: M0 at each output, whose crossings these are
 };
+// The absolute tolerances of such a run: IntegratorOptions' atol, atol_floor and atol_mass (0: their defaults).
+struct RunTolerance {
+  double atol = 0.0, atol_floor = 0.0, atol_mass = 0.0;
+};
 // `max_steps` bounds the run's CVODE steps (0: the integrator's default); a run that needs more throws
-// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached. `atol_floor`: the
-// integrator's option (the lower bound of every atol_k relative to the largest density of the model's initial
-// state; 0: its default).
+// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached.
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing,
                                                double rtol = 1e-8, std::span<const double> from = {},
-                                               long max_steps = 0, double atol_floor = 0.0);
+                                               long max_steps = 0, const RunTolerance& tolerance = {});
 
 }  // namespace aggkit

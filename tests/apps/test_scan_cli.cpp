@@ -471,8 +471,10 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   const auto column_cycle = aggkit::testing::read_csv(folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576.csv");
   REQUIRE(column_cycle.size() == 1);
   CHECK(std::stod(column_cycle.front().at("period")) == Approx(shot_period).epsilon(1e-3));
-  // Next to the curve the coarsest absolute-tolerance floor settles (the finer ones stall in the bursts).
-  CHECK(column_cycle.front().at("atol_floor") == "1e-08");
+  // Next to the curve the first level of absolute tolerances settles.
+  CHECK(column_cycle.front().at("atol") == "1e-16");
+  CHECK(column_cycle.front().at("atol_floor") == "1e-16");
+  CHECK(column_cycle.front().at("atol_mass") == "1e-18");
   // Its mass changed by less than the guard's 1e-3 (measured: -1.8e-5, the drop truncation's loss).
   CHECK(std::abs(std::stod(column_cycle.front().at("mass_change"))) < 1e-3);
   // Its periods settled on one cycle (no modulation: spread within 2e-3).
@@ -486,21 +488,55 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   CHECK_THAT(again.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
   CHECK(aggkit::testing::read_text(csv) == first);
 
-  // A step cached before its settling was recorded (without the last three columns) reads back as settled:
-  // still nothing to compute, and the same scan.csv.
-  const auto step = folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576.csv";
-  std::istringstream lines(aggkit::testing::read_text(step));
-  std::string older;
-  for (std::string line; std::getline(lines, line);) {
-    for (int field = 0; field < 3; ++field) line.erase(line.rfind(','));
-    older += line + "\n";
+  // Steps cached by earlier versions read back: one without atol and atol_mass (the last two columns; its run
+  // took the integrator's default atol, rtol/100, and no bound) and one also without its settling (the last
+  // five; read back as settled where converged). Still nothing to compute, and the same scan.csv but for the
+  // tolerances the notes name.
+  const auto step = folder / "out" / "points" / "cycle_column_a0.9_lambda1e-04_N1048576.csv";
+  const std::string current = aggkit::testing::read_text(step);
+  const auto without_fields = [&](int fields) {
+    std::istringstream lines(current);
+    std::string older;
+    for (std::string line; std::getline(lines, line);) {
+      for (int field = 0; field < fields; ++field) line.erase(line.rfind(','));
+      older += line + "\n";
+    }
+    return older;
+  };
+  const std::string adopted_now = scan_row(csv, 0.9, 0.0001).at("note");
+  REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k"));
+  for (const int fields : {2, 5}) {
+    const std::string older = without_fields(fields);
+    REQUIRE(older.find("atol_mass") == std::string::npos);
+    REQUIRE((older.find("settl") == std::string::npos) == (fields == 5));
+    aggkit::testing::write_text(step, older);
+    const Outcome before = run(scan_command("", with, folder / "out"), folder);
+    INFO(fields << " fields fewer: " << before.err);
+    REQUIRE(before.exit_code == 0);
+    CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
+    const auto row = scan_row(csv, 0.9, 0.0001);
+    CHECK(row.at("verdict") == "sustained");
+    CHECK_THAT(row.at("note"), Contains("atol_k = 1e-08 / k^3 at least 1e-16)"));
+    // Only that point's row differs, and only in the tolerances its note names.
+    const auto lines = [](const std::string& text) {
+      std::vector<std::string> all;
+      std::istringstream in(text);
+      for (std::string line; std::getline(in, line);) all.push_back(line);
+      return all;
+    };
+    const std::vector<std::string> was = lines(first), is = lines(aggkit::testing::read_text(csv));
+    REQUIRE(was.size() == is.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < was.size(); ++i) {
+      if (was[i] == is[i]) continue;
+      ++differing;
+      std::string expected = was[i];
+      const std::size_t at = expected.find("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k");
+      REQUIRE(at != std::string::npos);
+      CHECK(expected.replace(at, 62, "atol_k = 1e-08 / k^3 at least 1e-16)") == is[i]);
+    }
+    CHECK(differing == 1);
   }
-  REQUIRE(older.find("settl") == std::string::npos);
-  aggkit::testing::write_text(step, older);
-  const Outcome before = run(scan_command("", with, folder / "out"), folder);
-  REQUIRE(before.exit_code == 0);
-  CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
-  CHECK(aggkit::testing::read_text(csv) == first);
 }
 
 TEST_CASE("scan cli: the columns are walked first, and a point its column reached seeks no cycle of its own") {
@@ -536,7 +572,7 @@ TEST_CASE("scan cli: the columns are walked first, and a point its column reache
 }
 
 TEST_CASE("scan cli: a column that stops decides nothing and the points below say where and why") {
-  // Here at once: the first run needs more than cycle_steps = 100 at every absolute-tolerance floor.
+  // Here at once: the first run needs more than cycle_steps = 100 at every level of absolute tolerances.
   const auto folder = aggkit::testing::scratch_folder("scan-cli-column-stopped");
   const auto stopped = aggkit::testing::write_text(folder / "stopped.toml", column_scan() + "cycle_column = 12\ncycle_steps = 100\n");
   const Outcome stop = run(scan_command("", stopped, folder / "stopped"), folder);
@@ -547,14 +583,62 @@ TEST_CASE("scan cli: a column that stops decides nothing and the points below sa
     CHECK(row.at("verdict") == "unstable");
     CHECK_THAT(row.at("note"), Contains("no cycle from the column either: at lambda = 0.00251999") &&
                                    Contains("needs more than cycle_steps = 100 steps"));
-    // Every floor was tried before the column stopped, each with its reason.
-    CHECK_THAT(row.at("note"), Contains("atol floor 1e-08: ") && Contains("; atol floor 1e-10: ") && Contains("; atol floor 1e-12: "));
+    // Every level was tried before the column stopped, each with its reason.
+    CHECK_THAT(row.at("note"), Contains("atol 1e-16 with floor 1e-16 and atol_mass 1e-18: ") &&
+                                   Contains("; atol 1e-18 with floor 1e-18 and atol_mass 1e-21: "));
   }
-  // The stopped step's record is the finest floor's run.
+  // The stopped step's record is the finest level's run.
   const auto record = aggkit::testing::read_csv(folder / "stopped" / "points" / "cycle_column_a0.9_lambda0.0025199989150533402_N1048576.csv");
   REQUIRE(record.size() == 1);
-  CHECK(record.front().at("atol_floor") == "1e-12");
+  CHECK(record.front().at("atol_floor") == "1e-18");
+  CHECK(record.front().at("atol_mass") == "1e-21");
   CHECK(record.front().at("regime").empty());
+}
+
+TEST_CASE("scan cli: far below the curve the column resolves the quiescent phase of the relaxation cycles") {
+  // a = 0.75 on a coarse graded grid up to N = 2^40 (λ_crit = 2.6e-4 on it): the column walks from 0.95 λ_crit
+  // down to λ = 1e-8, 18 steps of 12 predicted periods. There the quiescent phase between bursts holds M0 ~ 1e-5
+  // and the monomers far below 1e-8, the integrator's default atol for n_1: with it (and the floors 1e-8 … 1e-12
+  // that were tried before) the column stopped at λ = 1.78e-7 ("does not oscillate"; the run at the finest floor
+  // failed). With the monomers' atol 1e-16 and no class's tolerance worth more than 1e-18 of the mass it reaches
+  // 1e-8, every step settled with its mass kept.
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-column-far");
+  const auto scene = aggkit::testing::write_text(folder / "far.toml", R"(
+name = "column-far-below"
+[model]
+kernel = { name = "brownian", a = 0.75 }
+size = 1099511627776
+grid = { resolved = 8, ratio = 1.6, scheme = "fixed-pivot" }
+truncation = "drop"
+[time]
+end = 1000.0
+every = 1.0
+[scan]
+a = [0.75]
+lambda = [1e-8, 1e-6]
+refine = false
+cycle_run = 100
+cycle_column = 12
+)");
+  const Outcome outcome = run(scan_command("", scene, folder / "out"), folder);
+  INFO(outcome.err);
+  REQUIRE(outcome.exit_code == 0);
+  std::map<double, double> period;
+  for (const auto& [lambda, name] : {std::pair{1e-8, "1e-08"}, std::pair{1e-6, "1e-06"}}) {
+    const auto row = scan_row(folder / "out" / "scan.csv", 0.75, lambda);
+    INFO(lambda << ": " << row.at("note"));
+    CHECK(row.at("verdict") == "sustained");
+    CHECK_THAT(row.at("note"), Contains("continued down the column"));
+    const auto step = aggkit::testing::read_csv(folder / "out" / "points" /
+                                                (std::string("cycle_column_a0.75_lambda") + name + "_N1099511627776.csv"));
+    REQUIRE(step.size() == 1);
+    CHECK(step.front().at("settling") == "settled");
+    CHECK(std::abs(std::stod(step.front().at("mass_change"))) < 1e-3);
+    CHECK(std::stod(step.front().at("m0_min")) > 0.0);
+    period[lambda] = std::stod(step.front().at("period"));
+  }
+  // Relaxation cycles: the period grows about as 1/λ (measured: 1.407e7 and 1.535e5, a ratio of 91.7).
+  CHECK(period[1e-8] / period[1e-6] == Approx(100).epsilon(0.2));
 }
 
 TEST_CASE("scan cli: where the grid's roots go negative the steady state is sought on the refined grid") {

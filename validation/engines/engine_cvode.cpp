@@ -95,6 +95,7 @@ class CvodeEngine final : public Engine {
         {"atol", options_.effective_atol()},
         {"atol_exponent", options_.atol_exponent},
         {"atol_floor", s.atol_floor},
+        {"atol_mass", options_.atol_mass},
         {"steps", std::int64_t(s.steps)},
         {"rhs_evaluations", std::int64_t(s.rhs_evaluations)},
         {"linear_iterations", std::int64_t(s.linear_iterations)},

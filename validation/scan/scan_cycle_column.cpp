@@ -29,19 +29,32 @@ namespace {
 constexpr double start_fraction = 0.95;  // the first cycle, on the normal form's, at 0.95 λ_crit (as the criticality)
 constexpr double branch_anchor = 0.1;    // as the scan points' steady branches (scan_point.cpp)
 constexpr double search_rtol = 1e-6;     // as the points' cycle searches (scan_point.cpp)
-// Every density's absolute tolerance at least a floor (relative to the unit monodisperse start's density),
-// tried in turn from the coarsest. With the integrator's default floor (1e-16 here) CVODE tracks the far tail's
-// ~1e-16 densities through the relaxation bursts, and runs down the column stalled: a = 0.75, λ = 1.78e-4,
-// 40000 steps reached t = 3792 of 24873 (and t = 10041 at rtol 1e-7; the Krylov dimension 30 instead of 5
-// changed nothing); from the same start the floor 1e-10 stalled at t = 17 and 1e-12 at t = 12111 (200000 steps
-// each), while with 1e-8 that step took 15 s and the column went on to λ = 3.2e-6. The period at λ = 1e-4 is
-// 3588.1 (floor 1e-7: 3590.6, 1e-6: 3586.7) against 3589 shot by Newton–Krylov at rtol 1e-10 from the point's
-// own search. Further down the floor 1e-8 is too coarse: at λ = 1.78e-6 the run from the cycle above first
-// falls into a quiescent phase with M0 ≈ 3e-6 and n_1 ≈ 1e-9, every density below 1e-8, and CVODE crossed
-// t = 2e6 in 103 steps with the mass drifting 3 % and no oscillation; with 1e-10 the same run bursts at
-// t ≈ 1e5 and every ~1.7e5 after it (mass kept to 1e-4). Each floor is a legitimate tolerance; a run is taken
-// only where it settles on a cycle without gaining mass (below).
-constexpr std::array<double, 3> column_atol_floors = {1e-8, 1e-10, 1e-12};
+// The absolute tolerances of a column's runs, relative to the unit monodisperse start: atol_k = atol / k^3
+// (IntegratorOptions), at least the floor and at most atol_mass · M / x_k, tried in turn; a step starts at the
+// level of the step above (the quiescent phase only deepens down the column). Measured from the cached state of
+// the cycle at a = 0.75, λ = 1.78e-6, 12 periods at λ = 1e-6 (bench_column_step; bench/results/RESULTS.md,
+// "The monomer's tolerance and the far tail's mass"):
+// - atol at n_1. At the integrator's default, rtol/100 = 1e-8, the monomers are not resolved in the quiescent
+//   phase far below the curve (n_1 ~ 1e-9): n_1 wandered to -3e-9 and the run never burst again (the floors
+//   1e-8 … 1e-12 of the earlier ladder alike: a floor bounds only the large sizes' tolerances).
+// - atol_mass. With a floor of 1e-14 a far-tail class of the graded grid (x up to 2^40) may hold junk worth
+//   1e-2 of the mass; in a burst the Newton corrections spread it, the leak through N swung by 1e-4 a burst, and
+//   the mass projection moved n_1 to -5e-4. Bounded to 1e-15 of the mass a class, the run kept its mass.
+// - The levels. atol 1e-14, floor 1e-14, atol_mass 1e-15 gets the period (312385) but not the quiescent phase:
+//   M0's troughs fell from 5.7e-5 to 3.5e-5 over 5 periods and never settled. 1e-16/1e-16/1e-18 settles (period
+//   312381.2, troughs 1.1638e-4, period means of M0 3.14e-4, 68 s) and 1e-18/1e-18/1e-21 agrees (312381.1,
+//   1.1801e-4, 3.157e-4, 87 s): the amplitude to 1.5 %, the period to 1e-7. Next to the curve the first level
+//   costs what the earlier floor 1e-8 did (a = 0.75, λ = 3.16e-4: 12.2 s against 13.7 s, the same period to 6e-5).
+struct ColumnTolerance {
+  double atol, floor, mass;
+  RunTolerance run() const { return {.atol = atol, .atol_floor = floor, .atol_mass = mass}; }
+  std::string text() const {
+    return "atol " + shortest_text(atol) + " with floor " + shortest_text(floor) + " and atol_mass " + shortest_text(mass);
+  }
+};
+constexpr std::array<ColumnTolerance, 2> column_tolerances = {{{1e-16, 1e-16, 1e-18}, {1e-18, 1e-18, 1e-21}}};
+// The atol of the steps cached before atol and atol_mass were recorded: the integrator's default, rtol/100.
+constexpr double atol_before_tolerances = search_rtol / 100.0;
 // The largest relative gain of the mass Σ x_i N_i over a run that is taken, against the model's initial mass
 // (the shell the integrator holds Σ x_i N_i + L on; Column::shell_mass_). Aggregation and shattering keep
 // the mass and drop truncation only removes it, so a gain is the integrator's error alone: the leaked mass,
@@ -61,6 +74,10 @@ constexpr double outputs_per_period = 400;
 const double largest_step = std::pow(10.0, 0.25);  // the largest ratio of consecutive λ of a column
 
 const char* const header =
+    "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
+    "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction,atol,atol_mass";
+// The header of the steps cached before atol and atol_mass were recorded (their runs: atol rtol/100, no atol_mass).
+const char* const header_before_tolerances =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
     "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction";
 // The header of the steps cached before the settling was recorded: read back as settled where converged.
@@ -87,7 +104,7 @@ std::string file_text(const ColumnCycle& c, std::size_t periods, const std::stri
          "," + (c.classified ? to_string(k.regime) : "") + "," + n(k.period) + "," + n(k.amplitude) + "," + n(k.mean) + "," +
          n(k.decay_rate) + "," + n(k.decay_rate_error) + "," + std::to_string(k.cycles) + "," + (k.converged ? "yes" : "no") + "," +
          n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + n(c.mass_change) + "," + csv_safe(c.note) +
-         "," + to_string(c.settling) + "," + n(c.spread) + "," + n(c.contraction) + "\n";
+         "," + to_string(c.settling) + "," + n(c.spread) + "," + n(c.contraction) + "," + n(c.atol) + "," + n(c.atol_mass) + "\n";
 }
 
 std::optional<CycleSettling> settling_from(const std::string& text) {
@@ -99,10 +116,12 @@ std::optional<CycleSettling> settling_from(const std::string& text) {
 // The cached step, if its file is whole and was computed with these settings.
 std::optional<ColumnCycle> parse_file(const std::string& text, double a, double lambda, std::size_t periods,
                                       const std::string& grid) {
+  std::size_t fields = 24;
   auto f = one_row_record(text, header);
-  const bool before_settling = !f;
-  if (before_settling) f = one_row_record(text, header_before_settling);
-  if (!f || f->size() != (before_settling ? 19u : 22u)) return std::nullopt;
+  if (!f) f = one_row_record(text, header_before_tolerances), fields = 22;
+  if (!f) f = one_row_record(text, header_before_settling), fields = 19;
+  const bool before_settling = fields == 19;
+  if (!f || f->size() != fields) return std::nullopt;
   std::vector<double> x;
   for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16, 17}) {
     const auto v = record_number((*f)[i], true);
@@ -136,6 +155,14 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   c.atol_floor = x[11];
   c.mass_change = x[12];
   c.note = (*f)[18];
+  c.atol = atol_before_tolerances;
+  c.atol_mass = 0.0;
+  if (fields == 24) {
+    const auto atol = record_number((*f)[22], true), atol_mass = record_number((*f)[23], true);
+    if (!atol || !atol_mass) return std::nullopt;
+    c.atol = *atol;
+    c.atol_mass = *atol_mass;
+  }
   if (before_settling) {
     c.settling = c.run.converged ? CycleSettling::settled : CycleSettling::settling;
     return c;
@@ -270,7 +297,7 @@ class Column {
         return c;
       }
       return run(model, form.cycle_point(s.steady.n), period, std::log(1e3) / (2.0 * form.mu.real()) + 16.0 * period,
-                 c, state);
+                 c, state, 0);
     } catch (const std::exception& e) {
       c.note = std::string("no start on the normal form's cycle: ") + e.what();
       return c;
@@ -289,7 +316,17 @@ class Column {
     }
     const double period = above.run.period * std::pow(lambda / above.lambda, slope);
     ColumnCycle c = blank(lambda, above.lambda);
-    return run(point_model(plan_, a_, lambda, plan_.size()), state, period, double(plan_.column_periods) * period, c, state);
+    return run(point_model(plan_, a_, lambda, plan_.size()), state, period, double(plan_.column_periods) * period, c, state,
+               level_of(above));
+  }
+
+  // The first of column_tolerances that the step's run took (0 for a step cached before the levels).
+  static std::size_t level_of(const ColumnCycle& step) {
+    for (std::size_t i = 0; i < column_tolerances.size(); ++i)
+      if (step.atol == column_tolerances[i].atol && step.atol_floor == column_tolerances[i].floor &&
+          step.atol_mass == column_tolerances[i].mass)
+        return i;
+    return 0;
   }
 
   ColumnCycle blank(double lambda, double from_lambda) const {
@@ -300,10 +337,10 @@ class Column {
     return c;
   }
 
-  // The run from `from` to `end` (outputs period/50) at each of column_atol_floors in turn, until one settles on
-  // a cycle (run_at_floor); the walk stops where none does, with each floor's reason.
+  // The run from `from` to `end` at each of column_tolerances from `first_level` on, until one settles on a cycle
+  // (run_at_level); the walk stops where none does, with each level's reason.
   ColumnCycle run(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
-                  std::vector<double>& state) const {
+                  std::vector<double>& state, std::size_t first_level) const {
     // The start's far tail holds densities ~1e-20 below zero (the graded grid's shares undershoot at the steep
     // front): set to zero, a change far below every density's absolute tolerance, so that a run never starts
     // outside the positive cone.
@@ -311,16 +348,16 @@ class Column {
     const std::vector<double> pivots = grid_pivots(model.grid, model.size);
     std::string reasons;
     ColumnCycle tried;
-    for (double floor : column_atol_floors) {
-      tried = run_at_floor(model, from, period, end, c, state, floor, pivots);
+    for (std::size_t level = first_level; level < column_tolerances.size(); ++level) {
+      tried = run_at_level(model, from, period, end, c, state, column_tolerances[level], pivots);
       if (tried.sustained()) return tried;
-      reasons += (reasons.empty() ? "" : "; ") + std::string("atol floor ") + shortest_text(floor) + ": " + tried.note;
+      reasons += (reasons.empty() ? "" : "; ") + column_tolerances[level].text() + ": " + tried.note;
     }
-    tried.note = "the column stops here: " + reasons;  // the record of the finest floor's run
+    tried.note = "the column stops here: " + reasons;  // the record of the finest level's run
     return tried;
   }
 
-  // The run at one atol floor, its second half classified; `state` becomes the state at its last upward M0
+  // The run at one level of tolerances, its second half classified; `state` becomes the state at its last upward M0
   // crossing (the next step's start) where it settled. A second half that is not yet a sustained oscillation,
   // settled or unsettled (the envelope still settling from the cycle above: its amplitude shrinking by a few
   // percent over the tail reads as damped, while the unstable steady state it would decay to repels at Re μ),
@@ -328,16 +365,19 @@ class Column {
   // (largest nontrivial Floquet multiplier 0.8 at a = 0.8, λ = 3.2e-3), and a second half of 12 or more
   // periods tells a modulation that persists from one that decays (cycle_settling needs 10). A run whose mass
   // grows beyond mass_gain_limit is not taken. c.note says why where it did not settle.
-  ColumnCycle run_at_floor(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
-                           std::vector<double>& state, double floor, const std::vector<double>& pivots) const {
+  ColumnCycle run_at_level(const AggregationModel& model, std::vector<double> from, double period, double end, ColumnCycle c,
+                           std::vector<double>& state, const ColumnTolerance& tolerance, const std::vector<double>& pivots) const {
     constexpr int extensions = 2;
-    c.atol_floor = floor;
+    c.atol = tolerance.atol;
+    c.atol_floor = tolerance.floor;
+    c.atol_mass = tolerance.mass;
     c.run_end = 0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
       const double length = attempt == 0 ? end : 2.0 * end;
       std::optional<CycleStart> start;
       try {
-        start = cycle_start_from_run(model, length, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps), floor);
+        start = cycle_start_from_run(model, length, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps),
+                                     tolerance.run());
       } catch (const StepLimitReached& e) {
         c.run_end += length;
         c.note = "the run to t = " + shortest_text(length) + " needs more than cycle_steps = " + std::to_string(plan_.cycle_steps) +
@@ -357,7 +397,7 @@ class Column {
       if (c.mass_change > mass_gain_limit) {
         c.classified = false;
         c.note = "the mass grew by " + short_number(c.mass_change) + " beyond the model's over the run (more than " + shortest_text(mass_gain_limit) +
-                 "; aggregation, shattering and drop truncation never add mass: densities below the floor)";
+                 "; aggregation, shattering and drop truncation never add mass: densities below their tolerance)";
         return c;
       }
       if (c.sustained()) {
@@ -486,8 +526,9 @@ bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r
           : "";
   r.note = "sustained on the " + std::string(c.run.converged ? "cycle" : "oscillation") + " continued down the column: the run is " +
            std::to_string(periods) + " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) +
-           " (its second half classified; M0 " + shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; every atol_k >= " +
-           shortest_text(c.atol_floor) + ")" + unsettled + (r.note.empty() ? "" : "; " + r.note);
+           " (its second half classified; M0 " + shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; atol_k = " +
+           shortest_text(c.atol) + " / k^3 at least " + shortest_text(c.atol_floor) +
+           (c.atol_mass > 0.0 ? " and at most " + shortest_text(c.atol_mass) + " M / x_k" : std::string()) + ")" + unsettled + (r.note.empty() ? "" : "; " + r.note);
   return true;
 }
 

@@ -15,9 +15,10 @@
 // runs `periods` predicted periods (the period extrapolated in ln T against ln λ from the two cycles above, or
 // ∝ 1/λ from one) from the state the run above ended in, run on (up to 2 times, for twice as long) until its
 // periods have settled on one cycle or show a modulation that persists (a quasi-periodic or period-k
-// oscillation, or a cycle attracting with |μ| ≥ 0.9: analysis/crossing_periods.hpp). Each step tries the absolute-tolerance floors 1e-8, 1e-10,
-// 1e-12 in turn (the coarsest that settles: finer floors stall CVODE in the bursts near the curve, coarser ones
-// lose the quiescent phase far below it). The walk stops at the first λ where no floor's run shows a sustained
+// oscillation, or a cycle attracting with |μ| ≥ 0.9: analysis/crossing_periods.hpp). Each step runs with the
+// monomers' absolute tolerance 1e-16 (the quiescent phase far below the curve holds n_1 ~ 1e-10) and no class's
+// tolerance worth more than 1e-18 of the mass, or 1e-18 and 1e-21 where that does not settle, from the level
+// of the step above on (scan_cycle_column.cpp, column_tolerances). The walk stops at the first λ where no floor's run shows a sustained
 // oscillation, settled or unsettled, without gaining mass, within cycle_steps CVODE steps; the λ below it get
 // no column cycle. A column's results depend only on the plan and a,
 // never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
@@ -57,7 +58,9 @@ struct ColumnCycle {
   double m0_min = nan, m0_max = nan;          // over the run's second half
   double run_end = nan;                       // the run's length
   double from_lambda = nan;                   // the λ of the cycle it started on
-  double atol_floor = nan;                    // the floor of every atol_k its run took (the last tried where none settled)
+  // The absolute tolerances its run took (the last level tried where none settled): atol_k = atol / k^3 within
+  // [atol_floor, atol_mass · M / x_k] (0: no upper bound), relative to the unit monodisperse start.
+  double atol = nan, atol_floor = nan, atol_mass = nan;
   double mass_change = nan;                   // the mass Σ x_i N_i the run ended on, relative to the model's initial mass, - 1
                                               // (< 0: drop truncation's loss)
   std::string note;                           // why the walk stopped here ("" where it did not)
