@@ -597,11 +597,12 @@ TEST_CASE("scan cli: a column that stops decides nothing and the points below sa
 
 TEST_CASE("scan cli: far below the curve the column resolves the quiescent phase of the relaxation cycles") {
   // a = 0.75 on a coarse graded grid up to N = 2^40 (λ_crit = 2.6e-4 on it): the column walks from 0.95 λ_crit
-  // down to λ = 1e-8, 18 steps of 12 predicted periods. There the quiescent phase between bursts holds M0 ~ 1e-5
-  // and the monomers far below 1e-8, the integrator's default atol for n_1: with it (and the floors 1e-8 … 1e-12
-  // that were tried before) the column stopped at λ = 1.78e-7 ("does not oscillate"; the run at the finest floor
-  // failed). With the monomers' atol 1e-16 and no class's tolerance worth more than 1e-18 of the mass it reaches
-  // 1e-8, every step settled with its mass kept.
+  // down to λ = 1e-8, 10 steps of 12 predicted periods at most 10^(1/2) apart. There the quiescent phase between
+  // bursts holds M0 ~ 1e-5 and the monomers far below 1e-8, the integrator's default atol for n_1: with it (and
+  // the floors 1e-8 … 1e-12 tried before) the column stopped at λ = 1.78e-7 ("does not oscillate"; the run at
+  // the finest floor failed), and with atol 1e-16 but no atol_mass it fails too. With the monomers' atol 1e-16
+  // and no class's tolerance worth more than 1e-18 of the mass it reaches 1e-8, every step settled with its
+  // mass kept.
   const auto folder = aggkit::testing::scratch_folder("scan-cli-column-far");
   const auto scene = aggkit::testing::write_text(folder / "far.toml", R"(
 name = "column-far-below"

@@ -71,7 +71,7 @@ constexpr double mass_gain_limit = 1e-3;
 // 1653.94 and 889.46). The outputs cost an interpolation and a copy of the state each, far less than the
 // ~1100 CVODE steps a period there.
 constexpr double outputs_per_period = 400;
-const double largest_step = std::pow(10.0, 0.25);  // the largest ratio of consecutive λ of a column
+const double largest_step = std::sqrt(10.0);  // the largest ratio of consecutive λ of a column
 
 const char* const header =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
@@ -206,9 +206,12 @@ class Column {
     for (double l : plan.lambda)
       if (l < nodes_.front()) below.push_back(l);
     std::sort(below.rbegin(), below.rend());
-    // Between the grid's λ, geometric steps of at most a factor 10^(1/4). Whole half-decade steps stalled CVODE in
-    // the transient from the cycle above (a = 0.75, λ = 1e-3 to 3.2e-4: 40000 steps reached t = 61; a = 0.8 the
-    // same step failed its error test at h = 3e-5); through a midpoint each run took ~20 s (bench_cycle_chain).
+    // Between the grid's λ, geometric steps of at most a factor 10^(1/2). At the integrator's default atol and
+    // the earlier floors such a step stalled CVODE in the transient from the cycle above (a = 0.75, λ = 1e-3 to
+    // 3.2e-4: 40000 steps reached t = 61), and the columns went through midpoints 10^(1/4) apart; at the
+    // column_tolerances it takes 4428 steps and settles on the period of the steps through the midpoint to 7e-6
+    // (1209.785 against 1209.777; a = 0.8, 3.16e-3 to 1e-3: 374.012 against 374.005; a = 0.75, 1e-6 to 3.16e-7:
+    // 972304 against 972297, 80 s), so a column costs half the runs.
     for (double lambda : below) {
       const double above = nodes_.back();
       const int steps = int(std::ceil(std::log(above / lambda) / std::log(largest_step) - 1e-9));

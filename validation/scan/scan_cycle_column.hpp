@@ -11,7 +11,7 @@
 //
 // The walk per a: the first run starts on the Hopf normal form's cycle at 0.95 λ_crit (λ_crit and the form on
 // the scan's own grid, solvers/hopf_normal_form.hpp), for ln(1e3)/(2 Re μ) + 16 periods; then each of the
-// scan's λ below it, in descending order and with geometric steps between them of at most a factor 10^(1/4),
+// scan's λ below it, in descending order and with geometric steps between them of at most a factor 10^(1/2),
 // runs `periods` predicted periods (the period extrapolated in ln T against ln λ from the two cycles above, or
 // ∝ 1/λ from one) from the state the run above ended in, run on (up to 2 times, for twice as long) until its
 // periods have settled on one cycle or show a modulation that persists (a quasi-periodic or period-k
