@@ -28,16 +28,20 @@ double mean_of(std::span<const double> p) {
 }
 
 // The largest x from sample `from` up to (not including) `to`: the vertex of the parabola through the largest
-// sample and its neighbours. A sampled maximum alone misses a peak by up to Δ²/8 of its curvature (Δ the
-// spacing): a relaxation burst a few spacings wide (a = 0.85, λ = 3.16e-5, 400 outputs a period: neighbours at
-// 0.88–1.0 of the largest sample) gave maxima differing by 1 % between periods that agree to 1.5e-4.
-double peak(std::span<const double> x, std::size_t from, std::size_t to) {
+// sample and its neighbours (at the times t, or equally spaced where t is empty). A sampled maximum alone misses
+// a peak by up to Δ²/8 of its curvature (Δ the spacing): a relaxation burst a few spacings wide (a = 0.85,
+// λ = 3.16e-5, 400 outputs a period: neighbours at 0.88–1.0 of the largest sample) gave maxima differing by 1 %
+// between periods that agree to 1.5e-4.
+double peak(std::span<const double> t, std::span<const double> x, std::size_t from, std::size_t to) {
   const auto top = std::max_element(x.begin() + std::ptrdiff_t(from), x.begin() + std::ptrdiff_t(to));
   const std::size_t i = std::size_t(top - x.begin());
   if (i == 0 || i + 1 >= x.size()) return *top;
-  const double before = x[i - 1], at = x[i], after = x[i + 1];
-  const double curvature = before - 2.0 * at + after;
-  return curvature < 0.0 ? at - (after - before) * (after - before) / (8.0 * curvature) : at;
+  // p(s) = x_i + B s + A s² through the three samples, s the time from sample i (in spacings where t is empty).
+  const double h0 = t.empty() ? -1.0 : t[i - 1] - t[i], h2 = t.empty() ? 1.0 : t[i + 1] - t[i];
+  const double y0 = x[i - 1] - x[i], y2 = x[i + 1] - x[i];
+  if (!(h0 < 0.0 && h2 > 0.0)) return *top;
+  const double A = (y0 * h2 - y2 * h0) / (h0 * h2 * (h0 - h2)), B = (y0 * h2 * h2 - y2 * h0 * h0) / (h0 * h2 * (h2 - h0));
+  return A < 0.0 ? *top - B * B / (4.0 * A) : *top;
 }
 
 // Whether the outputs resolve the largest value from `from` to `to`: both neighbours of the largest sample
@@ -106,7 +110,8 @@ std::string to_string(CycleSettling s) {
 
 // Whether the modulation of the last 2m periods persists (CycleSettling::unsettled, with the halves' mean
 // period and the later half's spread), and the contraction ρ, into v; false where it decays or is within 2e-3.
-bool persisting_modulation(const CrossingPeriods& c, std::span<const double> x, CycleSettlingVerdict& v) {
+bool persisting_modulation(const CrossingPeriods& c, std::span<const double> t, std::span<const double> x,
+                           CycleSettlingVerdict& v) {
   const std::span<const double> p(c.periods);
   const std::size_t n = c.crossings.size();
   const std::size_t m = p.size() / 2;  // periods a half; the earlier half drops the first period if odd
@@ -117,8 +122,8 @@ bool persisting_modulation(const CrossingPeriods& c, std::span<const double> x, 
   const double mean_later = mean_of(later);
   v.contraction = spread_earlier > 0.0 ? std::pow(spread_later / spread_earlier, 1.0 / double(later.size())) : std::nan("");
   const std::size_t half = n - 1 - m;  // crossing index where the later half begins
-  const double peak_earlier = peak(x, c.after[n - 1 - 2 * m], c.after[half]);
-  const double peak_later = peak(x, c.after[half], c.after[n - 1]);
+  const double peak_earlier = peak(t, x, c.after[n - 1 - 2 * m], c.after[half]);
+  const double peak_later = peak(t, x, c.after[half], c.after[n - 1]);
   const bool persists = v.contraction >= unsettled_contraction && spread_later > settled_spread * mean_later &&
                         std::abs(mean_of(earlier) - mean_later) <= 0.5 * spread_later &&
                         std::abs(peak_earlier - peak_later) <= unsettled_peak * peak_later;
@@ -129,13 +134,18 @@ bool persisting_modulation(const CrossingPeriods& c, std::span<const double> x, 
   return true;
 }
 
-CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const double> x) {
+CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const double> x) { return cycle_settling(c, {}, x); }
+
+CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const double> t, std::span<const double> x) {
+  if (!t.empty() && t.size() != x.size())
+    throw InputError("series", std::to_string(t.size()) + " times and " + std::to_string(x.size()) + " values",
+                     "as many values as times");
   CycleSettlingVerdict v;
   const std::size_t n = c.crossings.size();
   v.periods = c.periods.size();
   // A persisting modulation first: a few consecutive periods of a modulated oscillation can agree to 2e-3 by
   // chance.
-  if (v.periods >= min_unsettled_periods && persisting_modulation(c, x, v)) return v;
+  if (v.periods >= min_unsettled_periods && persisting_modulation(c, t, x, v)) return v;
   if (n < 5) return v;
   const std::span<const double> last4 = std::span<const double>(c.periods).last(4);
   v.period = mean_of(last4);
@@ -144,7 +154,7 @@ CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const do
   // the last two troughs are compared instead.
   const std::size_t p0 = c.after[n - 3], p1 = c.after[n - 2], p2 = c.after[n - 1];
   const bool resolved = peak_resolved(x, p0, p1) && peak_resolved(x, p1, p2);
-  const double last = resolved ? peak(x, p1, p2) : trough(x, p1, p2), before = resolved ? peak(x, p0, p1) : trough(x, p0, p1);
+  const double last = resolved ? peak(t, x, p1, p2) : trough(x, p1, p2), before = resolved ? peak(t, x, p0, p1) : trough(x, p0, p1);
   v.settling = v.spread <= settled_spread && std::abs(last - before) <= settled_peak * std::abs(last) ? CycleSettling::settled
                                                                                                       : CycleSettling::settling;
   return v;

@@ -58,6 +58,10 @@ struct CycleSettlingVerdict {
 
 constexpr std::size_t min_unsettled_periods = 10;
 
+// The crossings `c` of the series x, equally spaced in time.
 CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const double> x);
+// The same for samples at the times t (increasing; e.g. a run's internal steps), the
+// peaks then from the parabola through unequally spaced samples. InputError where t and x differ in length.
+CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const double> t, std::span<const double> x);
 
 }  // namespace aggkit

@@ -28,6 +28,7 @@ namespace {
 // The run's second half: M0 at each output.
 struct Tail {
   std::vector<double> t, m0;
+  std::vector<double> step_t, step_m0;  // M0 at the internal steps of the second half
 };
 
 // Its crossings, periods, peaks and settling verdict.
@@ -55,6 +56,14 @@ void report(const Tail& tail, double start_mass, double end_mass) {
   }
   std::printf("\n  %s: period %.7g, spread %.3g, contraction %.3g a period\n", to_string(v.settling).c_str(), v.period, v.spread,
               v.contraction);
+  // The same over the internal steps, as the scan's columns read it.
+  const std::vector<double>&t = tail.step_t, &x = tail.step_m0;
+  const CrossingPeriods fc = crossing_periods(t, x);
+  const CycleSettlingVerdict fv = cycle_settling(fc, t, x);
+  std::printf("  with the %zu steps: M0 %.6g .. %.6g, troughs:", tail.step_t.size(), fc.lowest, fc.highest);
+  for (std::size_t i = 1; i < fc.after.size(); ++i)
+    std::printf(" %.6g", *std::min_element(x.begin() + long(fc.after[i - 1]), x.begin() + long(fc.after[i])));
+  std::printf("\n  %s: period %.7g, spread %.3g\n", to_string(fv.settling).c_str(), fv.period, fv.spread);
 }
 
 }  // namespace
@@ -100,6 +109,13 @@ int main(int argc, char** argv) {
   const long trace = std::getenv("TRACE") ? std::atol(std::getenv("TRACE")) : 0;
   long outputs = 0;
   const std::clock_t c0 = std::clock();
+  options.on_step = [&](double t, std::span<const double> n) {
+    if (t < 0.5 * end || t > end) return;
+    double s = 0;
+    for (double v : n) s += v;
+    tail.step_t.push_back(t);
+    tail.step_m0.push_back(s);
+  };
   IntegratorStatistics stats;
   std::string failure;
   try {

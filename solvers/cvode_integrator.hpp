@@ -120,6 +120,11 @@ struct IntegratorOptions {
   std::size_t dense_limit = 4000;  // bdf_dense refuses larger N
   // Called after every internal step with the time reached (for progress reports); may be empty.
   std::function<void(double t)> progress;
+  // Called after every internal step with the time reached and the step's densities n_1..n_N (the solution
+  // the step accepted, before any output projection); may be empty. A record finer than the outputs where a
+  // feature is narrower than their spacing: far below the Hopf curve a relaxation burst lasts ~1e-4 of a
+  // period, and the steps resolve it while 400 outputs a period do not (limit_cycle.hpp, cycle_start_from_run).
+  std::function<void(double t, std::span<const double> n)> on_step;
   double effective_lowrank_tolerance() const;
   double effective_atol() const { return atol > 0.0 ? atol : 1e-2 * rtol; }
   void validate() const;  // InputError for a field outside its option row's range (integrator_option_rows)

@@ -125,6 +125,7 @@ class CvodeStepper final : public TimeStepper {
       const int flag = CVode(mem_, t_out, y_, &t_, CV_ONE_STEP);
       call(flag, "CVode (t = " + std::to_string(t_) + ")");
       if (options_.progress) options_.progress(std::min(t_, t_out));
+      if (options_.on_step) options_.on_step(t_, std::span<const double>(N_VGetArrayPointer(y_), problem_.N));
     }
     call(CVodeGetDky(mem_, t_out, 0, out), "CVodeGetDky");
   }

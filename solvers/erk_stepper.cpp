@@ -81,6 +81,7 @@ double ErkStepper::step(double t_out) {
   call(ERKStepEvolve(mem_, t_out, y_, &t_, ARK_ONE_STEP), "ERKStepEvolve (t = " + std::to_string(t_) + ")");
   if (t_ >= t_out) t_ = t_out;  // the stop time is reached exactly
   if (options_.progress) options_.progress(t_);
+  if (options_.on_step) options_.on_step(t_, std::span<const double>(N_VGetArrayPointer(y_), problem_.N));
   return t_;
 }
 

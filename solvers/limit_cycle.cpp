@@ -456,7 +456,18 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
   // last period of an oscillating run.
   constexpr std::size_t kept = 4000;
   std::vector<double> m0;
+  CycleStart start;
   std::deque<std::vector<double>> states;
+  const auto sum = [](std::span<const double> n) {
+    double total = 0.0;
+    for (double v : n) total += v;
+    return total;
+  };
+  options.on_step = [&](double t, std::span<const double> n) {
+    if (t < 0.5 * t_end || t > t_end) return;
+    start.step_times.push_back(t);
+    start.step_m0.push_back(sum(n));
+  };
   IntegratorRestart restart;
   if (!from.empty()) {
     check_start(model, from, t_end);
@@ -464,9 +475,7 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
   }
   integrate(model, times, options, [&](double t, std::span<const double> n, double) {
     if (t < 0.5 * t_end) return;
-    double sum = 0.0;
-    for (double v : n) sum += v;
-    m0.push_back(sum);
+    m0.push_back(sum(n));
     states.emplace_back(n.begin(), n.end());
     if (states.size() > kept) states.pop_front();
   }, from.empty() ? nullptr : &restart);
@@ -485,7 +494,6 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
   const std::size_t oldest = m0.size() - states.size();  // m0 index of states.front()
   if (crossings.size() < 3 || last < oldest) return std::nullopt;
   const std::size_t use = std::min<std::size_t>(crossings.size(), 6);
-  CycleStart start;
   start.crossings = int(crossings.size());
   start.period = (crossings.back() - crossings[crossings.size() - use]) / double(use - 1);
   start.state = states[last - oldest];

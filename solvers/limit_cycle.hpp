@@ -83,6 +83,12 @@ struct CycleStart {
   double period = 0;
   int crossings = 0;
   std::vector<double> times, m0;  // the run's second half: M0 at each output, whose crossings these are
+  // M0 over the second half at the internal steps: where a relaxation burst is narrower than the outputs'
+  // spacing, the steps (whose size the burst bounds) resolve its peak (analysis/crossing_periods.hpp,
+  // cycle_settling with times). Not merged with the outputs: those are projected onto the mass shell and the
+  // steps not, and M0's tiny offset between the two made samples a fraction of a step apart zigzag across the
+  // mid-range (a smooth cycle of period 71.6 read as "unsettled", mean period 1.3).
+  std::vector<double> step_times, step_m0;
 };
 // The absolute tolerances of such a run: IntegratorOptions' atol, atol_floor and atol_mass (0: their defaults).
 struct RunTolerance {

@@ -4,6 +4,7 @@
 // the moments is observed at ~1e-9, and the checks allow 1e-7 (bdf/adams at rtol 1e-10).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -136,4 +137,33 @@ TEST_CASE("max_steps stops a run with a clear error", "[cvode][input]") {
   options.rtol = -1.0;
   CHECK_THROWS_WITH(integrate(model, std::vector<double>{10.0}, options, [](double, std::span<const double>, double) {}),
                     Catch::Contains("rtol = -1"));
+}
+
+TEST_CASE("on_step sees every internal step's densities, which follow the exact solution", "[cvode][exact]") {
+  // The constant kernel, M0 = 2/(t+2): each method's steps are reported once each, in time order, with the
+  // densities the step accepted (no interpolant), whose M0 the tolerance bounds like the outputs'.
+  AggregationModel model;
+  model.kernel = Kernel::constant();
+  model.size = 300;
+  model.initial = monodisperse(model.size);
+  for (IntegratorMethod method : {IntegratorMethod::bdf_gmres, IntegratorMethod::erk, IntegratorMethod::automatic}) {
+    INFO(to_string(method));
+    IntegratorOptions options;
+    options.method = method;
+    options.rtol = 1e-10;
+    std::vector<double> times;
+    double worst = 0.0;
+    options.on_step = [&](double t, std::span<const double> n) {
+      REQUIRE(n.size() == model.size);
+      times.push_back(t);
+      worst = std::max(worst, relative_error(moment(n, 0.0), exact_moment("constant", 0.0, t)));
+    };
+    const IntegratorStatistics stats = integrate(model, std::vector<double>{1.0, 10.0}, options, [](double, std::span<const double>, double) {});
+    CHECK(long(times.size()) == stats.steps);
+    CHECK(std::is_sorted(times.begin(), times.end()));
+    CHECK(std::adjacent_find(times.begin(), times.end()) == times.end());
+    REQUIRE(!times.empty());
+    CHECK(times.back() >= 10.0);  // the last step reaches (or passes) the last output
+    CHECK(worst < 1e-7);
+  }
 }

@@ -432,10 +432,11 @@ class Column {
     OscillationClassification& k = c.run;
     k = classify_oscillation(start.times, start.m0, criteria);
     c.classified = true;
-    const CrossingPeriods crossings = crossing_periods(start.times, start.m0);
+    // At the internal steps: far below the curve a burst is narrower than the outputs' spacing.
+    const CrossingPeriods crossings = crossing_periods(start.step_times, start.step_m0);
     c.m0_min = crossings.lowest;
     c.m0_max = crossings.highest;
-    const CycleSettlingVerdict verdict = cycle_settling(crossings, start.m0);
+    const CycleSettlingVerdict verdict = cycle_settling(crossings, start.step_times, start.step_m0);
     c.settling = verdict.settling;
     c.spread = verdict.spread;
     c.contraction = verdict.contraction;
