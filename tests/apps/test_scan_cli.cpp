@@ -582,7 +582,7 @@ TEST_CASE("scan cli: a column that stops decides nothing and the points below sa
     const auto row = scan_row(folder / "stopped" / "scan.csv", 0.9, lambda);
     CHECK(row.at("verdict") == "unstable");
     CHECK_THAT(row.at("note"), Contains("no cycle from the column either: at lambda = 0.00251999") &&
-                                   Contains("needs more than cycle_steps = 100 steps"));
+                                   Contains("needs more than column_steps = 100 steps"));
     // Every level was tried before the column stopped, each with its reason.
     CHECK_THAT(row.at("note"), Contains("atol 1e-16 with floor 1e-16 and atol_mass 1e-18: ") &&
                                    Contains("; atol 1e-18 with floor 1e-18 and atol_mass 1e-21: "));
@@ -592,6 +592,23 @@ TEST_CASE("scan cli: a column that stops decides nothing and the points below sa
   REQUIRE(record.size() == 1);
   CHECK(record.front().at("atol_floor") == "1e-18");
   CHECK(record.front().at("atol_mass") == "1e-21");
+  CHECK(record.front().at("step_budget") == "100");
+
+  // A larger budget for the columns alone (column_steps is not part of the points' fingerprint): the points are
+  // reused, the step the budget stopped is run again, and the column reaches the points below.
+  const auto larger = aggkit::testing::write_text(folder / "larger.toml", column_scan() + "cycle_column = 12\ncycle_steps = 100\ncolumn_steps = 40000\n");
+  const Outcome again = run(scan_command("", larger, folder / "stopped"), folder);
+  INFO(again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("3 runs, 3 finished earlier, 0 to compute") &&
+                            Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 1 finished earlier, 1 to compute"));
+  for (const double lambda : {0.000316227766, 0.0001})
+    CHECK(scan_row(folder / "stopped" / "scan.csv", 0.9, lambda).at("verdict") == "sustained");
+  // Without cycle_column there are no columns to budget.
+  const auto orphan = aggkit::testing::write_text(folder / "orphan.toml", column_scan() + "column_steps = 40000\n");
+  const Outcome refused = run(scan_command("", orphan, folder / "orphan"), folder);
+  CHECK(refused.exit_code == 2);
+  CHECK_THAT(refused.err, Contains("column_steps"));
   CHECK(record.front().at("regime").empty());
 }
 

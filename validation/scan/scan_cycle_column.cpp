@@ -75,6 +75,10 @@ const double largest_step = std::sqrt(10.0);  // the largest ratio of consecutiv
 
 const char* const header =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
+    "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction,atol,atol_mass,step_budget";
+// The header of the steps cached before their step budget was recorded.
+const char* const header_before_budget =
+    "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
     "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction,atol,atol_mass";
 // The header of the steps cached before atol and atol_mass were recorded (their runs: atol rtol/100, no atol_mass).
 const char* const header_before_tolerances =
@@ -104,7 +108,7 @@ std::string file_text(const ColumnCycle& c, std::size_t periods, const std::stri
          "," + (c.classified ? to_string(k.regime) : "") + "," + n(k.period) + "," + n(k.amplitude) + "," + n(k.mean) + "," +
          n(k.decay_rate) + "," + n(k.decay_rate_error) + "," + std::to_string(k.cycles) + "," + (k.converged ? "yes" : "no") + "," +
          n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + n(c.mass_change) + "," + csv_safe(c.note) +
-         "," + to_string(c.settling) + "," + n(c.spread) + "," + n(c.contraction) + "," + n(c.atol) + "," + n(c.atol_mass) + "\n";
+         "," + to_string(c.settling) + "," + n(c.spread) + "," + n(c.contraction) + "," + n(c.atol) + "," + n(c.atol_mass) + "," + std::to_string(c.step_budget) + "\n";
 }
 
 std::optional<CycleSettling> settling_from(const std::string& text) {
@@ -113,11 +117,13 @@ std::optional<CycleSettling> settling_from(const std::string& text) {
   return std::nullopt;
 }
 
-// The cached step, if its file is whole and was computed with these settings.
+// The cached step, if its file is whole and was computed with these settings: a step that stopped the column
+// only under the same step budget (the budget is not known for a step cached before it was recorded).
 std::optional<ColumnCycle> parse_file(const std::string& text, double a, double lambda, std::size_t periods,
-                                      const std::string& grid) {
-  std::size_t fields = 24;
+                                      const std::string& grid, std::size_t step_budget) {
+  std::size_t fields = 25;
   auto f = one_row_record(text, header);
+  if (!f) f = one_row_record(text, header_before_budget), fields = 24;
   if (!f) f = one_row_record(text, header_before_tolerances), fields = 22;
   if (!f) f = one_row_record(text, header_before_settling), fields = 19;
   const bool before_settling = fields == 19;
@@ -157,11 +163,16 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   c.note = (*f)[18];
   c.atol = atol_before_tolerances;
   c.atol_mass = 0.0;
-  if (fields == 24) {
+  if (fields >= 24) {
     const auto atol = record_number((*f)[22], true), atol_mass = record_number((*f)[23], true);
     if (!atol || !atol_mass) return std::nullopt;
     c.atol = *atol;
     c.atol_mass = *atol_mass;
+  }
+  if (fields == 25) {
+    const auto budget = record_number((*f)[24]);
+    if (!budget) return std::nullopt;
+    c.step_budget = std::size_t(*budget);
   }
   if (before_settling) {
     c.settling = c.run.converged ? CycleSettling::settled : CycleSettling::settling;
@@ -173,6 +184,7 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   c.settling = *settling;
   c.spread = *spread;
   c.contraction = *contraction;
+  if (!c.sustained() && c.step_budget != 0 && c.step_budget != step_budget) return std::nullopt;
   return c;
 }
 
@@ -224,7 +236,8 @@ class Column {
   std::vector<ColumnCycle> cached() const {
     std::vector<ColumnCycle> done;
     for (double lambda : nodes_) {
-      const auto c = parse_file(read_text_file(file(lambda, ".csv")), a_, lambda, plan_.column_periods, grid_);
+      const auto c = parse_file(read_text_file(file(lambda, ".csv")), a_, lambda, plan_.column_periods, grid_,
+                                plan_.column_step_budget());
       if (!c) break;
       done.push_back(*c);
       if (!c->sustained()) break;
@@ -373,17 +386,18 @@ class Column {
     constexpr int extensions = 2;
     c.atol = tolerance.atol;
     c.atol_floor = tolerance.floor;
+    c.step_budget = plan_.column_step_budget();
     c.atol_mass = tolerance.mass;
     c.run_end = 0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
       const double length = attempt == 0 ? end : 2.0 * end;
       std::optional<CycleStart> start;
       try {
-        start = cycle_start_from_run(model, length, period / outputs_per_period, search_rtol, from, long(plan_.cycle_steps),
+        start = cycle_start_from_run(model, length, period / outputs_per_period, search_rtol, from, long(plan_.column_step_budget()),
                                      tolerance.run());
       } catch (const StepLimitReached& e) {
         c.run_end += length;
-        c.note = "the run to t = " + shortest_text(length) + " needs more than cycle_steps = " + std::to_string(plan_.cycle_steps) +
+        c.note = "the run to t = " + shortest_text(length) + " needs more than column_steps = " + std::to_string(plan_.column_step_budget()) +
                  " steps (" + e.what() + ")";
         return c;
       } catch (const std::exception& e) {

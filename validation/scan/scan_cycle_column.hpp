@@ -19,7 +19,7 @@
 // monomers' absolute tolerance 1e-16 (the quiescent phase far below the curve holds n_1 ~ 1e-10) and no class's
 // tolerance worth more than 1e-18 of the mass, or 1e-18 and 1e-21 where that does not settle, from the level
 // of the step above on (scan_cycle_column.cpp, column_tolerances). The walk stops at the first λ where no floor's run shows a sustained
-// oscillation, settled or unsettled, without gaining mass, within cycle_steps CVODE steps; the λ below it get
+// oscillation, settled or unsettled, without gaining mass, within column_steps CVODE steps a run; the λ below it get
 // no column cycle. A column's results depend only on the plan and a,
 // never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
 // DIR/points/cycle_column_* (the record and the state it ended in), so an interrupted scan resumes mid-column.
@@ -61,6 +61,7 @@ struct ColumnCycle {
   // The absolute tolerances its run took (the last level tried where none settled): atol_k = atol / k^3 within
   // [atol_floor, atol_mass · M / x_k] (0: no upper bound), relative to the unit monodisperse start.
   double atol = nan, atol_floor = nan, atol_mass = nan;
+  std::size_t step_budget = 0;                // the most CVODE steps a run of it could take (0: not recorded)
   double mass_change = nan;                   // the mass Σ x_i N_i the run ended on, relative to the model's initial mass, - 1
                                               // (< 0: drop truncation's loss)
   std::string note;                           // why the walk stopped here ("" where it did not)

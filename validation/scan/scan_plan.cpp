@@ -124,6 +124,9 @@ void read_cycle_search(const SceneTable& scan, ScanPlan& plan) {
   plan.cycle_steps = scan.optional_count("cycle_steps", 100).value_or(plan.cycle_steps);
   plan.confirm_run = scan.optional_number("confirm_run", Bound::positive).value_or(0.0);
   plan.column_periods = scan.optional_count("cycle_column", 10).value_or(0);
+  plan.column_steps = scan.optional_count("column_steps", 100).value_or(0);
+  if (plan.column_steps > 0 && plan.column_periods == 0)
+    scan.fail("column_steps", "a step budget for the columns' runs with cycle_column set (there are no columns without it)");
   if (plan.column_periods > 0 && !(plan.stability && plan.cycles && plan.series_order == 0))
     scan.fail("cycle_column", "the cycles continued down the columns need stability = true, cycles = true and "
                               "series = \"M0\" (they start on the Hopf normal form's cycle and classify M0)");
@@ -173,7 +176,7 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
 
   const SceneTable scan(scan_table, "scan");
   scan.allow_only({"a", "lambda", "series", "tail", "stability", "steady_match", "refine", "truncation_check", "hopf_grid",
-                    "cycles", "cycle_run", "cycle_steps", "confirm_run", "cycle_column"});
+                    "cycles", "cycle_run", "cycle_steps", "confirm_run", "cycle_column", "column_steps"});
   read_axes(scan, plan);
   if (plan.point_count() > max_grid_values * 10)
     scan.fail("lambda", "at most " + std::to_string(max_grid_values * 10) + " points in all (a × λ)");
@@ -202,8 +205,8 @@ ScanPlan parse_scan_plan(std::string_view text, const std::string& source) {
   fingerprint.erase("name");
   toml::table scan_settings = scan_table;
   // refine only adds repeats, cached under their own names: the grid's results do not depend on it.
-  // cycle_column only adds the columns' steps, cached under their own names with their settings.
-  for (const char* key : {"a", "lambda", "truncation_check", "refine", "cycle_column"}) scan_settings.erase(key);
+  // cycle_column and column_steps only add the columns' steps, cached under their own names with their settings.
+  for (const char* key : {"a", "lambda", "truncation_check", "refine", "cycle_column", "column_steps"}) scan_settings.erase(key);
   fingerprint.insert("scan", scan_settings);
   plan.fingerprint = toml_text(fingerprint);
   plan.branches = make_steady_branches();

@@ -37,11 +37,16 @@
 //                                         a's column of λ below the Hopf point (scan_cycle_column.hpp), each
 //                                         step a run of this many predicted periods (at least 10: its second
 //                                         half must hold the 4 cycles a converged verdict needs) from the
-//                                         cycle of the λ above, at most cycle_steps CVODE steps. The columns
+//                                         cycle of the λ above, at most column_steps CVODE steps. The columns
 //                                         are walked before the points: a point its column reached seeks no
 //                                         cycle of its own and takes the column's sustained run as its
 //                                         evidence (as does a point whose own search found none). Needs
 //                                         series = "M0". Absent: no columns
+//   column_steps = 120000                 the most CVODE steps one run of a column's step may take (default
+//                                         cycle_steps): far below the curve a period costs ~2000–3000 steps
+//                                         (a = 0.75: 2150 at λ = 1e-6, 2870 at 3.16e-8). Not part of the
+//                                         points' fingerprint; a step the budget stopped is run again under
+//                                         another budget
 //   confirm_run = 2e4                     with stability: each point's run is a confirmation whose length
 //                                         comes from the point's spectrum, not from [time] end: 1/λ for the
 //                                         relaxation from the initial state and 6 e-folding times 6/|Re μ|
@@ -102,6 +107,8 @@ struct ScanPlan {
   double cycle_run = 1e5;             // the longest run a cycle's start may take (time units)
   std::size_t cycle_steps = 40000;    // the most CVODE steps of one run of a cycle search
   std::size_t column_periods = 0;     // > 0: the cycles continued down each column, runs of this many periods
+  std::size_t column_steps = 0;       // the most CVODE steps of one run of a column's step (0: cycle_steps)
+  std::size_t column_step_budget() const { return column_steps > 0 ? column_steps : cycle_steps; }
   double confirm_run = 0;             // > 0: confirmation runs sized by the spectrum, at most this long
   std::vector<std::pair<double, double>> check_points;  // (a, λ) repeated at 2N
   bool check_lambda_crit = false;                       // λ_crit(a) repeated at 2N
