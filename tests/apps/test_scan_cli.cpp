@@ -488,10 +488,10 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   CHECK_THAT(again.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
   CHECK(aggkit::testing::read_text(csv) == first);
 
-  // Steps cached by earlier versions read back: one without atol and atol_mass (the last two columns; its run
-  // took the integrator's default atol, rtol/100, and no bound) and one also without its settling (the last
-  // five; read back as settled where converged). Still nothing to compute, and the same scan.csv but for the
-  // tolerances the notes name.
+  // Steps cached by earlier versions read back: one without its step budget (the last column), one also without
+  // atol and atol_mass (the last three; its run took the integrator's default atol, rtol/100, and no bound) and
+  // one also without its settling (the last six; read back as settled where converged). Still nothing to
+  // compute, and the same scan.csv but for the tolerances the notes name.
   const auto step = folder / "out" / "points" / "cycle_column_a0.9_lambda1e-04_N1048576.csv";
   const std::string current = aggkit::testing::read_text(step);
   const auto without_fields = [&](int fields) {
@@ -505,10 +505,11 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   };
   const std::string adopted_now = scan_row(csv, 0.9, 0.0001).at("note");
   REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k"));
-  for (const int fields : {2, 5}) {
+  for (const int fields : {1, 3, 6}) {
     const std::string older = without_fields(fields);
-    REQUIRE(older.find("atol_mass") == std::string::npos);
-    REQUIRE((older.find("settl") == std::string::npos) == (fields == 5));
+    REQUIRE(older.find("step_budget") == std::string::npos);
+    REQUIRE((older.find("atol_mass") == std::string::npos) == (fields >= 3));
+    REQUIRE((older.find("settl") == std::string::npos) == (fields == 6));
     aggkit::testing::write_text(step, older);
     const Outcome before = run(scan_command("", with, folder / "out"), folder);
     INFO(fields << " fields fewer: " << before.err);
@@ -516,6 +517,10 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
     CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
     const auto row = scan_row(csv, 0.9, 0.0001);
     CHECK(row.at("verdict") == "sustained");
+    if (fields == 1) {  // its tolerances are on record
+      CHECK(aggkit::testing::read_text(csv) == first);
+      continue;
+    }
     CHECK_THAT(row.at("note"), Contains("atol_k = 1e-08 / k^3 at least 1e-16)"));
     // Only that point's row differs, and only in the tolerances its note names.
     const auto lines = [](const std::string& text) {
