@@ -66,6 +66,32 @@ void report(const Tail& tail, double start_mass, double end_mass) {
   std::printf("\n  %s: period %.7g, spread %.3g\n", to_string(fv.settling).c_str(), fv.period, fv.spread);
 }
 
+// The integrator's options from the command line (method, rtol, floor, max_steps) and ATOL=, ATOL_MASS=.
+IntegratorOptions options_from(int argc, char** argv) {
+  IntegratorOptions options;
+  options.method = integrator_method_from_name(argv[6]);
+  options.rtol = std::atof(argv[7]);
+  options.atol_floor = std::atof(argv[8]);
+  options.max_steps = argc > 9 ? std::atol(argv[9]) : 40000;
+  if (const char* atol = std::getenv("ATOL")) options.atol = std::atof(atol);
+  if (const char* mass = std::getenv("ATOL_MASS")) options.atol_mass = std::atof(mass);
+  return options;
+}
+
+// One TRACE line: t, M0, n_1, the mass, the leaked mass, the most negative density (its class and pivot), the
+// largest, and the last class that is not empty.
+void trace_line(double t, std::span<const double> n, double leaked, const std::vector<double>& pivots) {
+  double s = 0, m = 0;
+  for (std::size_t k = 0; k < n.size(); ++k) s += n[k], m += pivots[k] * n[k];
+  const auto lowest = std::min_element(n.begin(), n.end());
+  const auto largest = std::max_element(n.begin(), n.end());
+  std::size_t last = n.size();
+  while (last > 0 && std::abs(n[last - 1]) < 1e-30) --last;
+  std::printf("  t %.6g M0 %.4g n1 %.4g mass %.8g leaked %.3g lowest %.3g at %zu (%.3g; %.3g at %zu), last %zu\n", t, s, n[0], m,
+              leaked, *lowest, std::size_t(lowest - n.begin()), pivots[std::size_t(lowest - n.begin())], *largest,
+              std::size_t(largest - n.begin()), last);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -75,13 +101,7 @@ int main(int argc, char** argv) {
   }
   const double a = std::atof(argv[1]), lambda = std::atof(argv[2]);
   const double period = std::atof(argv[4]), periods = std::atof(argv[5]);
-  IntegratorOptions options;
-  options.method = integrator_method_from_name(argv[6]);
-  options.rtol = std::atof(argv[7]);
-  options.atol_floor = std::atof(argv[8]);
-  options.max_steps = argc > 9 ? std::atol(argv[9]) : 40000;
-  if (const char* atol = std::getenv("ATOL")) options.atol = std::atof(atol);
-  if (const char* mass = std::getenv("ATOL_MASS")) options.atol_mass = std::atof(mass);
+  IntegratorOptions options = options_from(argc, argv);
   SizeGrid grid;
   grid.resolved = 64;
   grid.ratio = 1.05;
@@ -121,17 +141,7 @@ int main(int argc, char** argv) {
   try {
     stats = integrate(model, times, options, [&](double t, std::span<const double> n, double leaked) {
       last.assign(n.begin(), n.end());
-      if (trace > 0 && outputs++ % trace == 0) {
-        double s = 0, m = 0;
-        for (std::size_t k = 0; k < n.size(); ++k) s += n[k], m += pivots[k] * n[k];
-        const auto lowest = std::min_element(n.begin(), n.end());
-        const auto largest = std::max_element(n.begin(), n.end());
-        std::size_t last = n.size();
-        while (last > 0 && std::abs(n[last - 1]) < 1e-30) --last;
-        std::printf("  t %.6g M0 %.4g n1 %.4g mass %.8g leaked %.3g lowest %.3g at %zu (%.3g; %.3g at %zu), last %zu\n", t, s, n[0], m,
-                    leaked, *lowest, std::size_t(lowest - n.begin()), pivots[std::size_t(lowest - n.begin())], *largest,
-                    std::size_t(largest - n.begin()), last);
-      }
+      if (trace > 0 && outputs++ % trace == 0) trace_line(t, n, leaked, pivots);
       if (t < 0.5 * end) return;
       double s = 0;
       for (double v : n) s += v;

@@ -416,6 +416,65 @@ std::string column_scan() {
   text.replace(text.find("lambda = [0.001, 0.004, 0.012]"), 30, "lambda = [0.0001, 0.000316227766, 0.001]");
   return text + "refine = false\ncycle_run = 100\n";
 }
+
+// Steps cached by earlier versions of the column files, in the folder of the test below, read back.
+void check_earlier_column_files(const fs::path& folder, const fs::path& with, const fs::path& csv, const std::string& first) {
+  // Steps cached by earlier versions read back: one without its step budget (the last column), one also without
+  // atol and atol_mass (the last three; its run took the integrator's default atol, rtol/100, and no bound) and
+  // one also without its settling (the last six; read back as settled where converged). Still nothing to
+  // compute, and the same scan.csv but for the tolerances the notes name.
+  const auto step = folder / "out" / "points" / "cycle_column_a0.9_lambda1e-04_N1048576.csv";
+  const std::string current = aggkit::testing::read_text(step);
+  const auto without_fields = [&](int fields) {
+    std::istringstream lines(current);
+    std::string older;
+    for (std::string line; std::getline(lines, line);) {
+      for (int field = 0; field < fields; ++field) line.erase(line.rfind(','));
+      older += line + "\n";
+    }
+    return older;
+  };
+  const std::string adopted_now = scan_row(csv, 0.9, 0.0001).at("note");
+  REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k"));
+  for (const int fields : {1, 3, 6}) {
+    const std::string older = without_fields(fields);
+    REQUIRE(older.find("step_budget") == std::string::npos);
+    REQUIRE((older.find("atol_mass") == std::string::npos) == (fields >= 3));
+    REQUIRE((older.find("settl") == std::string::npos) == (fields == 6));
+    aggkit::testing::write_text(step, older);
+    const Outcome before = run(scan_command("", with, folder / "out"), folder);
+    INFO(fields << " fields fewer: " << before.err);
+    REQUIRE(before.exit_code == 0);
+    CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
+    const auto row = scan_row(csv, 0.9, 0.0001);
+    CHECK(row.at("verdict") == "sustained");
+    if (fields == 1) {  // its tolerances are on record
+      CHECK(aggkit::testing::read_text(csv) == first);
+      continue;
+    }
+    CHECK_THAT(row.at("note"), Contains("atol_k = 1e-08 / k^3 at least 1e-16)"));
+    // Only that point's row differs, and only in the tolerances its note names.
+    const auto lines = [](const std::string& text) {
+      std::vector<std::string> all;
+      std::istringstream in(text);
+      for (std::string line; std::getline(in, line);) all.push_back(line);
+      return all;
+    };
+    const std::vector<std::string> was = lines(first), is = lines(aggkit::testing::read_text(csv));
+    REQUIRE(was.size() == is.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < was.size(); ++i) {
+      if (was[i] == is[i]) continue;
+      ++differing;
+      std::string expected = was[i];
+      const std::size_t at = expected.find("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k");
+      REQUIRE(at != std::string::npos);
+      CHECK(expected.replace(at, 62, "atol_k = 1e-08 / k^3 at least 1e-16)") == is[i]);
+    }
+    CHECK(differing == 1);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("scan cli: the cycle continued down a column decides the points whose own search cannot reach it") {
@@ -488,60 +547,7 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   CHECK_THAT(again.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
   CHECK(aggkit::testing::read_text(csv) == first);
 
-  // Steps cached by earlier versions read back: one without its step budget (the last column), one also without
-  // atol and atol_mass (the last three; its run took the integrator's default atol, rtol/100, and no bound) and
-  // one also without its settling (the last six; read back as settled where converged). Still nothing to
-  // compute, and the same scan.csv but for the tolerances the notes name.
-  const auto step = folder / "out" / "points" / "cycle_column_a0.9_lambda1e-04_N1048576.csv";
-  const std::string current = aggkit::testing::read_text(step);
-  const auto without_fields = [&](int fields) {
-    std::istringstream lines(current);
-    std::string older;
-    for (std::string line; std::getline(lines, line);) {
-      for (int field = 0; field < fields; ++field) line.erase(line.rfind(','));
-      older += line + "\n";
-    }
-    return older;
-  };
-  const std::string adopted_now = scan_row(csv, 0.9, 0.0001).at("note");
-  REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k"));
-  for (const int fields : {1, 3, 6}) {
-    const std::string older = without_fields(fields);
-    REQUIRE(older.find("step_budget") == std::string::npos);
-    REQUIRE((older.find("atol_mass") == std::string::npos) == (fields >= 3));
-    REQUIRE((older.find("settl") == std::string::npos) == (fields == 6));
-    aggkit::testing::write_text(step, older);
-    const Outcome before = run(scan_command("", with, folder / "out"), folder);
-    INFO(fields << " fields fewer: " << before.err);
-    REQUIRE(before.exit_code == 0);
-    CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
-    const auto row = scan_row(csv, 0.9, 0.0001);
-    CHECK(row.at("verdict") == "sustained");
-    if (fields == 1) {  // its tolerances are on record
-      CHECK(aggkit::testing::read_text(csv) == first);
-      continue;
-    }
-    CHECK_THAT(row.at("note"), Contains("atol_k = 1e-08 / k^3 at least 1e-16)"));
-    // Only that point's row differs, and only in the tolerances its note names.
-    const auto lines = [](const std::string& text) {
-      std::vector<std::string> all;
-      std::istringstream in(text);
-      for (std::string line; std::getline(in, line);) all.push_back(line);
-      return all;
-    };
-    const std::vector<std::string> was = lines(first), is = lines(aggkit::testing::read_text(csv));
-    REQUIRE(was.size() == is.size());
-    std::size_t differing = 0;
-    for (std::size_t i = 0; i < was.size(); ++i) {
-      if (was[i] == is[i]) continue;
-      ++differing;
-      std::string expected = was[i];
-      const std::size_t at = expected.find("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k");
-      REQUIRE(at != std::string::npos);
-      CHECK(expected.replace(at, 62, "atol_k = 1e-08 / k^3 at least 1e-16)") == is[i]);
-    }
-    CHECK(differing == 1);
-  }
+  check_earlier_column_files(folder, with, csv, first);
 }
 
 TEST_CASE("scan cli: the columns are walked first, and a point its column reached seeks no cycle of its own") {
