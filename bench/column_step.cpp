@@ -5,7 +5,8 @@
 //   bench_column_step a lambda state_file period periods method rtol atol_floor [max_steps]
 // state_file: DIR/points/cycle_column_a*_lambda*_N*_state.txt of the shipped scan (graded K = 64, r = 1.05,
 // N = 2^40); period: the predicted period; method: bdf-gmres, bdf-dense, ... ATOL= and ATOL_MASS= in the
-// environment set the integrator's atol and atol_mass. With TRACE=m, every m-th output prints t, M0, n_1, the
+// environment set the integrator's atol and atol_mass; STEPS_OUT=file writes t, M0 and n_1 at every internal
+// step. With TRACE=m, every m-th output prints t, M0, n_1, the
 // mass, the leaked mass, the most negative density (its class and pivot) and the largest, and the last class
 // that is not empty.
 #include <algorithm>
@@ -129,7 +130,13 @@ int main(int argc, char** argv) {
   const long trace = std::getenv("TRACE") ? std::atol(std::getenv("TRACE")) : 0;
   long outputs = 0;
   const std::clock_t c0 = std::clock();
+  std::FILE* steps_out = std::getenv("STEPS_OUT") ? std::fopen(std::getenv("STEPS_OUT"), "w") : nullptr;
   options.on_step = [&](double t, std::span<const double> n) {
+    if (steps_out) {
+      double s = 0;
+      for (double v : n) s += v;
+      std::fprintf(steps_out, "%.17g %.17g %.17g\n", t, s, n[0]);
+    }
     if (t < 0.5 * end || t > end) return;
     double s = 0;
     for (double v : n) s += v;
@@ -152,6 +159,7 @@ int main(int argc, char** argv) {
     failure = e.what();
   }
   const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+  if (steps_out) std::fclose(steps_out);
   std::printf("a %g lambda %g method %s rtol %g atol %g floor %g atol_mass %g: cpu %.1f s\n", a, lambda, argv[6], options.rtol,
               options.atol, options.atol_floor, options.atol_mass, cpu);
   if (!failure.empty()) {

@@ -435,7 +435,7 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
     return older;
   };
   const std::string adopted_now = scan_row(csv, 0.9, 0.0001).at("note");
-  REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k"));
+  REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-15 M / x_k"));
   for (const int fields : {1, 3, 6}) {
     const std::string older = without_fields(fields);
     REQUIRE(older.find("step_budget") == std::string::npos);
@@ -467,7 +467,7 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
       if (was[i] == is[i]) continue;
       ++differing;
       std::string expected = was[i];
-      const std::size_t at = expected.find("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-18 M / x_k");
+      const std::size_t at = expected.find("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-15 M / x_k");
       REQUIRE(at != std::string::npos);
       CHECK(expected.replace(at, 62, "atol_k = 1e-08 / k^3 at least 1e-16)") == is[i]);
     }
@@ -533,7 +533,7 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   // Next to the curve the first level of absolute tolerances settles.
   CHECK(column_cycle.front().at("atol") == "1e-16");
   CHECK(column_cycle.front().at("atol_floor") == "1e-16");
-  CHECK(column_cycle.front().at("atol_mass") == "1e-18");
+  CHECK(column_cycle.front().at("atol_mass") == "1e-15");
   // Its mass changed by less than the guard's 1e-3 (measured: -1.8e-5, the drop truncation's loss).
   CHECK(std::abs(std::stod(column_cycle.front().at("mass_change"))) < 1e-3);
   // Its periods settled on one cycle (no modulation: spread within 2e-3).
@@ -595,14 +595,14 @@ TEST_CASE("scan cli: a column that stops decides nothing and the points below sa
     CHECK_THAT(row.at("note"), Contains("no cycle from the column either: at lambda = 0.00251999") &&
                                    Contains("needs more than column_steps = 100 steps"));
     // Every level was tried before the column stopped, each with its reason.
-    CHECK_THAT(row.at("note"), Contains("atol 1e-16 with floor 1e-16 and atol_mass 1e-18: ") &&
-                                   Contains("; atol 1e-18 with floor 1e-18 and atol_mass 1e-21: "));
+    CHECK_THAT(row.at("note"), Contains("atol 1e-16 with floor 1e-16 and atol_mass 1e-15: ") &&
+                                   Contains("; atol 1e-16 with floor 1e-16 and atol_mass 1e-18: "));
   }
   // The stopped step's record is the finest level's run.
   const auto record = aggkit::testing::read_csv(folder / "stopped" / "points" / "cycle_column_a0.9_lambda0.0025199989150533402_N1048576.csv");
   REQUIRE(record.size() == 1);
-  CHECK(record.front().at("atol_floor") == "1e-18");
-  CHECK(record.front().at("atol_mass") == "1e-21");
+  CHECK(record.front().at("atol_floor") == "1e-16");
+  CHECK(record.front().at("atol_mass") == "1e-18");
   CHECK(record.front().at("step_budget") == "100");
 
   // A larger budget for the columns alone (column_steps is not part of the points' fingerprint): the points are
@@ -629,7 +629,7 @@ TEST_CASE("scan cli: far below the curve the column resolves the quiescent phase
   // bursts holds M0 ~ 1e-5 and the monomers far below 1e-8, the integrator's default atol for n_1: with it (and
   // the floors 1e-8 … 1e-12 tried before) the column stopped at λ = 1.78e-7 ("does not oscillate"; the run at
   // the finest floor failed), and with atol 1e-16 but no atol_mass it fails too. With the monomers' atol 1e-16
-  // and no class's tolerance worth more than 1e-18 of the mass it reaches 1e-8, every step settled with its
+  // and no class's tolerance worth more than 1e-15 of the mass it reaches 1e-8, every step settled with its
   // mass kept.
   const auto folder = aggkit::testing::scratch_folder("scan-cli-column-far");
   const auto scene = aggkit::testing::write_text(folder / "far.toml", R"(

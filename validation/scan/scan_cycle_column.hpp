@@ -17,7 +17,7 @@
 // periods have settled on one cycle or show a modulation that persists (a quasi-periodic or period-k
 // oscillation, or a cycle attracting with |μ| ≥ 0.9: analysis/crossing_periods.hpp). Each step runs with the
 // monomers' absolute tolerance 1e-16 (the quiescent phase far below the curve holds n_1 ~ 1e-10) and no class's
-// tolerance worth more than 1e-18 of the mass, or 1e-18 and 1e-21 where that does not settle, from the level
+// tolerance worth more than 1e-15 of the mass, or 1e-18 where that does not settle, from the level
 // of the step above on (scan_cycle_column.cpp, column_tolerances). The walk stops at the first λ where no floor's run shows a sustained
 // oscillation, settled or unsettled, without gaining mass, within column_steps CVODE steps a run; the λ below it get
 // no column cycle. A column's results depend only on the plan and a,
