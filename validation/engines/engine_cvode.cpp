@@ -87,7 +87,15 @@ class CvodeEngine final : public Engine {
                             ? " (tighten rtol or atol)"
                             : " (tighten rtol or atol; on a graded grid, shares that keep x² undershoot at a steep front: "
                               "a smaller grid.ratio, or grid.scheme = \"fixed-pivot\", keeps n_k >= 0)"));
-    EngineStatistics statistics{
+    EngineStatistics statistics = statistics_of(s);
+    // A resume: the output time it continued from (the statistics above count the steps since then).
+    if (restart) statistics.push_back({"resumed_at", restart->time});
+    return statistics;
+  }
+
+  // The options it ran with and the integrator's counters, for summary.json.
+  EngineStatistics statistics_of(const IntegratorStatistics& s) const {
+    return EngineStatistics{
         {"method", to_string(options_.method)},
         {"rhs", to_string(options_.rates)},
         {"preconditioner", to_string(options_.preconditioner)},
@@ -118,9 +126,6 @@ class CvodeEngine final : public Engine {
         {"negative_beyond_tolerance", std::int64_t(s.negative_beyond_tolerance)},
         {"most_negative_beyond_tolerance", s.most_negative_beyond_tolerance},
     };
-    // A resume: the output time it continued from (the statistics above count the steps since then).
-    if (restart) statistics.push_back({"resumed_at", restart->time});
-    return statistics;
   }
 
   IntegratorOptions options_;
