@@ -27,23 +27,6 @@ double mean_of(std::span<const double> p) {
   return sum / double(p.size());
 }
 
-// The largest x from sample `from` up to (not including) `to`: the vertex of the parabola through the largest
-// sample and its neighbours (at the times t, or equally spaced where t is empty). A sampled maximum alone misses
-// a peak by up to Δ²/8 of its curvature (Δ the spacing): a relaxation burst a few spacings wide (a = 0.85,
-// λ = 3.16e-5, 400 outputs a period: neighbours at 0.88–1.0 of the largest sample) gave maxima differing by 1 %
-// between periods that agree to 1.5e-4.
-double peak(std::span<const double> t, std::span<const double> x, std::size_t from, std::size_t to) {
-  const auto top = std::max_element(x.begin() + std::ptrdiff_t(from), x.begin() + std::ptrdiff_t(to));
-  const std::size_t i = std::size_t(top - x.begin());
-  if (i == 0 || i + 1 >= x.size()) return *top;
-  // p(s) = x_i + B s + A s² through the three samples, s the time from sample i (in spacings where t is empty).
-  const double h0 = t.empty() ? -1.0 : t[i - 1] - t[i], h2 = t.empty() ? 1.0 : t[i + 1] - t[i];
-  const double y0 = x[i - 1] - x[i], y2 = x[i + 1] - x[i];
-  if (!(h0 < 0.0 && h2 > 0.0)) return *top;
-  const double A = (y0 * h2 - y2 * h0) / (h0 * h2 * (h0 - h2)), B = (y0 * h2 * h2 - y2 * h0 * h0) / (h0 * h2 * (h2 - h0));
-  return A < 0.0 ? *top - B * B / (4.0 * A) : *top;
-}
-
 // Whether the outputs resolve the largest value from `from` to `to`: both neighbours of the largest sample
 // within 5 % of it. A narrower burst is sampled at a phase that drifts from period to period, and its sampled
 // (or interpolated) height with it: a = 0.9, λ = 3.16e-5 at 400 outputs a period, periods agreeing to 4e-5,
@@ -78,6 +61,18 @@ std::vector<double> whole_periods(std::span<const double> p, double median) {
 }
 
 }  // namespace
+
+double peak_between(std::span<const double> t, std::span<const double> x, std::size_t from, std::size_t to) {
+  const auto top = std::max_element(x.begin() + std::ptrdiff_t(from), x.begin() + std::ptrdiff_t(to));
+  const std::size_t i = std::size_t(top - x.begin());
+  if (i == 0 || i + 1 >= x.size()) return *top;
+  // p(s) = x_i + B s + A s² through the three samples, s the time from sample i (in spacings where t is empty).
+  const double h0 = t.empty() ? -1.0 : t[i - 1] - t[i], h2 = t.empty() ? 1.0 : t[i + 1] - t[i];
+  const double y0 = x[i - 1] - x[i], y2 = x[i + 1] - x[i];
+  if (!(h0 < 0.0 && h2 > 0.0)) return *top;
+  const double A = (y0 * h2 - y2 * h0) / (h0 * h2 * (h0 - h2)), B = (y0 * h2 * h2 - y2 * h0 * h0) / (h0 * h2 * (h2 - h0));
+  return A < 0.0 ? *top - B * B / (4.0 * A) : *top;
+}
 
 CrossingPeriods crossing_periods(std::span<const double> t, std::span<const double> x) {
   if (t.size() != x.size())
@@ -122,8 +117,8 @@ bool persisting_modulation(const CrossingPeriods& c, std::span<const double> t, 
   const double mean_later = mean_of(later);
   v.contraction = spread_earlier > 0.0 ? std::pow(spread_later / spread_earlier, 1.0 / double(later.size())) : std::nan("");
   const std::size_t half = n - 1 - m;  // crossing index where the later half begins
-  const double peak_earlier = peak(t, x, c.after[n - 1 - 2 * m], c.after[half]);
-  const double peak_later = peak(t, x, c.after[half], c.after[n - 1]);
+  const double peak_earlier = peak_between(t, x, c.after[n - 1 - 2 * m], c.after[half]);
+  const double peak_later = peak_between(t, x, c.after[half], c.after[n - 1]);
   const bool persists = v.contraction >= unsettled_contraction && spread_later > settled_spread * mean_later &&
                         std::abs(mean_of(earlier) - mean_later) <= 0.5 * spread_later &&
                         std::abs(peak_earlier - peak_later) <= unsettled_peak * peak_later;
@@ -154,7 +149,7 @@ CycleSettlingVerdict cycle_settling(const CrossingPeriods& c, std::span<const do
   // the last two troughs are compared instead.
   const std::size_t p0 = c.after[n - 3], p1 = c.after[n - 2], p2 = c.after[n - 1];
   const bool resolved = peak_resolved(x, p0, p1) && peak_resolved(x, p1, p2);
-  const double last = resolved ? peak(t, x, p1, p2) : trough(x, p1, p2), before = resolved ? peak(t, x, p0, p1) : trough(x, p0, p1);
+  const double last = resolved ? peak_between(t, x, p1, p2) : trough(x, p1, p2), before = resolved ? peak_between(t, x, p0, p1) : trough(x, p0, p1);
   v.settling = v.spread <= settled_spread && std::abs(last - before) <= settled_peak * std::abs(last) ? CycleSettling::settled
                                                                                                       : CycleSettling::settling;
   return v;

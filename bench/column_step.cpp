@@ -44,9 +44,7 @@ void report(const Tail& tail, double start_mass, double end_mass) {
   std::printf("\n  peaks (largest output of each period, its larger neighbour / it, and the parabola's vertex through them):");
   for (std::size_t i = 1; i < c.after.size(); ++i) {
     const auto top = std::max_element(m0.begin() + long(c.after[i - 1]), m0.begin() + long(c.after[i]));
-    const double before = *(top - 1), after = *(top + 1), curvature = before - 2 * *top + after;
-    std::printf(" %.6g (%.2f, %.6g)", *top, std::max(before, after) / *top,
-                curvature < 0 ? *top - (after - before) * (after - before) / (8 * curvature) : *top);
+    std::printf(" %.6g (%.2f, %.6g)", *top, std::max(*(top - 1), *(top + 1)) / *top, peak_between({}, m0, c.after[i - 1], c.after[i]));
   }
   std::printf("\n  troughs and means over each period:");
   for (std::size_t i = 1; i < c.after.size(); ++i) {

@@ -75,21 +75,21 @@ constexpr double mass_gain_limit = 1e-3;
 constexpr double outputs_per_period = 400;
 const double largest_step = std::sqrt(10.0);  // the largest ratio of consecutive λ of a column
 
+// The column files' header. Steps cached by earlier versions have its first 19 fields (before the settling was
+// recorded: read back as settled where converged), 22 (before atol and atol_mass: their runs took rtol/100 and
+// no bound) or 24 (before the step budget).
 const char* const header =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
     "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction,atol,atol_mass,step_budget";
-// The header of the steps cached before their step budget was recorded.
-const char* const header_before_budget =
-    "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
-    "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction,atol,atol_mass";
-// The header of the steps cached before atol and atol_mass were recorded (their runs: atol rtol/100, no atol_mass).
-const char* const header_before_tolerances =
-    "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
-    "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction";
-// The header of the steps cached before the settling was recorded: read back as settled where converged.
-const char* const header_before_settling =
-    "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
-    "run_end,from_lambda,atol_floor,mass_change,note";
+constexpr std::array<std::size_t, 4> header_versions = {25, 24, 22, 19};
+
+// The header's first `fields` names.
+std::string header_prefix(std::size_t fields) {
+  const std::string all = header;
+  std::size_t end = 0;
+  for (std::size_t i = 0; i < fields && end != std::string::npos; ++i) end = all.find(',', end + 1);
+  return all.substr(0, end);
+}
 
 std::string short_number(double x) {
   char text[32];
@@ -123,12 +123,13 @@ std::optional<CycleSettling> settling_from(const std::string& text) {
 // only under the same step budget (the budget is not known for a step cached before it was recorded).
 std::optional<ColumnCycle> parse_file(const std::string& text, double a, double lambda, std::size_t periods,
                                       const std::string& grid, std::size_t step_budget) {
-  std::size_t fields = 25;
-  auto f = one_row_record(text, header);
-  if (!f) f = one_row_record(text, header_before_budget), fields = 24;
-  if (!f) f = one_row_record(text, header_before_tolerances), fields = 22;
-  if (!f) f = one_row_record(text, header_before_settling), fields = 19;
-  const bool before_settling = fields == 19;
+  std::optional<std::vector<std::string>> f;
+  std::size_t fields = 0;
+  for (std::size_t version : header_versions)
+    if ((f = one_row_record(text, header_prefix(version)))) {
+      fields = version;
+      break;
+    }
   if (!f || f->size() != fields) return std::nullopt;
   std::vector<double> x;
   for (std::size_t i : {0, 1, 5, 6, 7, 8, 9, 12, 13, 14, 15, 16, 17}) {
@@ -176,7 +177,7 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
     if (!budget) return std::nullopt;
     c.step_budget = std::size_t(*budget);
   }
-  if (before_settling) {
+  if (fields == 19) {
     c.settling = c.run.converged ? CycleSettling::settled : CycleSettling::settling;
     return c;
   }
@@ -388,8 +389,8 @@ class Column {
     constexpr int extensions = 2;
     c.atol = tolerance.atol;
     c.atol_floor = tolerance.floor;
-    c.step_budget = plan_.column_step_budget();
     c.atol_mass = tolerance.mass;
+    c.step_budget = plan_.column_step_budget();
     c.run_end = 0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
       const double length = attempt == 0 ? end : 2.0 * end;
