@@ -1,0 +1,174 @@
+#include "solvers/cycle_return_map.hpp"
+
+#include <chrono>
+#include <random>
+
+#include <gsl/gsl_fit.h>
+
+#include "analysis/input_error.hpp"
+#include "solvers/cvode_integrator.hpp"
+#include "solvers/discretisation.hpp"
+
+namespace aggkit {
+
+void ReturnMapOptions::validate() const {
+  if (!(perturbation > 0.0 && perturbation <= 0.1))
+    throw InputError("perturbation", format_value(perturbation), "a relative size in (0, 0.1]");
+  if (max_returns < 3 || max_returns > 50) throw InputError("max_returns", std::to_string(max_returns), "an integer in [3, 50]");
+  if (!(rtol > 0.0 && rtol < 1.0)) throw InputError("rtol", format_value(rtol), "a relative tolerance in (0, 1)");
+  if (max_steps < 0) throw InputError("max_steps", std::to_string(max_steps), "a step count >= 1, or 0 for the default");
+  if (!(floor > 0.0 && floor < 1.0)) throw InputError("floor", format_value(floor), "a relative floor in (0, 1)");
+  if (!(resolved_factor >= 1.0 && std::isfinite(resolved_factor)))
+    throw InputError("resolved_factor", format_value(resolved_factor), "a finite factor >= 1");
+}
+
+namespace {
+
+// The perturbed state: δ_k = ε n_k ξ_k (ξ_k uniform in [-1, 1], fixed seed), less c x_k n_k so that the mass
+// Σ x_k δ_k is 0 (the mass direction's multiplier is the trivial 1 of a conserved quantity).
+std::vector<double> perturbed(std::span<const double> on_cycle, const std::vector<double>& sizes, double epsilon) {
+  std::mt19937_64 random(20240531);
+  std::uniform_real_distribution<double> xi(-1.0, 1.0);
+  std::vector<double> delta(on_cycle.size());
+  double mass = 0.0, weight = 0.0;
+  for (std::size_t k = 0; k < delta.size(); ++k) {
+    delta[k] = epsilon * on_cycle[k] * xi(random);
+    mass += sizes[k] * delta[k];
+    weight += sizes[k] * sizes[k] * on_cycle[k];
+  }
+  std::vector<double> moved(on_cycle.begin(), on_cycle.end());
+  for (std::size_t k = 0; k < delta.size(); ++k)
+    moved[k] = std::max(0.0, moved[k] + delta[k] - (weight > 0.0 ? mass / weight : 0.0) * sizes[k] * on_cycle[k]);
+  return moved;
+}
+
+struct EnoughReturns {};  // thrown from the step callback once the deviations have reached the floor
+
+// Where the cubic through the four samples (t, x) crosses `level` between the middle two (x[1] < level <= x[2]),
+// by bisection: the solution between BDF steps is a polynomial of the step's order, so the cubic's error is
+// that of the fourth derivative, while a straight line's (the second) moved the periods of a smooth cycle by
+// ~1e-5 of a period from one return to the next (a = 0.95, λ = 0.01, rtol 1e-8, graded K = 32).
+double crossing_between(const std::vector<double>& t, const std::vector<double>& x, double level) {
+  const auto cubic = [&](double s) {
+    double value = 0.0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      double basis = x[i];
+      for (std::size_t j = 0; j < 4; ++j)
+        if (j != i) basis *= (s - t[j]) / (t[i] - t[j]);
+      value += basis;
+    }
+    return value;
+  };
+  double low = t[1], high = t[2];
+  for (int k = 0; k < 60 && high - low > 1e-15 * std::abs(high); ++k) {
+    const double mid = 0.5 * (low + high);
+    (cubic(mid) < level ? low : high) = mid;
+  }
+  return 0.5 * (low + high);
+}
+
+// The returns' relative period deviations, run from `from` until one lies within the resolved floor (after the
+// second) or max_returns have been run.
+std::vector<double> period_deviations(const AggregationModel& model, const std::vector<double>& from,
+                                      const CycleReference& reference, const ReturnMapOptions& options, double resolved) {
+  const double level = 0.5 * (reference.m0_min + reference.m0_max);
+  IntegratorOptions run;
+  run.rtol = options.rtol;
+  if (options.max_steps > 0) run.max_steps = options.max_steps;
+  run.atol = options.tolerance.atol;
+  run.atol_floor = options.tolerance.atol_floor;
+  run.atol_mass = options.tolerance.atol_mass;
+  std::vector<double> crossings, deviations;
+  std::vector<double> t_last, m_last;  // the latest samples (at most 4)
+  bool pending = false;                // a crossing between the two samples before the latest
+  const auto add_crossing = [&](double t) {
+    crossings.push_back(t);
+    const std::size_t c = crossings.size();
+    if (c < 3) return;
+    const double change = (crossings[c - 1] - crossings[c - 2]) - (crossings[c - 2] - crossings[c - 3]);
+    deviations.push_back(std::abs(change) / reference.period);
+    if ((deviations.size() >= 2 && deviations.back() <= resolved) || int(deviations.size()) >= options.max_returns)
+      throw EnoughReturns{};
+  };
+  run.on_step = [&](double t, std::span<const double> n) {
+    double m0 = 0.0;
+    for (double v : n) m0 += v;
+    t_last.push_back(t);
+    m_last.push_back(m0);
+    if (t_last.size() > 4) {
+      t_last.erase(t_last.begin());
+      m_last.erase(m_last.begin());
+    }
+    if (pending && t_last.size() == 4) add_crossing(crossing_between(t_last, m_last, level));
+    pending = false;
+    const std::size_t i = t_last.size() - 1;
+    if (i >= 1 && m_last[i - 1] < level && m0 >= level) {
+      if (i >= 2) pending = true;  // the cubic through two samples each side, once the next step is taken
+      else add_crossing(t_last[0] + (level - m_last[0]) * (t - t_last[0]) / (m0 - m_last[0]));
+    }
+  };
+  IntegratorRestart restart;
+  restart.densities = from;
+  const double end = (double(options.max_returns) + 3.0) * reference.period;
+  try {
+    integrate(model, std::vector<double>{end}, run, [](double, std::span<const double>, double) {}, &restart);
+  } catch (const EnoughReturns&) {
+  }
+  return deviations;
+}
+
+// The estimate from the deviations d_j (relative changes of the period from one return to the next): d_0, over
+// the first return, still carries the fast multipliers' share of the perturbation and is left out; over the
+// deviations from d_1 on that exceed `resolved`, ln d_j = α + j ln|μ_1|, fitted by least squares (GSL), the
+// slope's standard error giving the estimate's; the first within the floor bounds |μ_1| instead.
+void estimate_from(const std::vector<double>& d, double resolved, ReturnMapMultiplier& result) {
+  std::size_t count = 0;  // d_1 .. d_count above the floor
+  while (count + 1 < d.size() && d[count + 1] > resolved) ++count;
+  const bool fell = count + 1 < d.size();  // d_{count+1} was run and lies within the floor
+  if (count < 2 && !fell) {
+    result.note = "too few returns: " + std::to_string(d.size()) + " deviations, none yet within the floor";
+  } else if (count < 2) {
+    const double from = d[count];
+    result.multiplier = resolved / from;
+    result.bounded = true;
+    result.note = "bounded: the deviation fell from " + format_value(from) + " to within the floor " + format_value(resolved) +
+                  " in one return";
+  } else {
+    std::vector<double> j(count), ln(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      j[i] = double(i);
+      ln[i] = std::log(d[i + 1]);
+    }
+    double c0 = 0, c1 = 0, cov00 = 0, cov01 = 0, cov11 = 0, sumsq = 0;
+    gsl_fit_linear(j.data(), 1, ln.data(), 1, count, &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
+    result.multiplier = std::exp(c1);
+    if (count > 2) result.multiplier_error = result.multiplier * std::sqrt(cov11);  // from the scatter about the line
+    result.note = "from the decay over " + std::to_string(count) + " returns above the floor " + format_value(resolved);
+  }
+}
+
+}  // namespace
+
+ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::span<const double> on_cycle,
+                                          const CycleReference& reference, const ReturnMapOptions& options) {
+  options.validate();
+  if (!(reference.period > 0.0) || !std::isfinite(reference.period))
+    throw InputError("period", format_value(reference.period), "the cycle's period, finite and > 0");
+  if (!(reference.m0_max > reference.m0_min))
+    throw InputError("m0_max", format_value(reference.m0_max), "M0's largest value on the cycle, above its smallest");
+  if (!(reference.spread >= 0.0)) throw InputError("spread", format_value(reference.spread), "a relative spread >= 0");
+  if (on_cycle.size() != model.unknowns())
+    throw InputError("on_cycle", std::to_string(on_cycle.size()) + " entries",
+                     "one density per size class (" + std::to_string(model.unknowns()) + ")");
+  const auto started = std::chrono::steady_clock::now();
+  ReturnMapMultiplier result;
+  result.floor = std::max(options.floor, reference.spread);
+  const double resolved = options.resolved_factor * result.floor;
+  const std::vector<double> sizes = make_discretisation(model)->sizes();
+  result.deviations = period_deviations(model, perturbed(on_cycle, sizes, options.perturbation), reference, options, resolved);
+  estimate_from(result.deviations, resolved, result);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+}  // namespace aggkit

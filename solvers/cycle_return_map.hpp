@@ -1,0 +1,67 @@
+#pragma once
+// The largest nontrivial Floquet multiplier of an attracting cycle estimated from its Poincaré return map by
+// power iteration [Kuznetsov2004, Sec. 1.5]: a small perturbation δ of a state on the cycle, kept on the cycle's
+// mass shell, is run on for a few returns to the section where M0 crosses its mid-range upwards. Near the cycle
+// the return map is linear, P(x* + δ) − x* ≈ A δ, with the nontrivial Floquet multipliers as A's eigenvalues,
+// so the j-th return deviates from the cycle as |μ_1|^j (μ_1 the largest) once the other multipliers' shares
+// have decayed; the period of the j-th return, T_j, is a linear functional of that deviation and its distance
+// from the cycle's period, d_j = |T_j − T*| / T*, falls by |μ_1| a return.
+//
+// Why not Arnoldi on the monodromy matrix (solvers/limit_cycle.hpp): far below the Hopf curve one period of the
+// relaxation cycle costs 2000–14000 CVODE steps at rtol 1e-6 and tens of period maps at rtol 1e-10 are needed;
+// a return-map estimate costs the few returns a perturbation takes to fall to the integration's floor (two to
+// three periods where the cycle attracts strongly). What it gives up: the spectrum beyond μ_1, and precision
+// where μ_1 is complex (the deviations then rotate and the ratio per return is |μ_1| only on average) or where
+// the second multiplier is close to the first (its share decays as |μ_2/μ_1|^j).
+//
+// The estimate is the geometric mean ratio of the deviations above the floor (`resolved_factor` times the floor:
+// the reference period's own relative uncertainty, at least `floor`); where only the first return lies above it,
+// the multiplier is bounded instead: |μ_1| ≲ resolved_factor · floor / d_0, an attraction too strong for the
+// integration's noise to measure.
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "solvers/limit_cycle.hpp"
+#include "solvers/model.hpp"
+
+namespace aggkit {
+
+struct ReturnMapOptions {
+  double perturbation = 1e-2;  // |δ_k| ≤ perturbation · n_k: pseudo-random signs and sizes, fixed seed
+  int max_returns = 8;         // returns run at most (in [3, 50])
+  double rtol = 1e-6;          // CVODE's relative tolerance (as the runs that found the cycle)
+  RunTolerance tolerance;      // and its absolute tolerances
+  long max_steps = 0;          // CVODE steps of the run at most (0: the integrator's default)
+  double floor = 1e-6;         // the smallest relative floor of the periods' deviations
+  double resolved_factor = 10; // a deviation counts where it exceeds this many floors
+  void validate() const;       // throws InputError naming the option
+};
+
+// The cycle the state lies on: its period, M0's range (the section is M0 = (m0_min + m0_max) / 2, crossed
+// upwards) and the relative uncertainty of the period (e.g. the settled spread of its last periods).
+struct CycleReference {
+  double period = 0, m0_min = 0, m0_max = 0, spread = 0;
+};
+
+struct ReturnMapMultiplier {
+  static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  double multiplier = nan;           // |μ_1|: the estimate, or the bound where `bounded`
+  double multiplier_error = nan;     // its standard error from the fit's scatter (three or more returns)
+  bool bounded = false;              // only an upper bound: the second return already lay within the floor
+  std::vector<double> deviations;    // d_j, one per return run
+  double floor = nan;                // the relative floor the deviations were measured against
+  double seconds = 0;
+  std::string note;                  // how it was measured, or why there is no estimate
+  bool found() const { return std::isfinite(multiplier); }
+};
+
+// Throws InputError for bad options, a reference that is not a cycle (period ≤ 0, m0_max ≤ m0_min) or a state of
+// the wrong length; integration failures propagate (StepLimitReached where max_steps runs out).
+ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::span<const double> on_cycle,
+                                          const CycleReference& reference, const ReturnMapOptions& options = {});
+
+}  // namespace aggkit

@@ -1,0 +1,72 @@
+// The largest Floquet multiplier from the return map (solvers/cycle_return_map.hpp) against Arnoldi on the
+// monodromy matrix of the shot cycle (solvers/limit_cycle.hpp), an independent method on the same cycle.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "analysis/input_error.hpp"
+#include "solvers/cycle_return_map.hpp"
+#include "solvers/limit_cycle.hpp"
+#include "tests/solvers/cycle_fixture.hpp"
+
+using namespace aggkit;
+using aggkit::testing::graded_brownian;
+
+namespace {
+
+std::string describe(const ReturnMapMultiplier& m) {
+  std::ostringstream text;
+  text << m.note << "; |mu| " << m.multiplier << (m.bounded ? " (bound)" : "") << ", " << m.seconds << " s; deviations";
+  for (double d : m.deviations) text << " " << d;
+  return text.str();
+}
+
+}  // namespace
+
+TEST_CASE("return map: the largest Floquet multiplier agrees with Arnoldi's on the shot cycle", "[cycle]") {
+  const auto [a, lambda, settle] = GENERATE(std::make_tuple(0.95, 0.01, 3000.0), std::make_tuple(0.95, 0.001, 4000.0),
+                                            std::make_tuple(0.8, 0.0025, 8000.0));
+  const AggregationModel model = graded_brownian(a, lambda);
+  const std::optional<CycleStart> start = cycle_start_from_run(model, settle, 0.5, 1e-6);
+  REQUIRE(start);
+  LimitCycleOptions shooting;
+  shooting.tolerance = 1e-6;
+  const LimitCycle cycle = find_limit_cycle(model, start->state, start->period, shooting);
+  REQUIRE(cycle.converged);
+  REQUIRE(cycle.floquet_converged);
+  const double arnoldi = std::abs(cycle.floquet.front());
+  CycleReference reference{cycle.period, cycle.m0_min, cycle.m0_max, 0.0};
+  ReturnMapOptions options;
+  options.rtol = 1e-8;
+  options.floor = 1e-8;
+  const ReturnMapMultiplier m = return_map_multiplier(model, cycle.state, reference, options);
+  INFO("a = " << a << ", lambda = " << lambda << ": Arnoldi |mu| " << arnoldi << " (next " << std::abs(cycle.floquet[1])
+              << "); return map: " << describe(m));
+  // Power iteration from the second return on: the next multiplier's share has fallen by |μ_2/μ_1| ≤ 0.53 a
+  // return, and the fit runs over the returns whose period changes lie 10 times above the floor 1e-8 (the
+  // changes at rtol 1e-8 scatter by ~5e-8 once the perturbation has gone). Measured: 0.684 against 0.634,
+  // 0.0858 against 0.0916 and 0.555 against 0.568.
+  REQUIRE(m.found());
+  CHECK_FALSE(m.bounded);
+  CHECK(std::abs(m.multiplier / arnoldi - 1.0) < 0.15);
+}
+
+TEST_CASE("return map: bad options and references are refused with the key", "[cycle]") {
+  const AggregationModel model = graded_brownian(0.95, 0.01);
+  const std::vector<double> state(model.unknowns(), 1e-3);
+  const CycleReference reference{33.7, 0.08, 0.23, 1e-6};
+  ReturnMapOptions options;
+  options.perturbation = 0.5;
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, reference, options), Catch::Contains("perturbation"));
+  options = {};
+  options.max_returns = 2;
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, reference, options), Catch::Contains("max_returns"));
+  options = {};
+  options.resolved_factor = 0.5;
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, reference, options), Catch::Contains("resolved_factor"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{-1.0, 0.08, 0.23, 0.0}), Catch::Contains("period"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{33.7, 0.23, 0.08, 0.0}), Catch::Contains("m0_max"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, std::vector<double>(3, 1.0), reference), Catch::Contains("on_cycle"));
+}
