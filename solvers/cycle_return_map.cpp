@@ -119,9 +119,11 @@ std::vector<double> period_deviations(const AggregationModel& model, const std::
 
 // The estimate from the deviations d_j (relative changes of the period from one return to the next): d_0, over
 // the first return, still carries the fast multipliers' share of the perturbation and is left out; over the
-// deviations from d_1 on that exceed `resolved`, ln d_j = α + j ln|μ_1|, fitted by least squares (GSL), the
-// slope's standard error giving the estimate's; the first within the floor bounds |μ_1| instead.
+// deviations from d_1 on that exceed `resolved`, the last four are fitted by least squares (GSL) to
+// ln d_j = α + j ln|μ_1|, the slope's standard error giving the estimate's; where fewer than two exceed it, the
+// one that does and the floor bound |μ_1| instead.
 void estimate_from(const std::vector<double>& d, double resolved, ReturnMapMultiplier& result) {
+  constexpr std::size_t fitted = 4;
   std::size_t count = 0;  // d_1 .. d_count above the floor
   while (count + 1 < d.size() && d[count + 1] > resolved) ++count;
   const bool fell = count + 1 < d.size();  // d_{count+1} was run and lies within the floor
@@ -134,16 +136,19 @@ void estimate_from(const std::vector<double>& d, double resolved, ReturnMapMulti
     result.note = "bounded: the deviation fell from " + format_value(from) + " to within the floor " + format_value(resolved) +
                   " in one return";
   } else {
-    std::vector<double> j(count), ln(count);
-    for (std::size_t i = 0; i < count; ++i) {
+    // The last `fitted` of them: the earlier returns still carry the next multipliers' shares, which can cancel
+    // the first's (a = 0.95, λ = 0.01, graded K = 32: d_1 = 1.1e-5, then 2.2e-5, 1.1e-5, 7.7e-6, 4.8e-6, ...).
+    const std::size_t first = count > fitted ? count - fitted + 1 : 1, points = count - first + 1;
+    std::vector<double> j(points), ln(points);
+    for (std::size_t i = 0; i < points; ++i) {
       j[i] = double(i);
-      ln[i] = std::log(d[i + 1]);
+      ln[i] = std::log(d[first + i]);
     }
     double c0 = 0, c1 = 0, cov00 = 0, cov01 = 0, cov11 = 0, sumsq = 0;
-    gsl_fit_linear(j.data(), 1, ln.data(), 1, count, &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
+    gsl_fit_linear(j.data(), 1, ln.data(), 1, points, &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
     result.multiplier = std::exp(c1);
-    if (count > 2) result.multiplier_error = result.multiplier * std::sqrt(cov11);  // from the scatter about the line
-    result.note = "from the decay over " + std::to_string(count) + " returns above the floor " + format_value(resolved);
+    if (points > 2) result.multiplier_error = result.multiplier * std::sqrt(cov11);  // from the scatter about the line
+    result.note = "from the decay over returns " + std::to_string(first) + " to " + std::to_string(count) + " (of those above the floor " + format_value(resolved) + ")";
   }
 }
 
@@ -156,13 +161,12 @@ ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::sp
     throw InputError("period", format_value(reference.period), "the cycle's period, finite and > 0");
   if (!(reference.m0_max > reference.m0_min))
     throw InputError("m0_max", format_value(reference.m0_max), "M0's largest value on the cycle, above its smallest");
-  if (!(reference.spread >= 0.0)) throw InputError("spread", format_value(reference.spread), "a relative spread >= 0");
   if (on_cycle.size() != model.unknowns())
     throw InputError("on_cycle", std::to_string(on_cycle.size()) + " entries",
                      "one density per size class (" + std::to_string(model.unknowns()) + ")");
   const auto started = std::chrono::steady_clock::now();
   ReturnMapMultiplier result;
-  result.floor = std::max(options.floor, reference.spread);
+  result.floor = options.floor;
   const double resolved = options.resolved_factor * result.floor;
   const std::vector<double> sizes = make_discretisation(model)->sizes();
   result.deviations = period_deviations(model, perturbed(on_cycle, sizes, options.perturbation), reference, options, resolved);

@@ -37,26 +37,29 @@ TEST_CASE("return map: the largest Floquet multiplier agrees with Arnoldi's on t
   REQUIRE(cycle.converged);
   REQUIRE(cycle.floquet_converged);
   const double arnoldi = std::abs(cycle.floquet.front());
-  CycleReference reference{cycle.period, cycle.m0_min, cycle.m0_max, 0.0};
+  const CycleReference reference{cycle.period, cycle.m0_min, cycle.m0_max};
   ReturnMapOptions options;
   options.rtol = 1e-8;
   options.floor = 1e-8;
+  options.resolved_factor = 10;
   const ReturnMapMultiplier m = return_map_multiplier(model, cycle.state, reference, options);
   INFO("a = " << a << ", lambda = " << lambda << ": Arnoldi |mu| " << arnoldi << " (next " << std::abs(cycle.floquet[1])
               << "); return map: " << describe(m));
-  // Power iteration from the second return on: the next multiplier's share has fallen by |μ_2/μ_1| ≤ 0.53 a
-  // return, and the fit runs over the returns whose period changes lie 10 times above the floor 1e-8 (the
-  // changes at rtol 1e-8 scatter by ~5e-8 once the perturbation has gone). Measured: 0.684 against 0.634,
-  // 0.0858 against 0.0916 and 0.555 against 0.568.
+  // Power iteration: the fit runs over the last four returns whose period changes lie 10 times above the floor
+  // 1e-8 (at rtol 1e-8 they scatter by ~5e-8 once the perturbation has gone), from the second return on. Where
+  // the cycle attracts slowly (0.95, 0.01 and 0.8, 0.0025) those are returns 4..7, by when the next multiplier's
+  // share has fallen by (0.13/0.63)^4 and (0.16/0.57)^4: measured 0.630 against 0.634 and 0.569 against 0.568.
+  // Where it attracts fast (0.95, 0.001: μ_2/μ_1 = 0.53) only returns 1..3 rise above the floor, the last 3.4
+  // times (its scatter alone ±15 %): measured 0.080 against 0.092. Hence 20 %.
   REQUIRE(m.found());
   CHECK_FALSE(m.bounded);
-  CHECK(std::abs(m.multiplier / arnoldi - 1.0) < 0.15);
+  CHECK(std::abs(m.multiplier / arnoldi - 1.0) < 0.2);
 }
 
 TEST_CASE("return map: bad options and references are refused with the key", "[cycle]") {
   const AggregationModel model = graded_brownian(0.95, 0.01);
   const std::vector<double> state(model.unknowns(), 1e-3);
-  const CycleReference reference{33.7, 0.08, 0.23, 1e-6};
+  const CycleReference reference{33.7, 0.08, 0.23};
   ReturnMapOptions options;
   options.perturbation = 0.5;
   CHECK_THROWS_WITH(return_map_multiplier(model, state, reference, options), Catch::Contains("perturbation"));
@@ -66,7 +69,7 @@ TEST_CASE("return map: bad options and references are refused with the key", "[c
   options = {};
   options.resolved_factor = 0.5;
   CHECK_THROWS_WITH(return_map_multiplier(model, state, reference, options), Catch::Contains("resolved_factor"));
-  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{-1.0, 0.08, 0.23, 0.0}), Catch::Contains("period"));
-  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{33.7, 0.23, 0.08, 0.0}), Catch::Contains("m0_max"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{-1.0, 0.08, 0.23}), Catch::Contains("period"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{33.7, 0.23, 0.08}), Catch::Contains("m0_max"));
   CHECK_THROWS_WITH(return_map_multiplier(model, std::vector<double>(3, 1.0), reference), Catch::Contains("on_cycle"));
 }
