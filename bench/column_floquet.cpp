@@ -1,8 +1,8 @@
 // The largest Floquet multiplier of a cached step of a scan's cycle column, from the return map
 // (solvers/cycle_return_map.hpp): what it costs (CPU seconds, returns) and what it finds.
-//   bench_column_floquet a lambda state_file period m0_min m0_max atol atol_floor atol_mass [max_steps]
+//   bench_column_floquet a lambda state_file period m0_min m0_max spread atol atol_floor atol_mass [max_steps]
 // state_file: DIR/points/cycle_column_a*_lambda*_N*_state.txt of the shipped scan (graded K = 64, r = 1.05,
-// N = 2^40); period, m0_min, m0_max, atol, atol_floor and atol_mass: the step's record
+// N = 2^40); period, m0_min, m0_max, spread, atol, atol_floor and atol_mass: the step's record
 // (cycle_column_*.csv). PERTURBATION=, FLOOR= and RESOLVED= (resolved_factor) in the environment set those options.
 #include <cstdio>
 #include <cstdlib>
@@ -16,8 +16,8 @@
 using namespace aggkit;
 
 int main(int argc, char** argv) {
-  if (argc < 10) {
-    std::fprintf(stderr, "usage: bench_column_floquet a lambda state_file period m0_min m0_max atol atol_floor atol_mass [max_steps]\n");
+  if (argc < 11) {
+    std::fprintf(stderr, "usage: bench_column_floquet a lambda state_file period m0_min m0_max spread atol atol_floor atol_mass [max_steps]\n");
     return 2;
   }
   SizeGrid grid;
@@ -28,10 +28,10 @@ int main(int argc, char** argv) {
   std::vector<double> state;
   std::ifstream in(argv[3]);
   for (double v; in >> v;) state.push_back(v);
-  const CycleReference reference{std::atof(argv[4]), std::atof(argv[5]), std::atof(argv[6])};
+  const CycleReference reference{std::atof(argv[4]), std::atof(argv[5]), std::atof(argv[6]), std::atof(argv[7])};
   ReturnMapOptions options;
-  options.tolerance = {.atol = std::atof(argv[7]), .atol_floor = std::atof(argv[8]), .atol_mass = std::atof(argv[9])};
-  options.max_steps = argc > 10 ? std::atol(argv[10]) : 120000;
+  options.tolerance = {.atol = std::atof(argv[8]), .atol_floor = std::atof(argv[9]), .atol_mass = std::atof(argv[10])};
+  options.max_steps = argc > 11 ? std::atol(argv[11]) : 120000;
   if (const char* p = std::getenv("PERTURBATION")) options.perturbation = std::atof(p);
   if (const char* f = std::getenv("FLOOR")) options.floor = std::atof(f);
   if (const char* r = std::getenv("RESOLVED")) options.resolved_factor = std::atof(r);

@@ -161,12 +161,13 @@ ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::sp
     throw InputError("period", format_value(reference.period), "the cycle's period, finite and > 0");
   if (!(reference.m0_max > reference.m0_min))
     throw InputError("m0_max", format_value(reference.m0_max), "M0's largest value on the cycle, above its smallest");
+  if (!(reference.spread >= 0.0)) throw InputError("spread", format_value(reference.spread), "a relative scatter >= 0");
   if (on_cycle.size() != model.unknowns())
     throw InputError("on_cycle", std::to_string(on_cycle.size()) + " entries",
                      "one density per size class (" + std::to_string(model.unknowns()) + ")");
   const auto started = std::chrono::steady_clock::now();
   ReturnMapMultiplier result;
-  result.floor = options.floor;
+  result.floor = std::max(options.floor, reference.spread);
   const double resolved = options.resolved_factor * result.floor;
   const std::vector<double> sizes = make_discretisation(model)->sizes();
   result.deviations = period_deviations(model, perturbed(on_cycle, sizes, options.perturbation), reference, options, resolved);

@@ -15,7 +15,7 @@
 // the second multiplier is close to the first (its share decays as |μ_2/μ_1|^j).
 //
 // The estimate is the decay rate of the deviations fitted over the returns that lie above the floor
-// (`resolved_factor` times `floor`) and below their predecessor; where only one return lies above it, the
+// (`resolved_factor` times the larger of `floor` and the cycle's own scatter); where only one return lies above it, the
 // multiplier is bounded instead: |μ_1| ≲ resolved_factor · floor / d, an attraction too strong for the
 // integration's noise to measure.
 #include <cmath>
@@ -42,14 +42,17 @@ struct ReturnMapOptions {
   // shipped scan's grid they kept falling geometrically down to 4e-7 (a = 0.75, λ = 1e-8 and 1e-9), at rtol 1e-8
   // on a coarse grid they scattered about 5e-8 once the perturbation had gone (tests/solvers/test_cycle_return_map.cpp).
   double floor = 1e-7;
-  double resolved_factor = 3;  // a deviation counts where it exceeds this many floors and its predecessor does not
+  double resolved_factor = 3;  // a deviation counts where it exceeds this many floors
   void validate() const;       // throws InputError naming the option
 };
 
-// The cycle the state lies on: its period and M0's range (the section is M0 = (m0_min + m0_max) / 2, crossed
-// upwards).
+// The cycle the state lies on: its period, M0's range (the section is M0 = (m0_min + m0_max) / 2, crossed
+// upwards) and the relative scatter of its periods at the run's tolerances (e.g. the spread of the last periods
+// of the run that found it), which raises the floor where it exceeds `floor`: the floor is the problem's, not
+// only the tolerance's (rtol 1e-6 on the coarse grid K = 8, r = 1.6: the changes of an unperturbed cycle's period
+// scatter by ~1e-5, and a floor of 1e-7 read that scatter as a multiplier 0.99; its spread 2.2e-5 there).
 struct CycleReference {
-  double period = 0, m0_min = 0, m0_max = 0;
+  double period = 0, m0_min = 0, m0_max = 0, spread = 0;
 };
 
 struct ReturnMapMultiplier {

@@ -37,7 +37,7 @@ TEST_CASE("return map: the largest Floquet multiplier agrees with Arnoldi's on t
   REQUIRE(cycle.converged);
   REQUIRE(cycle.floquet_converged);
   const double arnoldi = std::abs(cycle.floquet.front());
-  const CycleReference reference{cycle.period, cycle.m0_min, cycle.m0_max};
+  const CycleReference reference{cycle.period, cycle.m0_min, cycle.m0_max, 0.0};
   ReturnMapOptions options;
   options.rtol = 1e-8;
   options.floor = 1e-8;
@@ -59,7 +59,7 @@ TEST_CASE("return map: the largest Floquet multiplier agrees with Arnoldi's on t
 TEST_CASE("return map: bad options and references are refused with the key", "[cycle]") {
   const AggregationModel model = graded_brownian(0.95, 0.01);
   const std::vector<double> state(model.unknowns(), 1e-3);
-  const CycleReference reference{33.7, 0.08, 0.23};
+  const CycleReference reference{33.7, 0.08, 0.23, 1e-6};
   ReturnMapOptions options;
   options.perturbation = 0.5;
   CHECK_THROWS_WITH(return_map_multiplier(model, state, reference, options), Catch::Contains("perturbation"));
@@ -69,7 +69,8 @@ TEST_CASE("return map: bad options and references are refused with the key", "[c
   options = {};
   options.resolved_factor = 0.5;
   CHECK_THROWS_WITH(return_map_multiplier(model, state, reference, options), Catch::Contains("resolved_factor"));
-  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{-1.0, 0.08, 0.23}), Catch::Contains("period"));
-  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{33.7, 0.23, 0.08}), Catch::Contains("m0_max"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{-1.0, 0.08, 0.23, 0.0}), Catch::Contains("period"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{33.7, 0.23, 0.08, 0.0}), Catch::Contains("m0_max"));
+  CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{33.7, 0.08, 0.23, -1.0}), Catch::Contains("spread"));
   CHECK_THROWS_WITH(return_map_multiplier(model, std::vector<double>(3, 1.0), reference), Catch::Contains("on_cycle"));
 }

@@ -209,6 +209,44 @@ std::optional<std::vector<double>> parse_state(const std::string& text, std::siz
   return state;
 }
 
+// The Floquet multiplier's file beside a step's record.
+const char* const floquet_header = "a,lambda,multiplier,multiplier_error,bounded,floor,deviations,seconds,note";
+
+std::string floquet_text(const ColumnCycle& c) {
+  const auto n = [](double x) { return shortest_text(x); };
+  const ReturnMapMultiplier& m = c.floquet;
+  std::string deviations;
+  for (double d : m.deviations) deviations += (deviations.empty() ? "" : ";") + short_number(d);
+  return std::string(floquet_header) + "\n" + n(c.a) + "," + n(c.lambda) + "," + n(m.multiplier) + "," + n(m.multiplier_error) + "," +
+         (m.bounded ? "yes" : "no") + "," + n(m.floor) + "," + deviations + "," + n(m.seconds) + "," + csv_safe(m.note) + "\n";
+}
+
+// Reads the multiplier into c where the file is whole and belongs to c's step.
+void parse_floquet(const std::string& text, ColumnCycle& c) {
+  const auto f = one_row_record(text, floquet_header);
+  if (!f || f->size() != 9) return;
+  const auto a = record_number((*f)[0]), lambda = record_number((*f)[1]), multiplier = record_number((*f)[2], true),
+             error = record_number((*f)[3], true), floor = record_number((*f)[5], true), seconds = record_number((*f)[7], true);
+  if (!a || !lambda || *a != c.a || *lambda != c.lambda || !multiplier || !error || !floor || !seconds ||
+      ((*f)[4] != "yes" && (*f)[4] != "no"))
+    return;
+  ReturnMapMultiplier m;
+  m.multiplier = *multiplier;
+  m.multiplier_error = *error;
+  m.bounded = (*f)[4] == "yes";
+  m.floor = *floor;
+  std::istringstream deviations((*f)[6]);
+  for (std::string d; std::getline(deviations, d, ';');) {
+    const auto v = record_number(d);
+    if (!v) return;
+    m.deviations.push_back(*v);
+  }
+  m.seconds = *seconds;
+  m.note = (*f)[8];
+  c.floquet = std::move(m);
+  c.floquet_done = true;
+}
+
 // One column: the plan's λ below the first cycle's, walked downwards from it.
 class Column {
  public:
@@ -243,6 +281,7 @@ class Column {
                                 plan_.column_step_budget());
       if (!c) break;
       done.push_back(*c);
+      parse_floquet(read_text_file(file(lambda, "_floquet.csv")), done.back());
       if (!c->sustained()) break;
     }
     return done;
@@ -250,7 +289,8 @@ class Column {
 
   bool finished() const {
     const std::vector<ColumnCycle> done = cached();
-    return !done.empty() && (!done.back().sustained() || done.size() == nodes_.size());
+    const bool measured = std::none_of(done.begin(), done.end(), [&](const ColumnCycle& c) { return wants_floquet(c) && !c.floquet_done; });
+    return !done.empty() && (!done.back().sustained() || done.size() == nodes_.size()) && measured;
   }
 
   // Walks on from the last cached step. False (reported) where a step threw, e.g. could not be written: the
@@ -287,6 +327,36 @@ class Column {
       report(progress, rank, c, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
       done.push_back(c);
     }
+    for (ColumnCycle& c : done)
+      if (wants_floquet(c) && !c.floquet_done) measure_floquet(c, progress, rank);
+  }
+
+  // The settled steps at the scan's own λ: their points take the multiplier.
+  bool wants_floquet(const ColumnCycle& c) const {
+    return c.sustained() && c.run.converged && std::find(plan_.lambda.begin(), plan_.lambda.end(), c.lambda) != plan_.lambda.end();
+  }
+
+  // The return map run from the state the step ended in, at the step's own tolerances and step budget; a run that
+  // fails leaves the reason in the multiplier's note (and no multiplier).
+  void measure_floquet(ColumnCycle& c, std::ostream* progress, int rank) const {
+    const auto s = parse_state(read_text_file(file(c.lambda, "_state.txt")), unknowns());
+    ReturnMapOptions options;
+    options.rtol = search_rtol;
+    options.tolerance = {.atol = c.atol, .atol_floor = c.atol_floor, .atol_mass = c.atol_mass};
+    options.max_steps = long(plan_.column_step_budget());
+    try {
+      if (!s) throw std::runtime_error("the state the step ended in is not readable");
+      c.floquet = return_map_multiplier(point_model(plan_, a_, c.lambda, plan_.size()), *s, {c.run.period, c.m0_min, c.m0_max, c.spread}, options);
+    } catch (const std::exception& e) {
+      c.floquet = {};
+      c.floquet.note = std::string("no multiplier: ") + e.what();
+    }
+    c.floquet_done = true;
+    write_file_atomically(file(c.lambda, "_floquet.csv"), floquet_text(c));
+    if (progress)
+      *progress << "aggkit scan: [rank " << rank << "] cycle column a = " << shortest_text(a_) << ", lambda = " << short_number(c.lambda)
+                << ": largest Floquet multiplier " << (c.floquet.bounded ? "<= " : "") << short_number(c.floquet.multiplier) << " ("
+                << c.floquet.note << ", " << short_number(c.floquet.seconds) << " s)\n" << std::flush;
   }
 
   std::filesystem::path file(double lambda, const std::string& suffix) const {
@@ -545,11 +615,23 @@ bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r
                 " of their mean " + short_number(c.run.period) + " without settling (modulation contracting by " + short_number(c.contraction) +
                 " a period: quasi-periodic or period-k, or a cycle attracting with |mu| >= 0.9)"
           : "";
+  std::string floquet;
+  if (c.floquet_done && c.floquet.found()) {
+    r.floquet_max = c.floquet.multiplier;
+    r.cycle_stable = c.floquet.multiplier < 1.0 ? "yes" : "no";
+    floquet = "; largest nontrivial Floquet multiplier from the return map " +
+              (c.floquet.bounded ? "<= " + short_number(c.floquet.multiplier) + " (an upper bound: "
+                                 : short_number(c.floquet.multiplier) +
+                                       (std::isnan(c.floquet.multiplier_error) ? std::string() : " +- " + short_number(c.floquet.multiplier_error)) + " (") +
+              c.floquet.note + ")";
+  } else if (c.floquet_done) {
+    floquet = "; no Floquet multiplier: " + c.floquet.note;
+  }
   r.note = "sustained on the " + std::string(c.run.converged ? "cycle" : "oscillation") + " continued down the column: the run is " +
            std::to_string(periods) + " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) +
            " (its second half classified; M0 " + shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; atol_k = " +
            shortest_text(c.atol) + " / k^3 at least " + shortest_text(c.atol_floor) +
-           (c.atol_mass > 0.0 ? " and at most " + shortest_text(c.atol_mass) + " M / x_k" : std::string()) + ")" + unsettled + (r.note.empty() ? "" : "; " + r.note);
+           (c.atol_mass > 0.0 ? " and at most " + shortest_text(c.atol_mass) + " M / x_k" : std::string()) + ")" + unsettled + floquet + (r.note.empty() ? "" : "; " + r.note);
   return true;
 }
 

@@ -20,7 +20,11 @@
 // tolerance worth more than 1e-15 of the mass, or 1e-18 where that does not settle, from the level
 // of the step above on (scan_cycle_column.cpp, column_tolerances). The walk stops at the first λ where no floor's run shows a sustained
 // oscillation, settled or unsettled, without gaining mass, within column_steps CVODE steps a run; the λ below it get
-// no column cycle. A column's results depend only on the plan and a,
+// no column cycle. Each settled step at one of the scan's λ then gets its largest nontrivial Floquet multiplier
+// from the return map (solvers/cycle_return_map.hpp: a perturbation of the state the step ended in, run on at
+// the step's tolerances for the few returns it takes to fall to the floor, which the step's own period spread
+// raises): the point's floquet_max and cycle_stable, an upper bound where the attraction is beyond the floor.
+// A column's results depend only on the plan and a,
 // never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
 // DIR/points/cycle_column_* (the record and the state it ended in), so an interrupted scan resumes mid-column.
 #include <cstddef>
@@ -33,6 +37,7 @@
 
 #include "analysis/crossing_periods.hpp"
 #include "analysis/oscillation.hpp"
+#include "solvers/cycle_return_map.hpp"
 #include "validation/scan/scan_output.hpp"
 #include "validation/runs/run_store.hpp"
 #include "validation/scan/scan_plan.hpp"
@@ -65,6 +70,11 @@ struct ColumnCycle {
   double mass_change = nan;                   // the mass Σ x_i N_i the run ended on, relative to the model's initial mass, - 1
                                               // (< 0: drop truncation's loss)
   std::string note;                           // why the walk stopped here ("" where it did not)
+  // The largest nontrivial Floquet multiplier of a settled step on the scan's grid, from the return map
+  // (solvers/cycle_return_map.hpp) run from the state the step ended in at its own tolerances: `floquet.found()`
+  // where measured (an upper bound where `floquet.bounded`); its note says why not otherwise.
+  ReturnMapMultiplier floquet;
+  bool floquet_done = false;                  // measured or tried (cached in DIR/points/cycle_column_*_floquet.csv)
 };
 
 // (a, λ) -> the column's cycle there.
