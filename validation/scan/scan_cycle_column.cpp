@@ -216,7 +216,10 @@ std::string floquet_text(const ColumnCycle& c) {
   const auto n = [](double x) { return shortest_text(x); };
   const ReturnMapMultiplier& m = c.floquet;
   std::string deviations;
-  for (double d : m.deviations) deviations += (deviations.empty() ? "" : ";") + short_number(d);
+  for (double d : m.deviations) {
+    if (!deviations.empty()) deviations += ';';
+    deviations += short_number(d);
+  }
   return std::string(floquet_header) + "\n" + n(c.a) + "," + n(c.lambda) + "," + n(m.multiplier) + "," + n(m.multiplier_error) + "," +
          (m.bounded ? "yes" : "no") + "," + n(m.floor) + "," + deviations + "," + n(m.seconds) + "," + csv_safe(m.note) + "\n";
 }
