@@ -8,6 +8,7 @@
 #include "analysis/input_error.hpp"
 #include "solvers/cvode_integrator.hpp"
 #include "solvers/discretisation.hpp"
+#include "solvers/poincare_section.hpp"
 
 namespace aggkit {
 
@@ -44,68 +45,23 @@ std::vector<double> perturbed(std::span<const double> on_cycle, const std::vecto
 
 struct EnoughReturns {};  // thrown from the step callback once the deviations have reached the floor
 
-// Where the cubic through the four samples (t, x) crosses `level` between the middle two (x[1] < level <= x[2]),
-// by bisection: the solution between BDF steps is a polynomial of the step's order, so the cubic's error is
-// that of the fourth derivative, while a straight line's (the second) moved the periods of a smooth cycle by
-// ~1e-5 of a period from one return to the next (a = 0.95, λ = 0.01, rtol 1e-8, graded K = 32).
-double crossing_between(const std::vector<double>& t, const std::vector<double>& x, double level) {
-  const auto cubic = [&](double s) {
-    double value = 0.0;
-    for (std::size_t i = 0; i < 4; ++i) {
-      double basis = x[i];
-      for (std::size_t j = 0; j < 4; ++j)
-        if (j != i) basis *= (s - t[j]) / (t[i] - t[j]);
-      value += basis;
-    }
-    return value;
-  };
-  double low = t[1], high = t[2];
-  for (int k = 0; k < 60 && high - low > 1e-15 * std::abs(high); ++k) {
-    const double mid = 0.5 * (low + high);
-    (cubic(mid) < level ? low : high) = mid;
-  }
-  return 0.5 * (low + high);
-}
-
 // The returns' relative period deviations, run from `from` until one lies within the resolved floor (after the
 // second) or max_returns have been run.
 std::vector<double> period_deviations(const AggregationModel& model, const std::vector<double>& from,
                                       const CycleReference& reference, const ReturnMapOptions& options, double resolved) {
   const double level = 0.5 * (reference.m0_min + reference.m0_max);
-  IntegratorOptions run;
-  run.rtol = options.rtol;
-  if (options.max_steps > 0) run.max_steps = options.max_steps;
-  run.atol = options.tolerance.atol;
-  run.atol_floor = options.tolerance.atol_floor;
-  run.atol_mass = options.tolerance.atol_mass;
+  IntegratorOptions run = cycle_run_options(options.rtol, options.max_steps, options.tolerance);
   std::vector<double> crossings, deviations;
-  std::vector<double> t_last, m_last;  // the latest samples (at most 4)
-  bool pending = false;                // a crossing between the two samples before the latest
-  const auto add_crossing = [&](double t) {
-    crossings.push_back(t);
+  UpwardCrossings section(level);
+  run.on_step = [&](double t, std::span<const double> n) {
+    if (!section.add(t, n)) return;
+    crossings.push_back(section.time());
     const std::size_t c = crossings.size();
     if (c < 3) return;
     const double change = (crossings[c - 1] - crossings[c - 2]) - (crossings[c - 2] - crossings[c - 3]);
     deviations.push_back(std::abs(change) / reference.period);
     if ((deviations.size() >= 2 && deviations.back() <= resolved) || int(deviations.size()) >= options.max_returns)
       throw EnoughReturns{};
-  };
-  run.on_step = [&](double t, std::span<const double> n) {
-    double m0 = 0.0;
-    for (double v : n) m0 += v;
-    t_last.push_back(t);
-    m_last.push_back(m0);
-    if (t_last.size() > 4) {
-      t_last.erase(t_last.begin());
-      m_last.erase(m_last.begin());
-    }
-    if (pending && t_last.size() == 4) add_crossing(crossing_between(t_last, m_last, level));
-    pending = false;
-    const std::size_t i = t_last.size() - 1;
-    if (i >= 1 && m_last[i - 1] < level && m0 >= level) {
-      if (i >= 2) pending = true;  // the cubic through two samples each side, once the next step is taken
-      else add_crossing(t_last[0] + (level - m_last[0]) * (t - t_last[0]) / (m0 - m_last[0]));
-    }
   };
   IntegratorRestart restart;
   restart.densities = from;

@@ -438,12 +438,7 @@ LimitCycle find_limit_cycle(const AggregationModel& model, std::span<const doubl
   return cycle;
 }
 
-std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing, double rtol,
-                                               std::span<const double> from, long max_steps, const RunTolerance& tolerance) {
-  if (!(t_end > 0.0) || !std::isfinite(t_end)) throw InputError("t_end", format_value(t_end), "a finite time > 0");
-  if (!(spacing > 0.0 && spacing < t_end)) throw InputError("spacing", format_value(spacing), "a spacing in (0, t_end)");
-  std::vector<double> times;
-  for (double t = spacing; t <= t_end * (1 + 1e-12); t += spacing) times.push_back(t);
+IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolerance& tolerance) {
   IntegratorOptions options;
   options.rtol = rtol;
   if (max_steps < 0) throw InputError("max_steps", std::to_string(max_steps), "a step count >= 1, or 0 for the default");
@@ -451,6 +446,16 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
   options.atol = tolerance.atol;  // their ranges are checked by integrate (IntegratorOptions::validate)
   options.atol_floor = tolerance.atol_floor;
   options.atol_mass = tolerance.atol_mass;
+  return options;
+}
+
+std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing, double rtol,
+                                               std::span<const double> from, long max_steps, const RunTolerance& tolerance) {
+  if (!(t_end > 0.0) || !std::isfinite(t_end)) throw InputError("t_end", format_value(t_end), "a finite time > 0");
+  if (!(spacing > 0.0 && spacing < t_end)) throw InputError("spacing", format_value(spacing), "a spacing in (0, t_end)");
+  std::vector<double> times;
+  for (double t = spacing; t <= t_end * (1 + 1e-12); t += spacing) times.push_back(t);
+  IntegratorOptions options = cycle_run_options(rtol, max_steps, tolerance);
   // M0 over the second half, and only the latest states: a run of 12/Re μ at 50 outputs per period can have
   // 10^5 outputs of several hundred classes, and the start is the state at the last crossing, within the
   // last period of an oscillating run.

@@ -37,6 +37,8 @@
 
 namespace aggkit {
 
+struct IntegratorOptions;  // solvers/cvode_integrator.hpp
+
 struct LimitCycleOptions {
   double rtol = 1e-10;               // CVODE's relative tolerance of every period map
   double tolerance = 1e-5;           // Newton stops at max_k |F_k| ≤ tolerance (the scaled residual above)
@@ -94,6 +96,9 @@ struct CycleStart {
 struct RunTolerance {
   double atol = 0.0, atol_floor = 0.0, atol_mass = 0.0;
 };
+// The integrator's options of a run at `rtol` with these tolerances and at most `max_steps` CVODE steps (0: the
+// integrator's default). Throws InputError for max_steps < 0 (the tolerances' ranges are checked by integrate).
+IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolerance& tolerance);
 // `max_steps` bounds the run's CVODE steps (0: the integrator's default); a run that needs more throws
 // StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached.
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing,

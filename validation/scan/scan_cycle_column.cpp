@@ -13,6 +13,7 @@
 #include "analysis/oscillation.hpp"
 #include "analysis/text.hpp"
 #include "solvers/cvode_integrator.hpp"
+#include "solvers/cycle_extrapolation.hpp"
 #include "solvers/discretisation.hpp"
 #include "solvers/hopf_normal_form.hpp"
 #include "solvers/limit_cycle.hpp"
@@ -27,6 +28,13 @@ namespace aggkit {
 namespace {
 
 constexpr double start_fraction = 0.95;  // the first cycle, on the normal form's, at 0.95 λ_crit (as the criticality)
+// Where the normal form's cycle attracts so weakly that relaxing to it takes more than this many periods, the first
+// step starts from the point that reduced rank extrapolation of its returns reaches (solvers/cycle_extrapolation.hpp)
+// where its last jump was at most `extrapolation_taken` (relative): a = 0.6 at 0.95 λ_crit needs ~1000 periods of
+// ~5400 CVODE steps, the extrapolation ~20 returns (brownian a = 0.95 at 0.99 λ_crit, graded K = 32: 20 returns
+// against 409 periods, tests/solvers/test_cycle_extrapolation.cpp).
+constexpr double extrapolate_beyond = 32.0;
+constexpr double extrapolation_taken = 1e-3;
 constexpr double branch_anchor = 0.1;    // as the scan points' steady branches (scan_point.cpp)
 constexpr double search_rtol = 1e-6;     // as the points' cycle searches (scan_point.cpp)
 // The absolute tolerances of a column's runs, relative to the unit monodisperse start: atol_k = atol / k^3
@@ -388,12 +396,39 @@ class Column {
                  " + " + shortest_text(form.mu.imag()) + "i)";
         return c;
       }
-      return run(model, form.cycle_point(s.steady.n), period, std::log(1e3) / (2.0 * form.mu.real()) + 16.0 * period,
-                 c, state, 0);
+      std::vector<double> from = form.cycle_point(s.steady.n);
+      double relaxation = std::log(1e3) / (2.0 * form.mu.real()), cycle_period = period;
+      if (relaxation > extrapolate_beyond * period) {
+        double level = 0.0;  // the section through the steady state, which the normal form's cycle circles
+        for (double v : s.steady.n) level += v;
+        try {
+          const CycleExtrapolation e = extrapolate_cycle(model, from, level, period, extrapolation_options());
+          c.note = "started by extrapolating the return map: " + e.note;
+          if (e.jump <= extrapolation_taken) {
+            from = e.state;
+            cycle_period = e.period;
+            relaxation = 0.0;
+          }
+        } catch (const std::exception& e) {  // the relaxation from the normal form's point instead
+          c.note = std::string("the return map's extrapolation failed: ") + e.what();
+        }
+      }
+      return run(model, from, cycle_period, relaxation + 16.0 * cycle_period, c, state, 0);
     } catch (const std::exception& e) {
       c.note = std::string("no start on the normal form's cycle: ") + e.what();
       return c;
     }
+  }
+
+  // The returns' extrapolation at the first level's tolerances, each round within the column's step budget.
+  CycleExtrapolationOptions extrapolation_options() const {
+    CycleExtrapolationOptions o;
+    o.rtol = search_rtol;
+    o.run = column_tolerances.front().run();
+    o.max_steps = long(plan_.column_step_budget());
+    o.tolerance = 1e-5;
+    o.max_rounds = 8;
+    return o;
   }
 
   // From the state the cycle above ended in, `periods` predicted periods: T extrapolated in ln T against ln λ from
