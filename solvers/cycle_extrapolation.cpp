@@ -155,6 +155,10 @@ CycleExtrapolation extrapolate_cycle(const AggregationModel& model, std::span<co
       x = last;
       result.converged = motion <= options.tolerance;
     }
+    if (options.on_round) {
+      result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      options.on_round(result);
+    }
   }
   if (result.note.empty())
     result.note = std::string(result.converged ? "converged" : "not converged") + " after " + std::to_string(result.rounds) +

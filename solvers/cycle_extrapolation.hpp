@@ -23,6 +23,7 @@
 // few periods, or for shooting.
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <span>
 #include <string>
@@ -33,6 +34,8 @@
 
 namespace aggkit {
 
+struct CycleExtrapolation;
+
 struct CycleExtrapolationOptions {
   int modes = 3;               // k: the slow multipliers removed a round (k + 2 returns a round), in [1, 8]
   int max_rounds = 6;          // in [1, 50]
@@ -41,6 +44,8 @@ struct CycleExtrapolationOptions {
   double rtol = 1e-6;          // CVODE's relative tolerance
   RunTolerance run;            // and its absolute tolerances
   long max_steps = 0;          // CVODE steps a round at most (0: the integrator's default)
+  // Called after each round with the result so far (progress; may be empty).
+  std::function<void(const CycleExtrapolation&)> on_round;
   void validate() const;       // throws InputError naming the option
 };
 

@@ -73,25 +73,17 @@ std::vector<double> period_deviations(const AggregationModel& model, const std::
   return deviations;
 }
 
-// The estimate from the deviations d_j (relative changes of the period from one return to the next): d_0, over
-// the first return, still carries the fast multipliers' share of the perturbation and is left out; over the
-// deviations from d_1 on that exceed `resolved`, the last four are fitted by least squares (GSL) to
-// ln d_j = α + j ln|μ_1|, the slope's standard error giving the estimate's; where fewer than two exceed it, the
-// one that does and the floor bound |μ_1| instead.
-void estimate_from(const std::vector<double>& d, double resolved, ReturnMapMultiplier& result) {
+}  // namespace
+
+void estimate_multiplier(const std::vector<double>& d, double resolved, ReturnMapMultiplier& result) {
   constexpr std::size_t fitted = 4;
+  result.multiplier = result.multiplier_error = ReturnMapMultiplier::nan;
+  result.bounded = false;
   std::size_t count = 0;  // d_1 .. d_count above the floor
   while (count + 1 < d.size() && d[count + 1] > resolved) ++count;
   const bool fell = count + 1 < d.size();  // d_{count+1} was run and lies within the floor
-  if (count < 2 && !fell) {
-    result.note = "too few returns: " + std::to_string(d.size()) + " deviations, none yet within the floor";
-  } else if (count < 2) {
-    const double from = d[count];
-    result.multiplier = resolved / from;
-    result.bounded = true;
-    result.note = "bounded: the deviation fell from " + format_value(from) + " to within the floor " + format_value(resolved) +
-                  " in one return";
-  } else {
+  std::string fit_note;
+  if (count >= 2) {
     // The last `fitted` of them: the earlier returns still carry the next multipliers' shares, which can cancel
     // the first's (a = 0.95, λ = 0.01, graded K = 32: d_1 = 1.1e-5, then 2.2e-5, 1.1e-5, 7.7e-6, 4.8e-6, ...).
     const std::size_t first = count > fitted ? count - fitted + 1 : 1, points = count - first + 1;
@@ -102,13 +94,31 @@ void estimate_from(const std::vector<double>& d, double resolved, ReturnMapMulti
     }
     double c0 = 0, c1 = 0, cov00 = 0, cov01 = 0, cov11 = 0, sumsq = 0;
     gsl_fit_linear(j.data(), 1, ln.data(), 1, points, &c0, &c1, &cov00, &cov01, &cov11, &sumsq);
-    result.multiplier = std::exp(c1);
-    if (points > 2) result.multiplier_error = result.multiplier * std::sqrt(cov11);  // from the scatter about the line
-    result.note = "from the decay over returns " + std::to_string(first) + " to " + std::to_string(count) + " (of those above the floor " + format_value(resolved) + ")";
+    const std::string returns = "returns " + std::to_string(first) + " to " + std::to_string(count) + " (of those above the floor " + format_value(resolved) + ")";
+    if (std::exp(c1) < 1.0 || !fell) {
+      result.multiplier = std::exp(c1);
+      if (points > 2) result.multiplier_error = result.multiplier * std::sqrt(cov11);  // from the scatter about the line
+      result.note = "from the decay over " + returns;
+      return;
+    }
+    // Deviations that rise on the way to the floor are its noise (a = 0.7, λ = 3.16e-9: 3.2e-7 then 7.6e-7 against a
+    // floor of 3e-7, then 8.9e-8): the bound below instead.
+    fit_note = " (the fit over " + returns + " rose: " + format_value(std::exp(c1)) + ")";
+  }
+  const double from = d.empty() ? 0.0 : d[count];
+  if (fell && from > resolved) {
+    result.multiplier = resolved / from;
+    result.bounded = true;
+    result.note = "bounded: the deviation fell from " + format_value(from) + " to within the floor " + format_value(resolved) +
+                  " in one return" + fit_note;
+  } else if (fell) {
+    // Even the first return lies within the floor (a = 0.75, λ = 1e-3: 6.5e-4 against the step's own spread 7.8e-4).
+    result.note = "no estimate: the perturbation moved the period by " + format_value(from) + ", within the floor " +
+                  format_value(resolved);
+  } else {
+    result.note = "too few returns: " + std::to_string(d.size()) + " deviations, none yet within the floor";
   }
 }
-
-}  // namespace
 
 ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::span<const double> on_cycle,
                                           const CycleReference& reference, const ReturnMapOptions& options) {
@@ -127,7 +137,7 @@ ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::sp
   const double resolved = options.resolved_factor * result.floor;
   const std::vector<double> sizes = make_discretisation(model)->sizes();
   result.deviations = period_deviations(model, perturbed(on_cycle, sizes, options.perturbation), reference, options, resolved);
-  estimate_from(result.deviations, resolved, result);
+  estimate_multiplier(result.deviations, resolved, result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }

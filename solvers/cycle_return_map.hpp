@@ -67,6 +67,16 @@ struct ReturnMapMultiplier {
   bool found() const { return std::isfinite(multiplier); }
 };
 
+// The estimate from the deviations d_j (relative changes of the period from one return to the next), as
+// return_map_multiplier makes it with `resolved` = resolved_factor · floor: d_0, over the first return, still carries
+// the fast multipliers' share of the perturbation and is left out of the fit; over the deviations from d_1 on that
+// exceed `resolved`, the last four are fitted by least squares (GSL) to ln d_j = α + j ln|μ_1|, the slope's standard
+// error giving the estimate's. Where fewer than two exceed it, or where their fit rises although the next return fell
+// within the floor (noise next to the floor), the last deviation d above the floor bounds it instead, |μ_1| ≤
+// resolved / d < 1; where even d_0 lies within the floor there is no estimate. Sets multiplier, multiplier_error,
+// bounded and note.
+void estimate_multiplier(const std::vector<double>& deviations, double resolved, ReturnMapMultiplier& result);
+
 // Throws InputError for bad options, a reference that is not a cycle (period ≤ 0, m0_max ≤ m0_min) or a state of
 // the wrong length; integration failures propagate (StepLimitReached where max_steps runs out).
 ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::span<const double> on_cycle,

@@ -74,3 +74,28 @@ TEST_CASE("return map: bad options and references are refused with the key", "[c
   CHECK_THROWS_WITH(return_map_multiplier(model, state, CycleReference{33.7, 0.08, 0.23, -1.0}), Catch::Contains("spread"));
   CHECK_THROWS_WITH(return_map_multiplier(model, std::vector<double>(3, 1.0), reference), Catch::Contains("on_cycle"));
 }
+
+TEST_CASE("return map: the estimate from the deviations, and where the noise next to the floor allows only a bound", "[cycle]") {
+  ReturnMapMultiplier m;
+  // Geometric from d_1 on: the last four above the floor give the ratio exactly.
+  estimate_multiplier({1e-3, 1e-4, 5e-5, 2.5e-5, 1.25e-5, 6.25e-6, 1e-8}, 3e-7, m);
+  CHECK_FALSE(m.bounded);
+  CHECK(std::abs(m.multiplier - 0.5) < 1e-12);
+  CHECK(m.multiplier_error < 1e-10);
+  // Measured at a = 0.7, λ = 3.16e-9 (floor 1e-7, resolved 3e-7): d_1 and d_2 lie just above the floor and rise,
+  // then d_3 falls within it. Their fit read 2.38, a cycle that repels, of a cycle that settled: the last
+  // deviation above the floor bounds it instead.
+  estimate_multiplier({1.12169e-4, 3.21533e-7, 7.64984e-7, 8.90636e-8}, 3e-7, m);
+  INFO(m.note);
+  CHECK(m.bounded);
+  CHECK(std::abs(m.multiplier - 3e-7 / 7.64984e-7) < 1e-12);
+  // Measured at a = 0.75, λ = 1e-3, whose step's periods spread by 7.8e-4: the perturbation moved the period by
+  // less than the floor, so no estimate (the bound 3.6 was read before).
+  estimate_multiplier({6.45516e-4, 1.51163e-5}, 3.0 * 7.817889927557108e-4, m);
+  INFO(m.note);
+  CHECK_FALSE(m.found());
+  CHECK_FALSE(m.bounded);
+  // Too few returns run to tell.
+  estimate_multiplier({1e-3, 1e-4}, 3e-7, m);
+  CHECK_FALSE(m.found());
+}

@@ -254,6 +254,9 @@ void parse_floquet(const std::string& text, ColumnCycle& c) {
   }
   m.seconds = *seconds;
   m.note = (*f)[8];
+  // The estimate is derived again from the recorded deviations (measure_floquet's resolved_factor): the cache keeps
+  // the measurement, so a file written before a change of the estimate's rules reads as the rules now say.
+  if (!m.deviations.empty()) estimate_multiplier(m.deviations, ReturnMapOptions{}.resolved_factor * m.floor, m);
   c.floquet = std::move(m);
   c.floquet_done = true;
 }
@@ -320,6 +323,8 @@ class Column {
 
  private:
   void walk_on(std::ostream* progress, int rank) {
+    progress_ = progress;
+    rank_ = rank;
     std::vector<ColumnCycle> done = cached();
     std::vector<double> state;
     while (done.size() < nodes_.size() && (done.empty() || done.back().sustained())) {
@@ -428,6 +433,12 @@ class Column {
     o.max_steps = long(plan_.column_step_budget());
     o.tolerance = 1e-5;
     o.max_rounds = 8;
+    o.on_round = [this](const CycleExtrapolation& e) {
+      if (progress_)
+        *progress_ << "aggkit scan: [rank " << rank_ << "] cycle column a = " << shortest_text(a_) << ": extrapolating the return map, round "
+                   << e.rounds << ": jump " << short_number(e.jump) << ", period " << short_number(e.period) << " (" << e.returns
+                   << " returns, " << short_number(e.seconds) << " s)\n" << std::flush;
+    };
     return o;
   }
 
@@ -598,6 +609,8 @@ class Column {
   // later, then 1.0003) and the column stopped there.
   double shell_mass_ = 0;
   std::vector<double> nodes_;  // the first cycle's λ, then the plan's λ below it, descending
+  std::ostream* progress_ = nullptr;  // the walk's progress lines (walk_on)
+  int rank_ = 0;
 };
 
 }  // namespace

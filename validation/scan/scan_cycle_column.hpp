@@ -69,7 +69,7 @@ struct ColumnCycle {
   std::size_t step_budget = 0;                // the most CVODE steps a run of it could take (0: not recorded)
   double mass_change = nan;                   // the mass Σ x_i N_i the run ended on, relative to the model's initial mass, - 1
                                               // (< 0: drop truncation's loss)
-  std::string note;                           // why the walk stopped here ("" where it did not)
+  std::string note;                           // why the walk stopped here, or how a first step started ("" else)
   // The largest nontrivial Floquet multiplier of a settled step on the scan's grid, from the return map
   // (solvers/cycle_return_map.hpp) run from the state the step ended in at its own tolerances: `floquet.found()`
   // where measured (an upper bound where `floquet.bounded`); its note says why not otherwise.
