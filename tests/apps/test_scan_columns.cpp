@@ -194,7 +194,12 @@ TEST_CASE("scan cli: the columns are walked first, and a point its column reache
     CHECK(row.at("verdict") == "sustained");
     CHECK_THAT(row.at("note"), Contains("no cycle search of its own: the cycle continued down the column reached this point (period "));
     CHECK(row.at("cycle_period") == "nan");  // nothing shot
+    // The column's settled cycle at this λ gives the point its largest Floquet multiplier, also where the point's
+    // own confirmation run (0.001) decided it sustained.
+    CHECK(row.at("cycle_stable") == "yes");
+    CHECK(std::stod(row.at("floquet_max")) < 1.0);
   }
+  CHECK_THAT(scan_row(csv, 0.9, 0.001).at("note"), Contains("the column's cycle: largest nontrivial Floquet multiplier from the return map"));
   for (const auto& [lambda, name] : {std::pair{0.000316227766, "0.000316227766"}, std::pair{0.0001, "1e-04"}}) {
     const auto row = scan_row(csv, 0.9, lambda);
     const auto step = aggkit::testing::read_csv(folder / "out" / "points" /

@@ -640,8 +640,29 @@ CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::p
   return result;
 }
 
+// The column step's multiplier into r (floquet_max, cycle_stable), and the words the note gives it ("" where the
+// step has none: not measured).
+static std::string adopt_column_floquet(const ColumnCycle& c, ScanRecord& r) {
+  if (c.floquet_done && c.floquet.found()) {
+    r.floquet_max = c.floquet.multiplier;
+    r.cycle_stable = c.floquet.multiplier < 1.0 ? "yes" : "no";
+    return "largest nontrivial Floquet multiplier from the return map " +
+           (c.floquet.bounded ? "<= " + short_number(c.floquet.multiplier) + " (an upper bound: "
+                              : short_number(c.floquet.multiplier) +
+                                    (std::isnan(c.floquet.multiplier_error) ? std::string() : " +- " + short_number(c.floquet.multiplier_error)) + " (") +
+           c.floquet.note + ")";
+  }
+  return c.floquet_done ? "no Floquet multiplier: " + c.floquet.note : std::string();
+}
+
 void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::vector<ScanRecord>& records) {
   for (ScanRecord& r : records) {
+    // A point whose own run confirmed the cycle that the column reached (it sought none of its own): the column's
+    // multiplier is that cycle's.
+    if (r.verdict == "sustained" && std::isnan(r.floquet_max))
+      if (const auto c = columns.find({r.a, r.lambda}); c != columns.end() && c->second.sustained())
+        if (const std::string floquet = adopt_column_floquet(c->second, r); !floquet.empty())
+          r.note += (r.note.empty() ? "" : "; ") + ("the column's cycle: " + floquet);
     if (r.verdict != "unstable") continue;
     if (const auto c = columns.find({r.a, r.lambda}); c != columns.end() && adopt_column_cycle(c->second, periods, r))
       continue;
@@ -666,18 +687,8 @@ bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r
                 " of their mean " + short_number(c.run.period) + " without settling (modulation contracting by " + short_number(c.contraction) +
                 " a period: quasi-periodic or period-k, or a cycle attracting with |mu| >= 0.9)"
           : "";
-  std::string floquet;
-  if (c.floquet_done && c.floquet.found()) {
-    r.floquet_max = c.floquet.multiplier;
-    r.cycle_stable = c.floquet.multiplier < 1.0 ? "yes" : "no";
-    floquet = "; largest nontrivial Floquet multiplier from the return map " +
-              (c.floquet.bounded ? "<= " + short_number(c.floquet.multiplier) + " (an upper bound: "
-                                 : short_number(c.floquet.multiplier) +
-                                       (std::isnan(c.floquet.multiplier_error) ? std::string() : " +- " + short_number(c.floquet.multiplier_error)) + " (") +
-              c.floquet.note + ")";
-  } else if (c.floquet_done) {
-    floquet = "; no Floquet multiplier: " + c.floquet.note;
-  }
+  std::string floquet = adopt_column_floquet(c, r);
+  if (!floquet.empty()) floquet = "; " + floquet;
   r.note = "sustained on the " + std::string(c.run.converged ? "cycle" : "oscillation") + " continued down the column: the run is " +
            std::to_string(periods) + " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) +
            " (its second half classified; M0 " + shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; atol_k = " +
