@@ -655,6 +655,21 @@ static std::string adopt_column_floquet(const ColumnCycle& c, ScanRecord& r) {
   return c.floquet_done ? "no Floquet multiplier: " + c.floquet.note : std::string();
 }
 
+// A stable steady state (r's verdict damped or steady) beside the column's settled cycle at the same λ.
+static void adopt_bistable(const ColumnCycle& c, ScanRecord& r) {
+  if (!c.sustained() || !c.run.converged) return;
+  const std::string stable = r.verdict == "damped" ? "a stable focus" : "a stable node";
+  r.verdict = "bistable";
+  r.cycle_period = c.run.period;
+  r.cycle_m0_min = c.m0_min;
+  r.cycle_m0_max = c.m0_max;
+  const std::string floquet = adopt_column_floquet(c, r);
+  r.note = "bistable: the steady state is " + stable + " (Re mu = " + short_number(r.rightmost_real) +
+           ") and the cycle continued down the column from lambda = " + shortest_text(c.from_lambda) + " attracts here too (settled: period " +
+           short_number(c.run.period) + ", M0 " + short_number(c.m0_min) + " .. " + short_number(c.m0_max) + (floquet.empty() ? "" : "; " + floquet) +
+           ")" + (r.note.empty() ? "" : "; " + r.note);
+}
+
 void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::vector<ScanRecord>& records) {
   for (ScanRecord& r : records) {
     // A point whose own run confirmed the cycle that the column reached (it sought none of its own): the column's
@@ -663,6 +678,8 @@ void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::
       if (const auto c = columns.find({r.a, r.lambda}); c != columns.end() && c->second.sustained())
         if (const std::string floquet = adopt_column_floquet(c->second, r); !floquet.empty())
           r.note += (r.note.empty() ? "" : "; ") + ("the column's cycle: " + floquet);
+    if (r.verdict == "damped" || r.verdict == "steady")
+      if (const auto c = columns.find({r.a, r.lambda}); c != columns.end()) adopt_bistable(c->second, r);
     if (r.verdict != "unstable") continue;
     if (const auto c = columns.find({r.a, r.lambda}); c != columns.end() && adopt_column_cycle(c->second, periods, r))
       continue;

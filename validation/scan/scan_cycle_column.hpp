@@ -95,7 +95,12 @@ CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::p
 bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r);
 
 // adopt_column_cycle for every record from its column; an "unstable" point at or below the λ where its column
-// stopped gets the column's reason in its note.
+// stopped gets the column's reason in its note. A point whose steady state is stable (damped or steady) where its
+// column's cycle settled at the same λ is bistable: two attractors, the steady state by its spectrum and the cycle
+// by its settled run (brownian a = 0.6 between the Hopf points 4.88e-9 and 9.80e-10 below λ_crit = 5.72e-8, a
+// stable focus beside a relaxation cycle of period 8.2e7 at λ = 3.16e-9); the cycle's period and M0 range go to
+// cycle_period, cycle_m0_min and cycle_m0_max, its multiplier to floquet_max. A sustained point whose own run
+// confirmed the column's cycle takes the column's multiplier.
 void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::vector<ScanRecord>& records);
 
 }  // namespace aggkit

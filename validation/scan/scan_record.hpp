@@ -40,8 +40,10 @@ struct ScanRecord {
   // The verdict from the evidence of the steady state and its spectrum, with the time series (regime) as the
   // confirmation: damped (stable focus), steady (stable node), sustained (unstable steady state and a
   // sustained time series), unstable (unstable steady state; the run did not show the cycle: no periodic
-  // orbit computed), no-positive-steady-state (the continuation's roots went negative above this λ: see
-  // steady_how), unresolved (no steady state reached, or no converged spectrum).
+  // orbit computed), bistable (a stable steady state, and the cycle continued down its column attracts at the same
+  // λ: cycle_period, cycle_m0_min and cycle_m0_max are that cycle's), no-positive-steady-state (the
+  // continuation's roots went negative above this λ: see steady_how), unresolved (no steady state reached, or no
+  // converged spectrum).
   std::string verdict;
   // The attracting cycle around an unstable steady state, computed by shooting (solvers/limit_cycle.hpp; NaN and
   // "" where none was computed or found): its period, M0's range over it, the largest nontrivial Floquet
