@@ -66,7 +66,7 @@ TEST_CASE("scan columns: a stable focus beside the column's settled cycle is bis
   CHECK(std::isnan(records.back().cycle_period));
 }
 
-TEST_CASE("scan columns: an unsettled column step makes no point bistable; a sustained point takes the multiplier") {
+TEST_CASE("scan columns: an unsettled column step makes no point bistable, and a sustained point takes the multiplier") {
   const double a = 0.6, lambda = 3.16227766017e-9;
   CycleColumns columns;
   ColumnCycle unsettled = settled_step(a, lambda);
