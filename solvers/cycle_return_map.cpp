@@ -25,24 +25,6 @@ void ReturnMapOptions::validate() const {
 
 namespace {
 
-// The perturbed state: δ_k = ε n_k ξ_k (ξ_k uniform in [-1, 1], fixed seed), less c x_k n_k so that the mass
-// Σ x_k δ_k is 0 (the mass direction's multiplier is the trivial 1 of a conserved quantity).
-std::vector<double> perturbed(std::span<const double> on_cycle, const std::vector<double>& sizes, double epsilon) {
-  std::mt19937_64 random(20240531);
-  std::uniform_real_distribution<double> xi(-1.0, 1.0);
-  std::vector<double> delta(on_cycle.size());
-  double mass = 0.0, weight = 0.0;
-  for (std::size_t k = 0; k < delta.size(); ++k) {
-    delta[k] = epsilon * on_cycle[k] * xi(random);
-    mass += sizes[k] * delta[k];
-    weight += sizes[k] * sizes[k] * on_cycle[k];
-  }
-  std::vector<double> moved(on_cycle.begin(), on_cycle.end());
-  for (std::size_t k = 0; k < delta.size(); ++k)
-    moved[k] = std::max(0.0, moved[k] + delta[k] - (weight > 0.0 ? mass / weight : 0.0) * sizes[k] * on_cycle[k]);
-  return moved;
-}
-
 struct EnoughReturns {};  // thrown from the step callback once the deviations have reached the floor
 
 // The returns' relative period deviations, run from `from` until one lies within the resolved floor (after the
@@ -74,6 +56,22 @@ std::vector<double> period_deviations(const AggregationModel& model, const std::
 }
 
 }  // namespace
+
+std::vector<double> mass_keeping_perturbation(std::span<const double> on_cycle, std::span<const double> sizes, double epsilon) {
+  std::mt19937_64 random(20240531);
+  std::uniform_real_distribution<double> xi(-1.0, 1.0);
+  std::vector<double> delta(on_cycle.size());
+  double mass = 0.0, weight = 0.0;
+  for (std::size_t k = 0; k < delta.size(); ++k) {
+    delta[k] = epsilon * on_cycle[k] * xi(random);
+    mass += sizes[k] * delta[k];
+    weight += sizes[k] * sizes[k] * on_cycle[k];
+  }
+  std::vector<double> moved(on_cycle.begin(), on_cycle.end());
+  for (std::size_t k = 0; k < delta.size(); ++k)
+    moved[k] = std::max(0.0, moved[k] + delta[k] - (weight > 0.0 ? mass / weight : 0.0) * sizes[k] * on_cycle[k]);
+  return moved;
+}
 
 void estimate_multiplier(const std::vector<double>& d, double resolved, ReturnMapMultiplier& result) {
   constexpr std::size_t fitted = 4;
@@ -136,7 +134,7 @@ ReturnMapMultiplier return_map_multiplier(const AggregationModel& model, std::sp
   result.floor = std::max(options.floor, reference.spread);
   const double resolved = options.resolved_factor * result.floor;
   const std::vector<double> sizes = make_discretisation(model)->sizes();
-  result.deviations = period_deviations(model, perturbed(on_cycle, sizes, options.perturbation), reference, options, resolved);
+  result.deviations = period_deviations(model, mass_keeping_perturbation(on_cycle, sizes, options.perturbation), reference, options, resolved);
   estimate_multiplier(result.deviations, resolved, result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;

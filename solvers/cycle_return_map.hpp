@@ -67,6 +67,10 @@ struct ReturnMapMultiplier {
   bool found() const { return std::isfinite(multiplier); }
 };
 
+// The perturbed state: δ_k = ε n_k ξ_k (ξ_k uniform in [-1, 1], a fixed seed), less c x_k n_k so that the mass
+// Σ x_k δ_k is 0 (the mass direction's multiplier is the trivial 1 of a conserved quantity); never negative.
+std::vector<double> mass_keeping_perturbation(std::span<const double> on_cycle, std::span<const double> sizes, double epsilon);
+
 // The estimate from the deviations d_j (relative changes of the period from one return to the next), as
 // return_map_multiplier makes it with `resolved` = resolved_factor · floor: d_0, over the first return, still carries
 // the fast multipliers' share of the perturbation and is left out of the fit; over the deviations from d_1 on that
