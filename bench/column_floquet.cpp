@@ -20,14 +20,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: bench_column_floquet a lambda state_file period m0_min m0_max spread atol atol_floor atol_mass [max_steps]\n");
     return 2;
   }
-  SizeGrid grid;
-  grid.resolved = 64;
-  grid.ratio = 1.05;
-  AggregationModel model = bench::scan_model(grid, std::atof(argv[1]));
-  model.lambda = ShatteringRate::constant(std::atof(argv[2]));
-  std::vector<double> state;
-  std::ifstream in(argv[3]);
-  for (double v; in >> v;) state.push_back(v);
+  const auto [model, state] = bench::column_step(argv[1], argv[2], argv[3]);
   const CycleReference reference{std::atof(argv[4]), std::atof(argv[5]), std::atof(argv[6]), std::atof(argv[7])};
   ReturnMapOptions options;
   options.tolerance = {.atol = std::atof(argv[8]), .atol_floor = std::atof(argv[9]), .atol_mass = std::atof(argv[10])};

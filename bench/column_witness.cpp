@@ -58,14 +58,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: bench_column_witness a lambda state_file period m0_min m0_max atol atol_floor atol_mass epsilon returns\n");
     return 2;
   }
-  SizeGrid grid;
-  grid.resolved = 64;
-  grid.ratio = 1.05;
-  AggregationModel model = bench::scan_model(grid, std::atof(argv[1]));
-  model.lambda = ShatteringRate::constant(std::atof(argv[2]));
-  std::vector<double> state;
-  std::ifstream in(argv[3]);
-  for (double v; in >> v;) state.push_back(v);
+  const auto [model, state] = bench::column_step(argv[1], argv[2], argv[3]);
   const double period = std::atof(argv[4]), level = 0.5 * (std::atof(argv[5]) + std::atof(argv[6]));
   const RunTolerance tolerance{std::atof(argv[7]), std::atof(argv[8]), std::atof(argv[9])};
   const double epsilon = std::atof(argv[10]);

@@ -76,7 +76,11 @@ TEST_CASE("cycle extrapolation: next to the Hopf point RRE reaches the shot cycl
                     << cycle.period << " (extrapolated " << e.period << "), |mu_1| " << std::abs(cycle.floquet.front()));
   REQUIRE(cycle.converged);
   CHECK(cycle.newton_iterations == 0);
-  CHECK(std::abs(e.period / cycle.period - 1.0) < 1e-6);
+  // The period against a run of 10 periods from the point (crossings 1/400 of a period apart, interpolation
+  // error ~1e-6 of a period each: 1e-5).
+  const double series = aggkit::testing::time_series_period(model, e.period, 0.0, 10, e.state);
+  INFO("time series period " << series);
+  CHECK(std::abs(e.period / series - 1.0) < 1e-5);
   // The largest multiplier is the normal form's radial one (measured 0.98310 against 0.98325).
   CHECK(std::abs(std::abs(cycle.floquet.front()) - radial) < 1e-3);
 

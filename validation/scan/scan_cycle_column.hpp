@@ -94,6 +94,9 @@ CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::p
 // sustained, and a note saying where the run started. Other points are left as they are. Returns whether r changed.
 bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r);
 
+// A number in the columns' notes and progress lines: 6 significant digits.
+std::string short_number(double x);
+
 // adopt_column_cycle for every record from its column; an "unstable" point at or below the λ where its column
 // stopped gets the column's reason in its note. A point whose steady state is stable (damped or steady) where its
 // column's cycle settled at the same λ is bistable: two attractors, the steady state by its spectrum and the cycle
