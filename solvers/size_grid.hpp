@@ -28,9 +28,9 @@
 //
 // Densities. N_i counts the clusters of all the integer sizes whose shares go to x_i, so N_i / Δ_i is
 // the density per unit size only where the shares of the sizes around x_i add up to Δ_i; near a spacing
-// jump they do not (by ~10 % at the first jump 1 → 2). section_densities gives the density f at the
-// pivots whose integer sizes, with f interpolated log-linearly between pivots and shared by the scheme's
-// own shares, give back exactly the N_i — the density the numbers stand for.
+// jump they do not (by ~10 % at the first jump 1 → 2). section_densities gives the density f_i at each
+// pivot whose local exponential f_i e^{s_i (k - x_i)} over the pivot's stencil, shared by the scheme's own
+// shares, gives back exactly N_i — the density the number stands for.
 #include <cstddef>
 #include <span>
 #include <string>
@@ -94,11 +94,11 @@ struct PivotShare {
 };
 PivotShare pivot_share(std::span<const double> pivots, double v, GridScheme scheme, std::size_t resolved);
 
-// The density per unit size f_i at each pivot of a state of numbers N_i (see "Densities" above): the
-// solution of Σ_k S_i(k) f(k) = N_i over the integer sizes k, with f log-linear between pivots and S_i(k)
-// the share of size k given to pivot i, by fixed-point iteration from N_i / Δ_i; beside entries with
-// N_i ≤ 0 (the far tail's sign changes) f keeps N_i / Δ_i. On integer pivots (the
-// uniform grid) f = N. Sums over intervals longer than 64 sizes by 12-point Gauss–Legendre quadrature
+// The density per unit size f_i at each pivot of a state of numbers N_i (see "Densities" above):
+// f_i = N_i / Σ_k S_i(k) e^{s_i (k - x_i)} over the integer sizes k, S_i(k) the share of size k given to
+// pivot i and s_i the log-slope of f between pivot i's neighbours, by fixed-point iteration from
+// N_i / Δ_i (an exponential density is given back exactly); beside entries with N_i ≤ 0 (the far tail's
+// sign changes) f keeps N_i / Δ_i. On integer pivots (the uniform grid) f = N. Sums over intervals longer than 64 sizes by 12-point Gauss–Legendre quadrature
 // with the Euler–Maclaurin end terms (solvers/section_densities.cpp).
 std::vector<double> section_densities(std::span<const double> pivots, std::span<const double> numbers,
                                       GridScheme scheme, std::size_t resolved);

@@ -371,14 +371,16 @@ TEST_CASE("graded densities converge to the exact ones as r - 1 falls (constant 
   // n_k(t) = 4/(t+2)² (t/(t+2))^{k-1} for the constant kernel from a monodisperse unit start
   // [exact_density], against the densities the graded numbers stand for (section_densities), where
   // n_k ≥ 1e-6 of its largest (k ≲ 150). K = 8, N = 4096, CVODE at rtol 1e-10. Measured (four-moment):
-  // 1.47 % (r = 1.1), 1.34 % (1.05), 1.70 % (1.025), 0.19 % (1.0125: every pivot up to k ~ 120 is an
-  // integer): the error sits just below the spacing jumps h → h + 1 of the integer pivots (k = 137, jump
-  // at 140, for r = 1.025). Before, N_i / Δ_i of the three-moment scheme was off by 10.1 % (r = 1.05) and
-  // 10.4 % (1.025). Bounds: the measured errors × 1.3.
+  // 1.03 % (r = 1.1), 0.74 % (1.05), 0.85 % (1.025), 0.13 % (1.0125: every pivot up to k ~ 120 is an
+  // integer). What is left is the sectional dynamics' own ripple in the numbers just below the spacing jumps
+  // h → h + 1 of the integer pivots (|N_i / Σ_k S_i(k) n_k − 1| = 1.22, 0.73, 0.85, 0.16 %; k = 137, jump
+  // at 140, for r = 1.025), which each pivot's local reading keeps as it is. Fitting all numbers at once
+  // doubled it (1.47, 1.34, 1.70, 0.19 %); N_i / Δ_i of the three-moment scheme was off by 10.1 % (r = 1.05)
+  // and 10.4 % (1.025). Bounds: the measured errors × 1.3, and at r = 1.025 the target 1 %.
   struct Case {
     double r, bound;
   };
-  for (const Case c : {Case{1.1, 0.02}, Case{1.05, 0.0175}, Case{1.025, 0.0225}, Case{1.0125, 0.0025}}) {
+  for (const Case c : {Case{1.1, 0.0135}, Case{1.05, 0.01}, Case{1.025, 0.01}, Case{1.0125, 0.0017}}) {
     const AggregationModel model = model_of(Kernel::constant(), 0.0, 4096, Truncation::drop, graded(8, c.r));
     IntegratorOptions options;
     options.rtol = 1e-10;

@@ -31,8 +31,8 @@ class ObservedState {
 // A state given by its densities n_1..n_N, or on a graded grid by the numbers N_i at the pivots `sizes`
 // (views: both must outlive it) and the discretisation they are on. M_p = Σ x_i^p N_i; n_k is the density
 // per unit size f_i the numbers stand for at a pivot (Discretisation::densities, computed at the first
-// density() call) and log-linear between pivots (linear where an end is ≤ 0), the form those densities
-// assume; without a discretisation, N_i / Δ_i.
+// density() call) and log-linear between pivots (linear where an end is ≤ 0), the local exponential those
+// densities are read with; without a discretisation, N_i / Δ_i.
 class DensityState final : public ObservedState {
  public:
   DensityState(std::span<const double> n, double leaked_mass, std::span<const double> sizes = {},
