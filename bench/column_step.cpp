@@ -5,7 +5,8 @@
 //   bench_column_step a lambda state_file period periods method rtol atol_floor [max_steps]
 // state_file: DIR/points/cycle_column_a*_lambda*_N*_state.txt of the shipped scan (graded K = 64, r = 1.05,
 // N = 2^40); period: the predicted period; method: bdf-gmres, bdf-dense, ... ATOL= and ATOL_MASS= in the
-// environment set the integrator's atol and atol_mass; STEPS_OUT=file writes t, M0 and n_1 at every internal
+// environment set the integrator's atol and atol_mass, STALD=1 CVODE's stability limit detection (default off,
+// as in the scan's columns); STEPS_OUT=file writes t, M0 and n_1 at every internal
 // step. With TRACE=m, every m-th output prints t, M0, n_1, the
 // mass, the leaked mass, the most negative density (its class and pivot) and the largest, and the last class
 // that is not empty.
@@ -65,13 +66,16 @@ void report(const Tail& tail, double start_mass, double end_mass) {
   std::printf("\n  %s: period %.7g, spread %.3g\n", to_string(fv.settling).c_str(), fv.period, fv.spread);
 }
 
-// The integrator's options from the command line (method, rtol, floor, max_steps) and ATOL=, ATOL_MASS=.
+// The integrator's options from the command line (method, rtol, floor, max_steps) and ATOL=, ATOL_MASS=, STALD=
+// (CVODE's stability limit detection, 1 or 0; the scan's column runs have it off).
 IntegratorOptions options_from(int argc, char** argv) {
   IntegratorOptions options;
   options.method = integrator_method_from_name(argv[6]);
   options.rtol = std::atof(argv[7]);
   options.atol_floor = std::atof(argv[8]);
   options.max_steps = argc > 9 ? std::atol(argv[9]) : 40000;
+  options.stability_limit_detection = false;
+  if (const char* stald = std::getenv("STALD")) options.stability_limit_detection = std::atoi(stald) != 0;
   if (const char* atol = std::getenv("ATOL")) options.atol = std::atof(atol);
   if (const char* mass = std::getenv("ATOL_MASS")) options.atol_mass = std::atof(mass);
   return options;

@@ -102,6 +102,13 @@ struct IntegratorOptions {
   // project_onto_mass_shell), so it leaves the moments' errors proportional to rtol. Below atol 1e-10
   // projecting the steps made CVODE take 4-5x more steps, so only the outputs are projected there.
   bool project_mass = true;
+  // CVODE's BDF stability limit detection [Hindmarsh2005] (CVodeSetStabLimDet): at orders 3–5 BDF is not
+  // A-stable, and near a stable focus the step settles on the boundary of the order's stability region
+  // whatever the tolerance. Off, the ballistic kernel at λ = 0.1 (N = 5000, cutoff, rtol 1e-6) took a constant
+  // step 0.076 from its steady state on: 13 332 steps to t = 1000; on, 473. Its order changes depend on the
+  // step history, so runs from nearby starts can differ at the tolerance's level: the cycle computations
+  // (cycle_run_options: return maps, their extrapolation, shooting, the scan's columns) turn it off.
+  bool stability_limit_detection = true;
   long max_steps = 10'000'000;
   // Max relative entry error of the low-rank kernel form (kernels without an exact factorisation);
   // 0 chooses 10 rtol within [1e-12, 1e-5] (1e-12 about the attainable floor). The factorisation meets a

@@ -100,6 +100,8 @@ class CvodeStepper final : public TimeStepper {
     call(CVodeInit(mem_, rhs, t0, y_), "CVodeInit");
     call(CVodeSetUserData(mem_, &problem), "CVodeSetUserData");
     call(CVodeWFtolerances(mem_, error_weights), "CVodeWFtolerances");
+    if (options.method != IntegratorMethod::adams && options.stability_limit_detection)
+      call(CVodeSetStabLimDet(mem_, SUNTRUE), "CVodeSetStabLimDet");
     attach_solvers(context);
     // CVODE projects BDF steps only; Adams runs get their outputs projected.
     if (options.project_mass && options.method != IntegratorMethod::adams && options.effective_atol() >= 1e-10)

@@ -47,6 +47,7 @@ class Flow {
   Flow(const AggregationModel& model, double rtol)
       : model_(model), grid_(make_discretisation(model)), rates_(grid_->rates()) {
     options_.rtol = rtol;
+    options_.stability_limit_detection = false;  // a period map smooth to the tolerance (IntegratorOptions)
   }
   std::size_t size() const { return grid_->unknowns(); }
   const std::vector<double>& sizes() const { return grid_->sizes(); }
@@ -446,6 +447,7 @@ IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolera
   options.atol = tolerance.atol;  // their ranges are checked by integrate (IntegratorOptions::validate)
   options.atol_floor = tolerance.atol_floor;
   options.atol_mass = tolerance.atol_mass;
+  options.stability_limit_detection = false;  // a return map smooth to the tolerance (IntegratorOptions)
   return options;
 }
 
