@@ -30,7 +30,8 @@ class Fenwick {
     return position + 1;
   }
   // Rebuilds the tree from counts[1..n] (counts[0] unused) in O(n).
-  void assign(const std::vector<std::uint64_t>& counts) {
+  void assign(const std::vector<std::uint64_t>& counts) { assign(counts.data()); }
+  void assign(const std::uint64_t* counts) {  // counts[1..n] readable
     for (std::size_t i = 1; i < tree_.size(); ++i) tree_[i] = counts[i];
     for (std::size_t i = 1; i < tree_.size(); ++i) {
       const std::size_t parent = i + (i & (~i + 1));

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <map>
 
 #include "particle/dsmc/binned_population.hpp"
 #include "particle/dsmc/fenwick.hpp"
@@ -91,4 +92,41 @@ TEST_CASE("dsmc: the kernel table equals the kernel bit for bit, cutoff included
       }
     CHECK((zeros > 0) == cutoff);  // the cutoff (i + j > 50) is in the table
   }
+}
+
+TEST_CASE("dsmc: a bin picks its bucketed particles in increasing size by rank, through adds, removals and doubling") {
+  // Bucket limit 300: bins of 1 to 8 sizes (scanned), of 32 to 64 sizes (own trees) and [256, 383] cut at 300.
+  dsmc::BinnedPopulation population(300);
+  dsmc::Random random(5);
+  std::map<std::uint64_t, std::uint64_t> counts;
+  for (int i = 0; i < 3000; ++i) {
+    const std::uint64_t size = 1 + random.below(i % 3 == 0 ? 400 : 120), copies = 1 + random.below(3);
+    population.add(size, copies);
+    counts[size] += copies;
+  }
+  const auto check_ranks = [&] {
+    for (std::size_t b = 0; b < population.bins(); ++b) {
+      std::vector<std::uint64_t> expected;  // the bin's bucketed sizes in increasing order, then the others
+      for (const auto& [size, n] : counts)
+        if (dsmc::bin_of(size) == b && size <= 300) expected.insert(expected.end(), n, size);
+      REQUIRE(population.count(b) >= expected.size());
+      for (std::uint64_t r = 0; r < expected.size(); ++r) {
+        INFO("bin " << b << ", rank " << r);
+        REQUIRE(population.pick(b, r).size == expected[r]);
+        REQUIRE(population.pick(b, r).large_index == dsmc::BinnedPopulation::npos);
+      }
+    }
+  };
+  check_ranks();
+  for (int i = 0; i < 2000; ++i) {  // removals at random ranks
+    std::size_t b = 0;
+    do b = random.below(population.bins()); while (population.count(b) == 0);
+    const auto picked = population.pick(b, random.below(population.count(b)));
+    population.remove(picked);
+    if (--counts[picked.size] == 0) counts.erase(picked.size);
+  }
+  check_ranks();
+  population.duplicate();
+  for (auto& entry : counts) entry.second *= 2;
+  check_ranks();
 }
