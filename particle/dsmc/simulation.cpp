@@ -51,6 +51,8 @@ Simulation::Simulation(const AggregationModel& model, const Options& options, st
     density += model_.initial[k];
   }
   initial_particles_ = options_.particles;
+  lambda_is_constant_ = model_.lambda.is_constant();
+  constant_lambda_ = model_.lambda(0.0);
   control_mass_ = initial_mass_;
   volume_ = double(options_.particles) / density;
 }
@@ -96,7 +98,7 @@ void Simulation::advance_to(double t, const std::function<void(double time)>& ev
         freeze();
         break;
       }
-      next_lambda_ = model_.lambda(time_);
+      next_lambda_ = lambda_is_constant_ ? constant_lambda_ : model_.lambda(time_);
       next_trial_ = time_ + 2.0 * volume_ / ((1.0 + next_lambda_) * weight);
     }
     if (next_trial_ > t) break;

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "particle/dsmc/binned_population.hpp"
@@ -91,6 +92,19 @@ TEST_CASE("dsmc: the kernel table equals the kernel bit for bit, cutoff included
         zeros += table(i, j) == 0.0;
       }
     CHECK((zeros > 0) == cutoff);  // the cutoff (i + j > 50) is in the table
+  }
+  // The rows of small sizes against large ones, both argument orders, up to and beyond their length; a kernel
+  // that is not symmetric tells the orders apart.
+  const Kernel skew = Kernel::user("skew", [](double i, double j) { return std::sqrt(i) + 2.0 * std::cbrt(j); });
+  for (const Kernel& kernel : {Kernel::ballistic(), skew}) {
+    const dsmc::InteractionKernel direct(kernel, false, Truncation::cutoff, 50);
+    const dsmc::KernelTable table(direct);
+    for (std::uint64_t i = 1; i <= dsmc::KernelTable::row_sizes + 2; ++i)
+      for (std::uint64_t j = 1; j <= dsmc::KernelTable::row_length + 40; ++j) {
+        INFO(kernel.name() << ": K(" << i << ", " << j << ")");
+        REQUIRE(table(i, j) == direct(i, j));
+        REQUIRE(table(j, i) == direct(j, i));
+      }
   }
 }
 
