@@ -61,6 +61,9 @@ class Simulation {
   void restore(StateReader& in);
 
  private:
+  // The trials up to t (advance_to) with the stepper's own type, so a final stepper's calls are direct.
+  template <class StepperType>
+  void run_trials(StepperType& stepper, double t, const std::function<void(double time)>& every);
   bool no_pair_can_interact() const;  // exact check, for the cutoff watchdog
   void freeze();
 
