@@ -74,7 +74,9 @@ struct RecordedRun {
 // exactly these trajectories. The figures below were recorded with the engine before that work (its binned
 // majorant with one Fenwick tree over all bucketed sizes); every run hashes the size groups at t = 1, 10, 30.
 // Cases: the default buckets, few buckets (large particles stored one by one), a bucket limit inside a wide
-// bin with strong shattering, population halving, and the fast method.
+// bin with strong shattering, population halving, and the fast method. The engine is compiled without fused
+// multiply-adds (particle/dsmc/CMakeLists.txt) and the kernel with the C library's cbrt and sqrt, so the
+// figures hold for IEEE doubles on any target with the same C library.
 TEST_CASE("dsmc: runs reproduce the recorded trajectories of the validated engine bit for bit") {
   const std::vector<RecordedRun> recorded{
       {1024, false, 0.01, dsmc::Method::acceptance_rejection, 319547, 299536, 2938, 5, 0, 0x5ebbb94ece81ba94ULL},
