@@ -76,14 +76,15 @@ int main(int argc, char** argv) {
     std::printf(" %.2g, %.2g, %.2g %% |", 100 * std::sqrt(squares[i][0] / runs), 100 * std::sqrt(squares[i][1] / runs),
                 100 * std::sqrt(squares[i][2] / runs));
   std::printf(" %.2f s | %.3g |\n", wall_total / runs, events_total / wall_total);
-  std::printf("cpu time per run %.2f s (wall %.2f s), accepted events per cpu second %.3g\n", cpu_total / runs,
-              wall_total / runs, events_total / cpu_total);
+  std::printf("cpu time per run %.2f s (wall %.2f s), accepted events per cpu second %.3g (%.1f ns per event)\n",
+              cpu_total / runs, wall_total / runs, events_total / cpu_total, 1e9 * cpu_total / events_total);
   const aggkit::bench::Figures figures("dsmc_ballistic", argc, argv);
   const std::string case_name = "particles=" + std::to_string(particles) + " method=" + dsmc::to_string(options.method) +
                                 (options.population_halving ? " halving=1" : "");
   figures.add(case_name, "wall_seconds", wall_total / runs, "s");
   figures.add(case_name, "events_per_second", events_total / wall_total, "1/s");
   figures.add(case_name, "cpu_seconds", cpu_total / runs, "s");
+  figures.add(case_name, "cpu_ns_per_event", 1e9 * cpu_total / events_total, "ns");
   const char* moment_names[] = {"M0", "M2", "M3"};
   const char* time_names[] = {"t1", "t10", "t100"};
   for (std::size_t i = 0; i < 3; ++i)

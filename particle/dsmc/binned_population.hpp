@@ -1,12 +1,17 @@
 #pragma once
 // The particles of one realisation, grouped for O(1)-storage shattering and O(log B) uniform selection
-// within a size bin (size_bins.hpp): sizes <= B are counts per size (buckets) indexed by a Fenwick tree,
-// larger particles are stored one by one in the list of their bin. Shattering into m monomers is one
-// bucket update, whatever m is.
+// within a size bin (size_bins.hpp): sizes <= B are counts per size (buckets), larger particles are stored
+// one by one in the list of their bin. Shattering into m monomers is one bucket update, whatever m is.
+// A bin of more than 16 bucketed sizes (sizes >= 64) has its own Fenwick tree over its sizes [Fenwick1994],
+// so selecting in it is one descent of log2(width) steps; the narrower bins (sizes < 64, where nearly every
+// event happens) keep only their bucket counts and are selected by a short scan, so most bucket updates
+// touch no tree at all. The particle of a given rank is the same as under one tree over all sizes
+// (the rank-th of the bin in increasing size), so the random stream of a run does not depend on this layout.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "particle/common/checkpoint.hpp"
@@ -50,10 +55,12 @@ class BinnedPopulation {
     std::uint64_t small = 0;  // of which bucketed (size <= B)
     std::vector<std::uint64_t> large;
   };
-  Bin& bin_for(std::uint64_t size);
+  // Bin `bin`'s tree, or nullptr for a bin selected by scanning its buckets (or holding no bucketed size).
+  Fenwick* tree_of(std::size_t bin) { return bin < trees_.size() && trees_[bin] ? &*trees_[bin] : nullptr; }
+  void rebuild_trees();  // every bin tree from bucket_
   std::uint64_t limit_;
   std::vector<std::uint64_t> bucket_;  // bucket_[s], s = 1..B
-  Fenwick fenwick_;
+  std::vector<std::optional<Fenwick>> trees_;  // per bin with bucketed sizes: its tree over [low, min(high, B)]
   std::vector<Bin> bins_;
   std::uint64_t particles_ = 0;
 };

@@ -11,7 +11,11 @@ namespace aggkit::dsmc {
 void BinnedPopulation::save(StateWriter& out) const {
   out.put(limit_);
   out.put(bucket_);
-  fenwick_.save(out);
+  // The checkpoint keeps the layout of one Fenwick tree over all bucketed sizes (built here from the
+  // buckets); restore() rebuilds the bin trees from the buckets.
+  Fenwick all(limit_);
+  all.assign(bucket_);
+  all.save(out);
   out.put(std::uint64_t(bins_.size()));
   for (const Bin& bin : bins_) {
     out.put(bin.count);
@@ -26,7 +30,9 @@ void BinnedPopulation::restore(StateReader& in) {
   const std::size_t buckets = bucket_.size();
   in.get(bucket_);
   if (bucket_.size() != buckets) throw CheckpointError("the checkpoint's DSMC buckets have another length");
-  fenwick_.restore(in);
+  Fenwick all(limit_);
+  all.restore(in);  // read past: the bin trees follow from the buckets
+  rebuild_trees();
   bins_.resize(in.length(3 * sizeof(std::uint64_t)));  // a bin: count, small, the length of large
   for (Bin& bin : bins_) {
     in.get(bin.count);

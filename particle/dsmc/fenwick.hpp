@@ -22,15 +22,19 @@ class Fenwick {
   // The smallest index whose prefix sum exceeds `rank` (rank < total).
   std::uint64_t select(std::uint64_t rank) const {
     std::uint64_t position = 0;
-    for (std::uint64_t step = top_; step > 0; step >>= 1)
-      if (position + step < tree_.size() && tree_[position + step] <= rank) {
-        position += step;
-        rank -= tree_[position];
-      }
+    for (std::uint64_t step = top_; step > 0; step >>= 1) {
+      const std::uint64_t next = position + step;
+      if (next >= tree_.size()) continue;  // only past the last power of two below n
+      // Without a branch on the count (a coin flip per level): take the step where its count <= rank.
+      const std::uint64_t count = tree_[next], take = ~std::uint64_t(0) * std::uint64_t(count <= rank);
+      position += step & take;
+      rank -= count & take;
+    }
     return position + 1;
   }
   // Rebuilds the tree from counts[1..n] (counts[0] unused) in O(n).
-  void assign(const std::vector<std::uint64_t>& counts) {
+  void assign(const std::vector<std::uint64_t>& counts) { assign(counts.data()); }
+  void assign(const std::uint64_t* counts) {  // counts[1..n] readable
     for (std::size_t i = 1; i < tree_.size(); ++i) tree_[i] = counts[i];
     for (std::size_t i = 1; i < tree_.size(); ++i) {
       const std::size_t parent = i + (i & (~i + 1));

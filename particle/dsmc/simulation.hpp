@@ -61,6 +61,9 @@ class Simulation {
   void restore(StateReader& in);
 
  private:
+  // The trials up to t (advance_to) with the stepper's own type, so a final stepper's calls are direct.
+  template <class StepperType>
+  void run_trials(StepperType& stepper, double t, const std::function<void(double time)>& every);
   bool no_pair_can_interact() const;  // exact check, for the cutoff watchdog
   void freeze();
 
@@ -72,6 +75,8 @@ class Simulation {
   double volume_ = 1.0;
   double next_trial_ = -1.0;   // time of the scheduled trial; < time_ when none is scheduled
   double next_lambda_ = 0.0;   // λ at scheduling
+  bool lambda_is_constant_ = false;  // then λ(t) = constant_lambda_, read once (one trial is ~100 ns)
+  double constant_lambda_ = 0.0;
   std::uint64_t initial_particles_ = 0;
   std::uint64_t initial_mass_ = 0;
   std::uint64_t control_mass_ = 0;

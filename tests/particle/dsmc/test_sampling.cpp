@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 
 #include "particle/dsmc/binned_population.hpp"
 #include "particle/dsmc/fenwick.hpp"
@@ -91,4 +93,54 @@ TEST_CASE("dsmc: the kernel table equals the kernel bit for bit, cutoff included
       }
     CHECK((zeros > 0) == cutoff);  // the cutoff (i + j > 50) is in the table
   }
+  // The rows of small sizes against large ones, both argument orders, up to and beyond their length; a kernel
+  // that is not symmetric tells the orders apart.
+  const Kernel skew = Kernel::user("skew", [](double i, double j) { return std::sqrt(i) + 2.0 * std::cbrt(j); });
+  for (const Kernel& kernel : {Kernel::ballistic(), skew}) {
+    const dsmc::InteractionKernel direct(kernel, false, Truncation::cutoff, 50);
+    const dsmc::KernelTable table(direct);
+    for (std::uint64_t i = 1; i <= dsmc::KernelTable::row_sizes + 2; ++i)
+      for (std::uint64_t j = 1; j <= dsmc::KernelTable::row_length + 40; ++j) {
+        INFO(kernel.name() << ": K(" << i << ", " << j << ")");
+        REQUIRE(table(i, j) == direct(i, j));
+        REQUIRE(table(j, i) == direct(j, i));
+      }
+  }
+}
+
+TEST_CASE("dsmc: a bin picks its bucketed particles in increasing size by rank, through adds, removals and doubling") {
+  // Bucket limit 300: bins of 1 to 8 sizes (scanned), of 32 to 64 sizes (own trees) and [256, 383] cut at 300.
+  dsmc::BinnedPopulation population(300);
+  dsmc::Random random(5);
+  std::map<std::uint64_t, std::uint64_t> counts;
+  for (int i = 0; i < 3000; ++i) {
+    const std::uint64_t size = 1 + random.below(i % 3 == 0 ? 400 : 120), copies = 1 + random.below(3);
+    population.add(size, copies);
+    counts[size] += copies;
+  }
+  const auto check_ranks = [&] {
+    for (std::size_t b = 0; b < population.bins(); ++b) {
+      std::vector<std::uint64_t> expected;  // the bin's bucketed sizes in increasing order, then the others
+      for (const auto& [size, n] : counts)
+        if (dsmc::bin_of(size) == b && size <= 300) expected.insert(expected.end(), n, size);
+      REQUIRE(population.count(b) >= expected.size());
+      for (std::uint64_t r = 0; r < expected.size(); ++r) {
+        INFO("bin " << b << ", rank " << r);
+        REQUIRE(population.pick(b, r).size == expected[r]);
+        REQUIRE(population.pick(b, r).large_index == dsmc::BinnedPopulation::npos);
+      }
+    }
+  };
+  check_ranks();
+  for (int i = 0; i < 2000; ++i) {  // removals at random ranks
+    std::size_t b = 0;
+    do b = random.below(population.bins()); while (population.count(b) == 0);
+    const auto picked = population.pick(b, random.below(population.count(b)));
+    population.remove(picked);
+    if (--counts[picked.size] == 0) counts.erase(picked.size);
+  }
+  check_ranks();
+  population.duplicate();
+  for (auto& entry : counts) entry.second *= 2;
+  check_ranks();
 }
