@@ -98,8 +98,9 @@ PivotShare pivot_share(std::span<const double> pivots, double v, GridScheme sche
 // f_i = N_i / Σ_k S_i(k) e^{s_i (k - x_i)} over the integer sizes k, S_i(k) the share of size k given to
 // pivot i and s_i the log-slope of f between pivot i's neighbours, by fixed-point iteration from
 // N_i / Δ_i (an exponential density is given back exactly); beside entries with N_i ≤ 0 (the far tail's
-// sign changes) f keeps N_i / Δ_i. On integer pivots (the uniform grid) f = N. Sums over intervals longer than 64 sizes by 12-point Gauss–Legendre quadrature
-// with the Euler–Maclaurin end terms (solvers/section_densities.cpp).
+// sign changes) f keeps N_i / Δ_i. On integer pivots (the uniform grid) f = N. Sums over intervals longer
+// than 64 sizes by 12-point Gauss–Legendre quadrature with the Euler–Maclaurin end terms
+// (solvers/section_densities.cpp).
 std::vector<double> section_densities(std::span<const double> pivots, std::span<const double> numbers,
                                       GridScheme scheme, std::size_t resolved);
 
