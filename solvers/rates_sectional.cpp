@@ -56,20 +56,25 @@ class PairTable {
       throw InputError("grid", model.grid.describe() + " on N = " + std::to_string(model.size) + " (" +
                                    std::to_string(M) + " classes)",
                        "at most " + std::to_string(max_classes) + " size classes (raise grid.ratio or lower grid.resolved)");
-    pairs_.reserve(M * (M + 1) / 2);
+    const std::size_t P = M * (M + 1) / 2;
+    weight_.reserve(P);
+    stencil_.reserve(P);
+    for (auto& s : share_) s.reserve(P);
     const double N = x_.back();
     for (std::size_t i = 0; i < M; ++i)
-      for (std::size_t j = i; j < M; ++j) pairs_.push_back(pair_of(model, i, j, N));
+      for (std::size_t j = i; j < M; ++j) add_pair(model, i, j, N);
     // Pairs that leave the grid are those with x_i + x_j > N: for each i, the j from leak_start_[i] on.
     leak_start_.assign(M, M);
     row_.assign(M, 0);
     for (std::size_t i = 0, at = 0; i < M; at += M - i, ++i) {
       row_[i] = at;
-      for (std::size_t j = M; j > i && pairs_[at + (j - 1 - i)].target() == M; --j) leak_start_[i] = j - 1;
+      for (std::size_t j = M; j > i && target(at + (j - 1 - i)) == M; --j) leak_start_[i] = j - 1;
     }
+    build_runs();
   }
 
   static constexpr std::size_t max_classes = 6000;
+  static constexpr std::size_t max_stencil = 4;
 
   std::size_t size() const { return x_.size(); }
 
@@ -78,8 +83,7 @@ class PairTable {
     const std::size_t M = x_.size();
     double leak = 0.0;
     for (std::size_t i = 0; i < M; ++i)
-      for (std::size_t j = leak_start_[i]; j < M; ++j)
-        leak += (x_[i] + x_[j]) * pairs_[row_[i] + (j - i)].weight * n[i] * n[j];
+      for (std::size_t j = leak_start_[i]; j < M; ++j) leak += (x_[i] + x_[j]) * weight_[row_[i] + (j - i)] * n[i] * n[j];
     return leak;
   }
 
@@ -95,107 +99,150 @@ class PairTable {
     std::fill(gradient.begin(), gradient.end(), 0.0);
     if (cutoff_) return;
     const std::size_t M = x_.size();
-    const Pair* pair = pairs_.data();
     for (std::size_t i = 0; i < M; ++i)
-      for (std::size_t j = i; j < M; ++j, ++pair)
-        if (pair->target() == M) {
-          const double c = (x_[i] + x_[j]) * pair->weight;
-          gradient[i] += c * n[j];
-          gradient[j] += c * n[i];
-        }
+      for (std::size_t j = leak_start_[i]; j < M; ++j) {
+        const double c = (x_[i] + x_[j]) * weight_[row_[i] + (j - i)];
+        gradient[i] += c * n[j];
+        gradient[j] += c * n[i];
+      }
   }
 
-  // out += scale Σ_{i≤j} w_ij (u_i v_j + u_j v_i) V_ij.
+  // What accumulate works in: the pair rates of one row, and the output padded by a stencil's width, so that a
+  // run's every stencil can be taken as wide as its widest (the unused shares are 0) up to the grid's end.
+  struct Scratch {
+    std::vector<double> rate, out;
+  };
+
+  // out += scale Σ_{i≤j} w_ij (u_i v_j + u_j v_i) V_ij. Row by row in two passes: the rates, losses and
+  // monomer gain (a loop without indirection), then the gains run by run and share by share. Within a run
+  // the stencils move on by one pivot per pair, so each share's adds go to consecutive entries: a vector
+  // loop, where one pass writing each stencil's entries in turn chains every add to the last pair's store to
+  // the same entry.
   void accumulate(double lambda, std::span<const double> u, std::span<const double> v, std::span<double> out,
-                  double scale) const {
+                  double scale, Scratch& scratch) const {
     const std::size_t M = x_.size();
-    const Pair* pair = pairs_.data();
+    scratch.rate.resize(M);
+    scratch.out.assign(M + max_stencil, 0.0);
+    double* gain = scratch.out.data();
+    double* __restrict rate = scratch.rate.data();
     double monomers = 0.0;
     for (std::size_t i = 0; i < M; ++i) {
+      const std::size_t at = row_[i], L = M - i;
       const double ui = u[i], vi = v[i], xi = x_[i];
+      const double* __restrict w = weight_.data() + at;
+      const double* __restrict xj = x_.data() + i;
+      const double* __restrict uj = u.data() + i;
+      const double* __restrict vj = v.data() + i;
+      double* loss = gain + i;
       double lost_i = 0.0;
-      for (std::size_t j = i; j < M; ++j, ++pair) {
-        const double r = scale * pair->weight * (ui * v[j] + u[j] * vi);
-        if (r == 0.0) continue;
+      for (std::size_t l = 0; l < L; ++l) {
+        const double r = scale * w[l] * (ui * vj[l] + uj[l] * vi);
+        rate[l] = r;
+        loss[l] -= r + lambda * r;
         lost_i += r;
-        out[j] -= r + lambda * r;
-        monomers += (xi + x_[j]) * r;
-        const std::size_t p = pair->target();
-        if (p < M) {
-          const std::uint32_t count = pair->count();
-          for (std::uint32_t m = 0; m + 1 < count; ++m) out[p + m] += pair->share[m] * r;
-          out[p + count - 1] += pair->share_at(count - 1) * r;  // 1 - the others: number exact
+        monomers += (xi + xj[l]) * r;
+      }
+      gain[i] -= lost_i + lambda * lost_i;
+      for (std::size_t k = run_row_[i]; k < run_row_[i + 1]; ++k) {
+        const Run& run = runs_[k];
+        double* __restrict to = gain + (std::ptrdiff_t(i) + run.offset);  // entry of pair l's stencil: to[l]
+        for (std::uint32_t m = 0; m < run.count; ++m) {
+          const double* __restrict share = share_[m].data() + at;
+          for (std::uint32_t l = run.begin; l < run.end; ++l) to[l + m] += share[l] * rate[l];
         }
       }
-      out[i] -= lost_i + lambda * lost_i;
     }
-    out[0] += lambda * monomers;
+    gain[0] += lambda * monomers;
+    for (std::size_t k = 0; k < M; ++k) out[k] += gain[k];
   }
 
   // Calls add(row, column, ∂f_row/∂N_column contribution) for every nonzero contribution.
   template <class Add>
   void for_each_entry(double lambda, std::span<const double> n, Add&& add) const {
     const std::size_t M = x_.size();
-    const Pair* pair = pairs_.data();
-    for (std::size_t i = 0; i < M; ++i)
-      for (std::size_t j = i; j < M; ++j, ++pair) {
-        if (pair->weight == 0.0) continue;
+    for (std::size_t i = 0, at = 0; i < M; ++i)
+      for (std::size_t j = i; j < M; ++j, ++at) {
+        const double weight = weight_[at];
+        if (weight == 0.0) continue;
         // ∂(w N_i N_j)/∂N_i = w N_j and ∂/∂N_j = w N_i (both 2 w N_i on the diagonal).
         for (int side = 0; side < 2; ++side) {
           const std::size_t column = side == 0 ? i : j;
-          const double d = pair->weight * (side == 0 ? n[j] : n[i]);
+          const double d = weight * (side == 0 ? n[j] : n[i]);
           if (d == 0.0) continue;
           add(i, column, -(d + lambda * d));
           add(j, column, -(d + lambda * d));
           add(0, column, lambda * (x_[i] + x_[j]) * d);
-          const std::size_t p = pair->target();
+          const std::size_t p = target(at);
           if (p < M)
-            for (std::uint32_t m = 0; m < pair->count(); ++m) add(p + m, column, pair->share_at(m) * d);
+            for (std::uint32_t m = 0; m < (stencil_[at] & 7); ++m) add(p + m, column, share_[m][at] * d);
         }
       }
   }
 
  private:
-  // 40 bytes: the table is streamed twice per Newton-Krylov step (f and J v) and holds M²/2 pairs, ~24 MB at
-  // M = 1100, beyond the caches; the stencil's last share is 1 - the others (Σ w_m = 1 is one of the
-  // conditions that define them, and number stays exact to round-off), the stencil's first pivot and its
-  // size are one word.
-  struct Pair {
-    double weight = 0.0;                // w_ij
-    double share[3] = {1.0, 0.0, 0.0};  // the parts of the aggregate given to pivots target() .. target() + 2
-    std::uint32_t stencil = 1;          // target() << 3 | count()
-    std::size_t target() const { return stencil >> 3; }  // the first pivot of the stencil (M: beyond N)
-    std::uint32_t count() const { return stencil & 7; }   // pivots in the stencil (1 to 4)
-    double share_at(std::uint32_t m) const {
-      if (m + 1 < count()) return share[m];
-      double rest = 1.0;
-      for (std::uint32_t l = 0; l < m; ++l) rest -= share[l];
-      return rest;
-    }
-  };
-  static_assert(sizeof(Pair) == 40);
+  // Structure of arrays over the pairs (i, j ≥ i) row by row, so that accumulate's passes each stream one: the
+  // weight w_ij, the stencil (its first pivot << 3 | its size, 1 to 4; first pivot M: beyond N) and the
+  // shares given to pivots first .. first + 3 (0 beyond the stencil). The stencil's last share is 1 - the
+  // others (Σ w_m = 1 is one of the conditions that define them, and number stays exact to round-off).
+  std::size_t target(std::size_t at) const { return stencil_[at] >> 3; }
 
-  Pair pair_of(const AggregationModel& model, std::size_t i, std::size_t j, double N) const {
+  // A run of pairs (i, i + l), l in [begin, end), whose stencils start at pivot i + l + offset: the row's
+  // pairs that stay on the grid, cut where the offset changes; count is the widest stencil in the run.
+  struct Run {
+    std::uint32_t begin, end;
+    std::int32_t offset;
+    std::uint32_t count;
+  };
+
+  void build_runs() {
+    const std::size_t M = x_.size();
+    run_row_.assign(M + 1, 0);
+    for (std::size_t i = 0; i < M; ++i) {
+      run_row_[i] = runs_.size();
+      for (std::size_t l = 0; i + l < leak_start_[i]; ++l) {
+        const std::size_t at = row_[i] + l;
+        const std::int32_t offset = std::int32_t(target(at)) - std::int32_t(i + l);
+        const std::uint32_t count = stencil_[at] & 7;
+        if (runs_.size() > run_row_[i] && runs_.back().offset == offset && runs_.back().end == l) {
+          runs_.back().end = std::uint32_t(l + 1);
+          runs_.back().count = std::max(runs_.back().count, count);
+        } else {
+          runs_.push_back(Run{std::uint32_t(l), std::uint32_t(l + 1), offset, count});
+        }
+      }
+    }
+    run_row_[M] = runs_.size();
+  }
+
+  void add_pair(const AggregationModel& model, std::size_t i, std::size_t j, double N) {
     const std::size_t M = x_.size();
     const double v = x_[i] + x_[j];
-    Pair pair;
-    pair.weight = (i == j ? 0.5 : 1.0) * model.kernel.at(x_[i], x_[j]);
+    double weight = (i == j ? 0.5 : 1.0) * model.kernel.at(x_[i], x_[j]);
+    double shares[max_stencil] = {0.0, 0.0, 0.0, 0.0};
+    std::uint32_t stencil = std::uint32_t(M) << 3;  // leaves the grid (drop) or does not collide (cutoff)
     if (v > N) {
-      pair.stencil = std::uint32_t(M) << 3;  // leaves the grid (drop) or does not collide (cutoff)
-      if (cutoff_) pair.weight = 0.0;
-      return pair;
+      if (cutoff_) weight = 0.0;
+    } else {
+      const PivotShare share = pivot_share(x_, v, model.grid.scheme, model.grid.resolved);
+      stencil = std::uint32_t(share.first) << 3 | std::uint32_t(share.count);
+      double rest = 1.0;
+      for (int m = 0; m + 1 < share.count; ++m) rest -= shares[m] = share.weight[m];
+      shares[share.count - 1] = rest;
     }
-    const PivotShare share = pivot_share(x_, v, model.grid.scheme, model.grid.resolved);
-    pair.stencil = std::uint32_t(share.first) << 3 | std::uint32_t(share.count);
-    for (int m = 0; m + 1 < share.count; ++m) pair.share[m] = share.weight[m];
-    return pair;
+    weight_.push_back(weight);
+    stencil_.push_back(stencil);
+    for (std::size_t m = 0; m < max_stencil; ++m) share_[m].push_back(shares[m]);
   }
 
   std::vector<double> x_;
   bool cutoff_;
-  std::vector<Pair> pairs_;
-  std::vector<std::size_t> row_;         // index in pairs_ of (i, i)
+  std::vector<double> weight_;
+  std::vector<std::uint32_t> stencil_;
+  std::vector<double> share_[max_stencil];
+  std::vector<std::size_t> row_;         // index of (i, i) in the pair arrays
   std::vector<std::size_t> leak_start_;  // first j ≥ i whose pair (i, j) leaves the grid (M: none)
+  std::vector<Run> runs_;                // row by row
+  std::vector<std::size_t> run_row_;     // row i's runs: runs_[run_row_[i]] .. runs_[run_row_[i + 1] - 1]
 };
 
 class SectionalRates final : public Rates {
@@ -205,14 +252,14 @@ class SectionalRates final : public Rates {
 
   void evaluate(double t, std::span<const double> n, std::span<double> dndt) override {
     std::fill(dndt.begin(), dndt.end(), 0.0);
-    table_->accumulate(lambda_(t), n, n, dndt, 0.5);  // ½ Σ w (n_i n_j + n_j n_i) = Σ w n_i n_j
+    table_->accumulate(lambda_(t), n, n, dndt, 0.5, scratch_);  // ½ Σ w (n_i n_j + n_j n_i) = Σ w n_i n_j
   }
 
   double leak_rate(double, std::span<const double> n) override { return table_->leak_rate(n); }
 
   void jacobian_times(double t, std::span<const double> n, std::span<const double> v, std::span<double> Jv) override {
     std::fill(Jv.begin(), Jv.end(), 0.0);
-    table_->accumulate(lambda_(t), n, v, Jv, 1.0);
+    table_->accumulate(lambda_(t), n, v, Jv, 1.0, scratch_);
   }
 
   void jacobian_monomer_coupling(double t, std::span<const double> n, MonomerCoupling& J) override {
@@ -231,6 +278,7 @@ class SectionalRates final : public Rates {
   std::shared_ptr<const PairTable> table_;
   ShatteringRate lambda_;
   GridScheme scheme_;
+  PairTable::Scratch scratch_;
 };
 
 // The graded grid as a discretisation: its pair table built on first use and shared from then on.
