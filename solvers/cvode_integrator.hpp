@@ -168,8 +168,8 @@ struct IntegratorStatistics {
 using OutputCallback = std::function<void(double t, std::span<const double> n, double leaked_mass)>;
 
 // A continuation from a state an earlier run reported at one of its output times: the densities (one per
-// class) and the leaked mass at `time`. The tolerances and the conserved mass are those of the model's start,
-// as in the uninterrupted run; CVODE's BDF history (order, step size, Nordsieck array) is not kept — the
+// class) and the leaked mass at `time`. The tolerances are those of the model's start, as in the
+// uninterrupted run, and the conserved mass Σ k n_k + L that of the restart's state; CVODE's BDF history (order, step size, Nordsieck array) is not kept — the
 // continuation starts at order 1 — so it agrees with the uninterrupted run within the integration tolerance,
 // not to the bit.
 struct IntegratorRestart {

@@ -74,8 +74,8 @@ std::vector<double> mass_keeping_perturbation(std::span<const double> on_cycle, 
 // The estimate from the deviations d_j (relative changes of the period from one return to the next), as
 // return_map_multiplier makes it with `resolved` = resolved_factor · floor: d_0, over the first return, still carries
 // the fast multipliers' share of the perturbation and is left out of the fit; over the deviations from d_1 on that
-// exceed `resolved`, the last four are fitted by least squares (GSL) to ln d_j = α + j ln|μ_1|, the slope's standard
-// error giving the estimate's. Where fewer than two exceed it, or where their fit rises although the next return fell
+// exceed `resolved`, the last four are fitted by weighted least squares (GSL; weights (d_j / resolved)², as ln d_j
+// is uncertain by the floor over d_j) to ln d_j = α + j ln|μ_1|, the slope's standard error giving the estimate's. Where fewer than two exceed it, or where their fit rises although the next return fell
 // within the floor (noise next to the floor), the last deviation d above the floor bounds it instead, |μ_1| ≤
 // resolved / d < 1; where even d_0 lies within the floor there is no estimate. Sets multiplier, multiplier_error,
 // bounded and note.
