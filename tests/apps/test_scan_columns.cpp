@@ -84,6 +84,49 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
   }
 }
 
+// The column's step at (0.9, 0.001) against the cycle shot there from the point's own search.
+void check_against_the_shot_cycle(const fs::path& folder) {
+  // Against the cycle shot at (0.9, 0.001) from the point's own search (no cycle_run limit; Newton-Krylov on the
+  // period map at rtol 1e-10): the column's period there, from the turning points of a run's last 6 periods
+  // sampled 50 times a period at rtol 1e-6, agrees to 1e-3 (measured: 2e-5).
+  std::string shot = coarse_scan;
+  shot.replace(shot.find("a = [0.85, 0.9]"), 15, "a = [0.9]");
+  shot.replace(shot.find("lambda = [0.001, 0.004, 0.012]"), 30, "lambda = [0.001]");
+  const Outcome shooting = run(scan_command("", aggkit::testing::write_text(folder / "shot.toml", shot + "refine = false\n"),
+                                            folder / "shot"), folder);
+  REQUIRE(shooting.exit_code == 0);
+  const double shot_period = std::stod(scan_row(folder / "shot" / "scan.csv", 0.9, 0.001).at("cycle_period"));
+  const auto column_cycle = aggkit::testing::read_csv(folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576.csv");
+  REQUIRE(column_cycle.size() == 1);
+  CHECK(std::stod(column_cycle.front().at("period")) == Approx(shot_period).epsilon(1e-3));
+  // The column's multiplier there, from the return map of the step's run, against Arnoldi's on the shot cycle
+  // (solvers/limit_cycle.hpp at rtol 1e-10), an independent method. The return map's floor is 3 times the step's
+  // own period spread, which is the run's noise at rtol 1e-6 and moves with round-off: at a spread of 2.2e-5 the
+  // third return lay above it and the fit over the second and third read 0.218 against 0.220; at 4.2e-5 (the same
+  // run with the rates summed in another order) it fell within it and the second return bounds |μ_1| by 0.358.
+  // Either is checked against Arnoldi's: a fit to 20 %, a bound not below it.
+  const auto multiplier = aggkit::testing::read_csv(folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576_floquet.csv");
+  REQUIRE(multiplier.size() == 1);
+  const double arnoldi = std::stod(scan_row(folder / "shot" / "scan.csv", 0.9, 0.001).at("floquet_max"));
+  INFO("return map " << multiplier.front().at("multiplier") << " (" << multiplier.front().at("note") << "), Arnoldi " << arnoldi);
+  if (multiplier.front().at("bounded") == "yes") {
+    CHECK(std::stod(multiplier.front().at("multiplier")) >= arnoldi);
+    CHECK(std::stod(multiplier.front().at("multiplier")) < 1.0);
+  } else {
+    CHECK(std::stod(multiplier.front().at("multiplier")) == Approx(arnoldi).epsilon(0.2));
+  }
+  // Next to the curve the first level of absolute tolerances settles.
+  CHECK(column_cycle.front().at("atol") == "1e-16");
+  CHECK(column_cycle.front().at("atol_floor") == "1e-16");
+  CHECK(column_cycle.front().at("atol_mass") == "1e-15");
+  // Its mass changed by less than the guard's 1e-3 (measured: -1.8e-5, the drop truncation's loss).
+  CHECK(std::abs(std::stod(column_cycle.front().at("mass_change"))) < 1e-3);
+  // Its periods settled on one cycle (no modulation: spread within 2e-3).
+  CHECK(column_cycle.front().at("settling") == "settled");
+  CHECK(std::stod(column_cycle.front().at("spread")) <= 2e-3);
+
+}
+
 }  // namespace
 
 TEST_CASE("scan cli: the cycle continued down a column decides the points whose own search cannot reach it") {
@@ -131,44 +174,7 @@ TEST_CASE("scan cli: the cycle continued down a column decides the points whose 
   }
   CHECK(fs::exists(folder / "out" / "points" / "cycle_column_a0.9_lambda1e-04_N1048576_state.txt"));
 
-  // Against the cycle shot at (0.9, 0.001) from the point's own search (no cycle_run limit; Newton-Krylov on the
-  // period map at rtol 1e-10): the column's period there, from the turning points of a run's last 6 periods
-  // sampled 50 times a period at rtol 1e-6, agrees to 1e-3 (measured: 2e-5).
-  std::string shot = coarse_scan;
-  shot.replace(shot.find("a = [0.85, 0.9]"), 15, "a = [0.9]");
-  shot.replace(shot.find("lambda = [0.001, 0.004, 0.012]"), 30, "lambda = [0.001]");
-  const Outcome shooting = run(scan_command("", aggkit::testing::write_text(folder / "shot.toml", shot + "refine = false\n"),
-                                            folder / "shot"), folder);
-  REQUIRE(shooting.exit_code == 0);
-  const double shot_period = std::stod(scan_row(folder / "shot" / "scan.csv", 0.9, 0.001).at("cycle_period"));
-  const auto column_cycle = aggkit::testing::read_csv(folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576.csv");
-  REQUIRE(column_cycle.size() == 1);
-  CHECK(std::stod(column_cycle.front().at("period")) == Approx(shot_period).epsilon(1e-3));
-  // The column's multiplier there, from the return map of the step's run, against Arnoldi's on the shot cycle
-  // (solvers/limit_cycle.hpp at rtol 1e-10), an independent method. The return map's floor is 3 times the step's
-  // own period spread, which is the run's noise at rtol 1e-6 and moves with round-off: at a spread of 2.2e-5 the
-  // third return lay above it and the fit over the second and third read 0.218 against 0.220; at 4.2e-5 (the same
-  // run with the rates summed in another order) it fell within it and the second return bounds |μ_1| by 0.358.
-  // Either is checked against Arnoldi's: a fit to 20 %, a bound not below it.
-  const auto multiplier = aggkit::testing::read_csv(folder / "out" / "points" / "cycle_column_a0.9_lambda0.001_N1048576_floquet.csv");
-  REQUIRE(multiplier.size() == 1);
-  const double arnoldi = std::stod(scan_row(folder / "shot" / "scan.csv", 0.9, 0.001).at("floquet_max"));
-  INFO("return map " << multiplier.front().at("multiplier") << " (" << multiplier.front().at("note") << "), Arnoldi " << arnoldi);
-  if (multiplier.front().at("bounded") == "yes") {
-    CHECK(std::stod(multiplier.front().at("multiplier")) >= arnoldi);
-    CHECK(std::stod(multiplier.front().at("multiplier")) < 1.0);
-  } else {
-    CHECK(std::stod(multiplier.front().at("multiplier")) == Approx(arnoldi).epsilon(0.2));
-  }
-  // Next to the curve the first level of absolute tolerances settles.
-  CHECK(column_cycle.front().at("atol") == "1e-16");
-  CHECK(column_cycle.front().at("atol_floor") == "1e-16");
-  CHECK(column_cycle.front().at("atol_mass") == "1e-15");
-  // Its mass changed by less than the guard's 1e-3 (measured: -1.8e-5, the drop truncation's loss).
-  CHECK(std::abs(std::stod(column_cycle.front().at("mass_change"))) < 1e-3);
-  // Its periods settled on one cycle (no modulation: spread within 2e-3).
-  CHECK(column_cycle.front().at("settling") == "settled");
-  CHECK(std::stod(column_cycle.front().at("spread")) <= 2e-3);
+  check_against_the_shot_cycle(folder);
 
   // Resumed: nothing is computed again and scan.csv is the same, byte for byte.
   const std::string first = aggkit::testing::read_text(csv);
