@@ -6,7 +6,8 @@
 // state_file: DIR/points/cycle_column_a*_lambda*_N*_state.txt of the shipped scan (graded K = 64, r = 1.05,
 // N = 2^40); period: the predicted period; method: bdf-gmres, bdf-dense, ... ATOL= and ATOL_MASS= in the
 // environment set the integrator's atol and atol_mass, STALD=1 CVODE's stability limit detection (default off,
-// as in the scan's columns); STEPS_OUT=file writes t, M0 and n_1 at every internal
+// as in the scan's columns), PROJECT=0 no mass projection (the scan's columns project neither steps nor outputs at
+// their atol); STEPS_OUT=file writes t, M0 and n_1 at every internal
 // step. With TRACE=m, every m-th output prints t, M0, n_1, the
 // mass, the leaked mass, the most negative density (its class and pivot) and the largest, and the last class
 // that is not empty.
@@ -67,7 +68,8 @@ void report(const Tail& tail, double start_mass, double end_mass) {
 }
 
 // The integrator's options from the command line (method, rtol, floor, max_steps) and ATOL=, ATOL_MASS=, STALD=
-// (CVODE's stability limit detection, 1 or 0; the scan's column runs have it off).
+// (CVODE's stability limit detection, 1 or 0; the scan's column runs have it off), PROJECT= (the mass projection,
+// 1 or 0; below atol 1e-10 it projects the outputs only).
 IntegratorOptions options_from(int argc, char** argv) {
   IntegratorOptions options;
   options.method = integrator_method_from_name(argv[6]);
@@ -78,6 +80,7 @@ IntegratorOptions options_from(int argc, char** argv) {
   if (const char* stald = std::getenv("STALD")) options.stability_limit_detection = std::atoi(stald) != 0;
   if (const char* atol = std::getenv("ATOL")) options.atol = std::atof(atol);
   if (const char* mass = std::getenv("ATOL_MASS")) options.atol_mass = std::atof(mass);
+  if (const char* project = std::getenv("PROJECT")) options.project_mass = std::atoi(project) != 0;
   return options;
 }
 

@@ -202,7 +202,7 @@ IntegratorStatistics integrate(const AggregationModel& model, std::span<const do
     }
     stepper->advance(t_out, v.out);
     double* interpolated = N_VGetArrayPointer(v.out);
-    if (options.project_mass) {  // the interpolant between steps is not on the mass shell
+    if (options.project_mass && options.project_outputs) {  // the interpolant between steps is not on the mass shell
       integration::project_onto_mass_shell(problem, interpolated, correction.data(), nullptr);
       for (std::size_t i = 0; i <= N; ++i) interpolated[i] += correction[i];
     }

@@ -448,6 +448,7 @@ IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolera
   options.atol_floor = tolerance.atol_floor;
   options.atol_mass = tolerance.atol_mass;
   options.stability_limit_detection = false;  // a return map smooth to the tolerance (IntegratorOptions)
+  options.project_outputs = false;            // the states handed on are the integrator's own (IntegratorOptions)
   return options;
 }
 
