@@ -328,12 +328,12 @@ class Column {
           done.pop_back();
           continue;
         }
-        // Its negative entries set to 0. States cached before the cycle runs handed on the integrator's own state
-        // (IntegratorOptions::project_outputs) carry a projection's residue there: n_1 down to -1.8e-2 where the
-        // quiescent phase holds ~1e-9, and the shipped scan's a = 1 column, walked on from n_1 = -8.9e-5 at
-        // λ = 1e-8, did not oscillate within 12 periods at 3.16e-9 (the monomers' deficit outlasting them). The
-        // cycles attract by ~0.1 a period this far below the curve, so the walk starts as well from the clipped
-        // state; elsewhere the entries set to 0 are the far tail's round-off.
+        // Its negative entries set to 0: not a state of the model. States cached before the cycle runs handed on the
+        // integrator's own state (IntegratorOptions::project_outputs) carry a projection's residue there, n_1 down
+        // to -1.8e-2 where the quiescent phase holds ~1e-9 (the shipped scan's a = 1 column, walked on from
+        // n_1 = -8.9e-5 at λ = 1e-8 with the outputs still projected, did not oscillate within 12 periods at
+        // 3.16e-9). The cycles attract by ~0.1 a period this far below the curve, so the walk starts as well from
+        // the clipped state; elsewhere the entries set to 0 are the far tail's round-off.
         state = *s;
         for (double& v : state) v = std::max(v, 0.0);
       }
