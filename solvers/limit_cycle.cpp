@@ -453,7 +453,8 @@ IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolera
 }
 
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing, double rtol,
-                                               std::span<const double> from, long max_steps, const RunTolerance& tolerance) {
+                                               std::span<const double> from, long max_steps, const RunTolerance& tolerance,
+                                               double* leaked_mass) {
   if (!(t_end > 0.0) || !std::isfinite(t_end)) throw InputError("t_end", format_value(t_end), "a finite time > 0");
   if (!(spacing > 0.0 && spacing < t_end)) throw InputError("spacing", format_value(spacing), "a spacing in (0, t_end)");
   std::vector<double> times;
@@ -481,12 +482,15 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
     check_start(model, from, t_end);
     restart.densities.assign(from.begin(), from.end());
   }
-  integrate(model, times, options, [&](double t, std::span<const double> n, double) {
+  double leaked = 0.0;
+  integrate(model, times, options, [&](double t, std::span<const double> n, double leaked_so_far) {
+    leaked = leaked_so_far;
     if (t < 0.5 * t_end) return;
     m0.push_back(sum(n));
     states.emplace_back(n.begin(), n.end());
     if (states.size() > kept) states.pop_front();
   }, from.empty() ? nullptr : &restart);
+  if (leaked_mass) *leaked_mass = leaked;
   const std::size_t first = times.size() - m0.size();
   double mean = 0.0;
   for (double v : m0) mean += v;

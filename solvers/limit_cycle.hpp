@@ -100,9 +100,11 @@ struct RunTolerance {
 // integrator's default). Throws InputError for max_steps < 0 (the tolerances' ranges are checked by integrate).
 IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolerance& tolerance);
 // `max_steps` bounds the run's CVODE steps (0: the integrator's default); a run that needs more throws
-// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached.
+// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached. `leaked_mass`, where
+// given, receives the mass the run lost through the truncation (drop), whether or not it oscillates.
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing,
                                                double rtol = 1e-8, std::span<const double> from = {},
-                                               long max_steps = 0, const RunTolerance& tolerance = {});
+                                               long max_steps = 0, const RunTolerance& tolerance = {},
+                                               double* leaked_mass = nullptr);
 
 }  // namespace aggkit
