@@ -30,6 +30,18 @@ inline AggregationModel graded_brownian(double a, double lambda) {
   return model;
 }
 
+// Ballistic kernel with shattering λ and drop truncation at N, monodisperse start: a run that leaks mass fast at
+// small N (77 % by t = 20 at N = 64, λ = 0.01).
+inline AggregationModel leaking_ballistic(std::size_t N, double lambda) {
+  AggregationModel model;
+  model.kernel = Kernel::ballistic();
+  model.lambda = ShatteringRate::constant(lambda);
+  model.size = N;
+  model.truncation = Truncation::drop;
+  model.initial = monodisperse(N);
+  return model;
+}
+
 inline double time_series_period(const AggregationModel& model, double period, double settle, int cycles,
                                  std::span<const double> start = {}) {
   const double spacing = period / 400.0, end = settle + cycles * period;

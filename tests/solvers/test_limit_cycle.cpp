@@ -126,12 +126,7 @@ TEST_CASE("a cycle run hands on the integrator's own state, not a projected outp
 // mass by t = 20 (85 % by t = 30). It must equal the loss of M1 in an independent run to t = 30 (both at rtol 1e-9; measured:
 // 8e-14 relative: both keep Σ k n_k + L = M; bound 1e-8, ten times rtol), and an oscillation is not claimed.
 TEST_CASE("a cycle run reports the mass it lost through the truncation", "[cycle]") {
-  AggregationModel model;
-  model.kernel = Kernel::ballistic();
-  model.lambda = ShatteringRate::constant(0.01);
-  model.size = 64;
-  model.truncation = Truncation::drop;
-  model.initial = monodisperse(64);
+  const AggregationModel model = aggkit::testing::leaking_ballistic(64, 0.01);
   double leaked = -1.0;
   CHECK_FALSE(cycle_start_from_run(model, 30.0, 0.1, 1e-9, {}, 0, {}, &leaked));
   IntegratorOptions options;
