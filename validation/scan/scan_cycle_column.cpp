@@ -328,14 +328,7 @@ class Column {
           done.pop_back();
           continue;
         }
-        // Its negative entries set to 0: not a state of the model. States cached before the cycle runs handed on the
-        // integrator's own state (IntegratorOptions::project_outputs) carry a projection's residue there, n_1 down
-        // to -1.8e-2 where the quiescent phase holds ~1e-9 (the shipped scan's a = 1 column, walked on from
-        // n_1 = -8.9e-5 at λ = 1e-8 with the outputs still projected, did not oscillate within 12 periods at
-        // 3.16e-9). The cycles attract by ~0.1 a period this far below the curve, so the walk starts as well from
-        // the clipped state; elsewhere the entries set to 0 are the far tail's round-off.
         state = *s;
-        for (double& v : state) v = std::max(v, 0.0);
       }
       const auto started = std::chrono::steady_clock::now();
       ColumnCycle c = done.empty() ? first_step(state) : next_step(done, state);
@@ -530,9 +523,10 @@ class Column {
       }
       c.run_end += length;
       if (!start) {
-        // With what it lost through N: far below the curve the quiescent phase's clusters can outgrow the grid (a = 1,
-        // λ = 3.16e-9 on N = 2^40: the last class filled and 7e-5 of the mass gone in three periods, against 2e-6 in
-        // twelve at 1e-8), and without that mass the bursts stay ~1e-6 of M0's.
+        // With what it lost through N, one witness of a cycle that outgrows the grid: far below the curve the quiescent
+        // phase's clusters fill the last class and the bursts stay ~1e-6 of the cycle's above (a = 1, λ = 3.16e-9 on
+        // N = 2^40: 7e-5 of the mass gone in three periods, against 2e-6 in twelve at 1e-8; at a = 0.85, λ = 1e-10
+        // the last class fills with a leak below 1e-7).
         c.note = "the run to t = " + shortest_text(length) + " does not oscillate";
         if (leaked > 0.0)
           c.note += " (it lost " + short_number(leaked / shell_mass_) + " of the mass through the truncation at N = " + std::to_string(model.size) + ")";
