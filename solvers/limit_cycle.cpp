@@ -454,7 +454,7 @@ IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolera
 
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing, double rtol,
                                                std::span<const double> from, long max_steps, const RunTolerance& tolerance,
-                                               double* leaked_mass) {
+                                               GridEnd* grid_end) {
   if (!(t_end > 0.0) || !std::isfinite(t_end)) throw InputError("t_end", format_value(t_end), "a finite time > 0");
   if (!(spacing > 0.0 && spacing < t_end)) throw InputError("spacing", format_value(spacing), "a spacing in (0, t_end)");
   std::vector<double> times;
@@ -482,15 +482,21 @@ std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, do
     check_start(model, from, t_end);
     restart.densities.assign(from.begin(), from.end());
   }
-  double leaked = 0.0;
+  GridEnd local;
+  GridEnd& end = grid_end ? *grid_end : local;  // filled as the run goes: a run that throws leaves what it saw
+  end = GridEnd{};
+  const std::vector<double> pivots = model.pivots();
+  const std::size_t top = std::size_t(std::upper_bound(pivots.begin(), pivots.end(), 0.5 * double(model.size)) - pivots.begin());
   integrate(model, times, options, [&](double t, std::span<const double> n, double leaked_so_far) {
-    leaked = leaked_so_far;
+    end.leaked_mass = leaked_so_far;
+    double held = 0.0;
+    for (std::size_t k = top; k < n.size(); ++k) held += pivots[k] * n[k];
+    end.top_octave_mass = std::max(end.top_octave_mass, held);
     if (t < 0.5 * t_end) return;
     m0.push_back(sum(n));
     states.emplace_back(n.begin(), n.end());
     if (states.size() > kept) states.pop_front();
   }, from.empty() ? nullptr : &restart);
-  if (leaked_mass) *leaked_mass = leaked;
   const std::size_t first = times.size() - m0.size();
   double mean = 0.0;
   for (double v : m0) mean += v;

@@ -100,11 +100,18 @@ struct RunTolerance {
 // integrator's default). Throws InputError for max_steps < 0 (the tolerances' ranges are checked by integrate).
 IntegratorOptions cycle_run_options(double rtol, long max_steps, const RunTolerance& tolerance);
 // `max_steps` bounds the run's CVODE steps (0: the integrator's default); a run that needs more throws
-// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached. `leaked_mass`, where
-// given, receives the mass the run lost through the truncation (drop), whether or not it oscillates.
+// StepLimitReached (solvers/cvode_integrator.hpp) naming the step count and the time reached. `grid_end`, where
+// given, receives what the run shows of the grid's end, whether or not it oscillates (up to where it stopped, where
+// it throws).
+struct GridEnd {
+  double leaked_mass = 0.0;  // the mass the run lost through the truncation (drop) by t_end
+  // The most mass Σ x_k n_k held at an output by the classes whose pivots exceed N/2 (the grid's top octave):
+  // a cycle whose quiescent phase grows clusters to sizes ~N fills them before it leaks.
+  double top_octave_mass = 0.0;
+};
 std::optional<CycleStart> cycle_start_from_run(const AggregationModel& model, double t_end, double spacing,
                                                double rtol = 1e-8, std::span<const double> from = {},
                                                long max_steps = 0, const RunTolerance& tolerance = {},
-                                               double* leaked_mass = nullptr);
+                                               GridEnd* grid_end = nullptr);
 
 }  // namespace aggkit

@@ -28,10 +28,11 @@ std::string column_scan() {
 
 // Steps cached by earlier versions of the column files, in the folder of the test below, read back.
 void check_earlier_column_files(const fs::path& folder, const fs::path& with, const fs::path& csv, const std::string& first) {
-  // Steps cached by earlier versions read back: one without its step budget (the last column), one also without
-  // atol and atol_mass (the last three; its run took the integrator's default atol, rtol/100, and no bound) and
-  // one also without its settling (the last six; read back as settled where converged). Still nothing to
-  // compute, and the same scan.csv but for the tolerances the notes name.
+  // Steps cached by earlier versions read back: one without what it saw of the grid's end (the last two
+  // columns), one also without its step budget (the last three), one also without atol and atol_mass (the last
+  // five; its run took the integrator's default atol, rtol/100, and no bound) and one also without its settling
+  // (the last eight; read back as settled where converged). Still nothing to compute, and the same scan.csv but
+  // for the tolerances the notes name.
   const auto step = folder / "out" / "points" / "cycle_column_a0.9_lambda1e-04_N1048576.csv";
   const std::string current = aggkit::testing::read_text(step);
   const auto without_fields = [&](int fields) {
@@ -45,11 +46,12 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
   };
   const std::string adopted_now = scan_row(csv, 0.9, 0.0001).at("note");
   REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-15 M / x_k"));
-  for (const int fields : {1, 3, 6}) {
+  for (const int fields : {2, 3, 5, 8}) {
     const std::string older = without_fields(fields);
-    REQUIRE(older.find("step_budget") == std::string::npos);
-    REQUIRE((older.find("atol_mass") == std::string::npos) == (fields >= 3));
-    REQUIRE((older.find("settl") == std::string::npos) == (fields == 6));
+    REQUIRE(older.find("top_octave_mass") == std::string::npos);
+    REQUIRE((older.find("step_budget") == std::string::npos) == (fields >= 3));
+    REQUIRE((older.find("atol_mass") == std::string::npos) == (fields >= 5));
+    REQUIRE((older.find("settl") == std::string::npos) == (fields == 8));
     aggkit::testing::write_text(step, older);
     const Outcome before = run(scan_command("", with, folder / "out"), folder);
     INFO(fields << " fields fewer: " << before.err);
@@ -57,7 +59,7 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
     CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
     const auto row = scan_row(csv, 0.9, 0.0001);
     CHECK(row.at("verdict") == "sustained");
-    if (fields == 1) {  // its tolerances are on record
+    if (fields <= 3) {  // its tolerances are on record
       CHECK(aggkit::testing::read_text(csv) == first);
       continue;
     }
@@ -306,4 +308,49 @@ TEST_CASE("scan cli: far below the curve the column resolves the quiescent phase
   }
   // Relaxation cycles: the period grows about as 1/λ (measured: 1.407e7 and 1.535e5, a ratio of 91.7).
   CHECK(period[1e-8] / period[1e-6] == Approx(100).epsilon(0.2));
+}
+
+TEST_CASE("scan cli: a cycle that outgrows the grid makes the points at and below its column's stop not representable") {
+  // a = 1 on the coarse grid, cut at N = 2^14 and at 2^17. Down the column the quiescent phase grows larger
+  // clusters (the period ~1/λ). At N = 2^14 the step at λ = 2.2e-3 lost 4 % of the mass through N and its periods
+  // drift (spread 5e-3), so the unstable point at λ = 0.001 below it cannot be decided on this grid; at N = 2^17 the
+  // column settles at 0.001 (a leak of 1.3e-5, period 120.85) and outgrows the grid further down, at 3.2e-4
+  // (4 % lost again), so the point at 1e-4 is the one it cannot decide.
+  const auto folder = aggkit::testing::scratch_folder("scan-cli-column-outgrown");
+  const auto scene = [&](const std::string& size) {
+    std::string text = coarse_scan;
+    text.replace(text.find("a = 0.9 }"), 9, "a = 1.0 }");
+    text.replace(text.find("size = 1048576"), 14, "size = " + size);
+    text.replace(text.find("a = [0.85, 0.9]"), 15, "a = [1.0]");
+    text.replace(text.find("lambda = [0.001, 0.004, 0.012]"), 30, "lambda = [0.0001, 0.001]");
+    return aggkit::testing::write_text(folder / ("N" + size + ".toml"), text + "refine = false\ncycle_run = 100\ncycle_column = 12\n");
+  };
+  const Outcome shorter = run(scan_command("", scene("16384"), folder / "short"), folder);
+  INFO(shorter.err);
+  REQUIRE(shorter.exit_code == 0);
+  const auto undecided = scan_row(folder / "short" / "scan.csv", 1.0, 0.001);
+  INFO(undecided.at("note"));
+  CHECK(undecided.at("verdict") == "not-representable");
+  CHECK_THAT(undecided.at("note"), Contains("outgrows N at lambda = 0.00219") && Contains("N = 16384") &&
+                                       Contains("the cycles below it are longer still"));
+  // The step that stopped the column keeps what its run saw of the grid's end.
+  bool found = false;
+  for (const auto& entry : fs::directory_iterator(folder / "short" / "points"))
+    if (const std::string name = entry.path().filename().string();
+        name.starts_with("cycle_column_a1_lambda0.00219") && name.ends_with("_N16384.csv")) {
+      const auto step = aggkit::testing::read_csv(entry.path());
+      REQUIRE(step.size() == 1);
+      CHECK(std::stod(step.front().at("leaked_mass")) > 1e-2);
+      CHECK(step.front().at("regime") == "sustained");  // oscillating, but not on one cycle
+      found = true;
+    }
+  CHECK(found);
+  // Eight times the grid: the same point is sustained, and the verdict moves down to the point below.
+  const Outcome longer = run(scan_command("", scene("131072"), folder / "long"), folder);
+  INFO(longer.err);
+  REQUIRE(longer.exit_code == 0);
+  CHECK(scan_row(folder / "long" / "scan.csv", 1.0, 0.001).at("verdict") == "sustained");
+  const auto below = scan_row(folder / "long" / "scan.csv", 1.0, 0.0001);
+  CHECK(below.at("verdict") == "not-representable");
+  CHECK_THAT(below.at("note"), Contains("outgrows N at lambda = 0.000316") && Contains("N = 131072"));
 }

@@ -23,6 +23,8 @@ STYLE = {
     # run did not show, and points below where the continuation's roots stay positive.
     "unstable": dict(color="tab:purple", marker="v", label="unstable steady state (no attracting cycle found)"),
     "no-positive-steady-state": dict(color="black", marker="x", label="no positive steady state on the grid"),
+    # Below the curve where the cycle continued down the column outgrows the grid's largest size N.
+    "not-representable": dict(color="tab:brown", marker="*", label="cycle outgrows the grid (needs a larger N)"),
     # A stable steady state and, at the same point, the cycle continued down its column settled too.
     "bistable": dict(color="tab:olive", marker="P", label="bistable: stable steady state and an attracting cycle"),
 }

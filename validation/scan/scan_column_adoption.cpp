@@ -40,6 +40,16 @@ static void adopt_bistable(const ColumnCycle& c, ScanRecord& r) {
            ")" + (r.note.empty() ? "" : "; " + r.note);
 }
 
+// An unstable point at or below the column's step whose cycle outgrew the grid: the truncated equations' attractor
+// there is not the cycle of the equations the grid stands for. Below that step the cycles are longer still (the
+// period ~1/λ down every column) and their quiescent phase grows larger clusters, so they outgrow N too.
+static void adopt_outgrown_grid(const ColumnCycle& c, ScanRecord& r) {
+  r.verdict = "not-representable";
+  r.note = "not representable on this grid: the cycle continued down the column outgrows N at lambda = " + shortest_text(c.lambda) +
+           (c.lambda == r.lambda ? "" : " (the cycles below it are longer still)") + " (" + c.note + "); a larger N would be needed" +
+           (r.note.empty() ? "" : "; " + r.note);
+}
+
 void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::vector<ScanRecord>& records) {
   for (ScanRecord& r : records) {
     // A point whose own run confirmed the cycle that the column reached (it sought none of its own): the column's
@@ -56,6 +66,10 @@ void adopt_column_cycles(const CycleColumns& columns, std::size_t periods, std::
     // Where the column stopped above this λ (or at it): say where and why.
     for (const auto& [key, c] : columns)
       if (key.first == r.a && !c.sustained() && c.lambda >= r.lambda) {
+        if (c.outgrew_grid()) {
+          adopt_outgrown_grid(c, r);
+          break;
+        }
         r.note = "no cycle from the column either: at lambda = " + shortest_text(c.lambda) + " " + c.note +
                  (r.note.empty() ? "" : "; " + r.note);
         break;

@@ -71,7 +71,7 @@ constexpr double atol_before_tolerances = search_rtol / 100.0;
 // integrated beside the densities with their sum kept on M (solvers/cvode_integrator.hpp), goes negative where
 // a floor is too coarse for the densities (a = 0.75, λ = 1.78e-6, floor 1e-8: +3.3 % over the quiescent phase).
 // A loss is legitimate (on a coarse grid up to N = 2^20 the cycles leak 0.5 % a run) and is not bounded here.
-constexpr double mass_gain_limit = 1e-3;
+constexpr double mass_gain_limit = ColumnCycle::mass_gain_limit;
 // Outputs a predicted period: the crossings and peaks are read from them. Far below the curve a relaxation
 // burst is a few hundredths of a period wide: at 50 outputs a period (a = 0.85, λ = 3.16e-5, period 9486) the
 // sampled peaks ranged over 0.033 … 0.060, the mid-range crossing was missed in 2 of 7 periods and the others
@@ -85,11 +85,12 @@ const double largest_step = std::sqrt(10.0);  // the largest ratio of consecutiv
 
 // The column files' header. Steps cached by earlier versions have its first 19 fields (before the settling was
 // recorded: read back as settled where converged), 22 (before atol and atol_mass: their runs took rtol/100 and
-// no bound) or 24 (before the step budget).
+// no bound), 24 (before the step budget) or 25 (before the grid's end was watched: read back as unknown, NaN).
 const char* const header =
     "a,lambda,periods,grid,regime,period,amplitude,mean,decay_rate,decay_rate_error,cycles,converged,m0_min,m0_max,"
-    "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction,atol,atol_mass,step_budget";
-constexpr std::array<std::size_t, 4> header_versions = {25, 24, 22, 19};
+    "run_end,from_lambda,atol_floor,mass_change,note,settling,spread,contraction,atol,atol_mass,step_budget,"
+    "leaked_mass,top_octave_mass";
+constexpr std::array<std::size_t, 5> header_versions = {27, 25, 24, 22, 19};
 
 // The header's first `fields` names.
 std::string header_prefix(std::size_t fields) {
@@ -112,7 +113,8 @@ std::string file_text(const ColumnCycle& c, std::size_t periods, const std::stri
          "," + (c.classified ? to_string(k.regime) : "") + "," + n(k.period) + "," + n(k.amplitude) + "," + n(k.mean) + "," +
          n(k.decay_rate) + "," + n(k.decay_rate_error) + "," + std::to_string(k.cycles) + "," + (k.converged ? "yes" : "no") + "," +
          n(c.m0_min) + "," + n(c.m0_max) + "," + n(c.run_end) + "," + n(c.from_lambda) + "," + n(c.atol_floor) + "," + n(c.mass_change) + "," + csv_safe(c.note) +
-         "," + to_string(c.settling) + "," + n(c.spread) + "," + n(c.contraction) + "," + n(c.atol) + "," + n(c.atol_mass) + "," + std::to_string(c.step_budget) + "\n";
+         "," + to_string(c.settling) + "," + n(c.spread) + "," + n(c.contraction) + "," + n(c.atol) + "," + n(c.atol_mass) + "," + std::to_string(c.step_budget) + "," + n(c.leaked_mass) + "," +
+         n(c.top_octave_mass) + "\n";
 }
 
 std::optional<CycleSettling> settling_from(const std::string& text) {
@@ -174,10 +176,16 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
     c.atol = *atol;
     c.atol_mass = *atol_mass;
   }
-  if (fields == 25) {
+  if (fields >= 25) {
     const auto budget = record_number((*f)[24]);
     if (!budget) return std::nullopt;
     c.step_budget = std::size_t(*budget);
+  }
+  if (fields == 27) {
+    const auto leaked = record_number((*f)[25], true), top = record_number((*f)[26], true);
+    if (!leaked || !top) return std::nullopt;
+    c.leaked_mass = *leaked;
+    c.top_octave_mass = *top;
   }
   if (fields == 19) {
     c.settling = c.run.converged ? CycleSettling::settled : CycleSettling::settling;
@@ -189,7 +197,8 @@ std::optional<ColumnCycle> parse_file(const std::string& text, double a, double 
   c.settling = *settling;
   c.spread = *spread;
   c.contraction = *contraction;
-  if (!c.sustained() && c.step_budget != 0 && c.step_budget != step_budget) return std::nullopt;
+  // A stop is the budget's verdict only under that budget; a cycle that outgrew the grid stops the column under any.
+  if (!c.sustained() && !c.outgrew_grid() && c.step_budget != 0 && c.step_budget != step_budget) return std::nullopt;
   return c;
 }
 
@@ -461,6 +470,22 @@ class Column {
     return 0;
   }
 
+  // What a step that outgrew the grid (ColumnCycle::outgrew_grid) says of it ("" for any other).
+  static std::string outgrown_text(const ColumnCycle& c, std::size_t N) {
+    if (!c.outgrew_grid()) return "";
+    return ": the cycle outgrows the grid (its clusters reach N = " + std::to_string(N) + ": the top octave held up to " +
+           short_number(c.top_octave_mass) + " of the mass and " + short_number(c.leaked_mass) + " left through N)";
+  }
+
+  // For a run that stopped early: what it saw of the grid's end where that is beyond ColumnCycle::grid_end_limit
+  // ("" else). Not a verdict: the run did not show whether the cycle goes on.
+  std::string grid_end_seen(const GridEnd& seen, std::size_t N) const {
+    const double top = seen.top_octave_mass / shell_mass_, leaked = seen.leaked_mass / shell_mass_;
+    if (std::max(top, leaked) <= ColumnCycle::grid_end_limit) return "";
+    return " (by then the top octave below N = " + std::to_string(N) + " held up to " + short_number(top) + " of the mass and " +
+           short_number(leaked) + " had left through N)";
+  }
+
   ColumnCycle blank(double lambda, double from_lambda) const {
     ColumnCycle c;
     c.a = a_;
@@ -484,6 +509,7 @@ class Column {
       tried = run_at_level(model, from, period, end, c, state, column_tolerances[level], pivots);
       if (tried.sustained()) return tried;
       reasons += (reasons.empty() ? "" : "; ") + column_tolerances[level].text() + ": " + tried.note;
+      if (tried.outgrew_grid()) break;  // finer tolerances do not make the grid longer
     }
     tried.note = "the column stops here: " + reasons;  // the record of the finest level's run
     return tried;
@@ -505,31 +531,32 @@ class Column {
     c.atol_mass = tolerance.mass;
     c.step_budget = plan_.column_step_budget();
     c.run_end = 0;
+    c.leaked_mass = c.top_octave_mass = 0.0;
     for (int attempt = 0; attempt <= extensions; ++attempt) {
       const double length = attempt == 0 ? end : 2.0 * end;
       std::optional<CycleStart> start;
-      double leaked = 0.0;
+      GridEnd grid_end;
       try {
         start = cycle_start_from_run(model, length, period / outputs_per_period, search_rtol, from, long(plan_.column_step_budget()),
-                                     tolerance.run(), &leaked);
+                                     tolerance.run(), &grid_end);
       } catch (const StepLimitReached& e) {
         c.run_end += length;
         c.note = "the run to t = " + shortest_text(length) + " needs more than column_steps = " + std::to_string(plan_.column_step_budget()) +
-                 " steps (" + e.what() + ")";
+                 " steps (" + e.what() + ")" + grid_end_seen(grid_end, model.size);
+        c.leaked_mass = c.top_octave_mass = std::nan("");  // the run was cut short: no verdict on the grid's end
         return c;
       } catch (const std::exception& e) {
-        c.note = std::string("the run failed: ") + e.what();
+        c.note = std::string("the run failed: ") + e.what() + grid_end_seen(grid_end, model.size);
+        c.leaked_mass = c.top_octave_mass = std::nan("");
         return c;
       }
       c.run_end += length;
+      c.leaked_mass = std::max(c.leaked_mass, grid_end.leaked_mass / shell_mass_);
+      c.top_octave_mass = std::max(c.top_octave_mass, grid_end.top_octave_mass / shell_mass_);
       if (!start) {
-        // With what it lost through N, one witness of a cycle that outgrows the grid: far below the curve the quiescent
-        // phase's clusters fill the last class and the bursts stay ~1e-6 of the cycle's above (a = 1, λ = 3.16e-9 on
-        // N = 2^40: 7e-5 of the mass gone in three periods, against 2e-6 in twelve at 1e-8; at a = 0.85, λ = 1e-10
-        // the last class fills with a leak below 1e-7).
-        c.note = "the run to t = " + shortest_text(length) + " does not oscillate";
-        if (leaked > 0.0)
-          c.note += " (it lost " + short_number(leaked / shell_mass_) + " of the mass through the truncation at N = " + std::to_string(model.size) + ")";
+        c.classified = false;
+        c.mass_change = std::nan("");
+        c.note = "the run to t = " + shortest_text(length) + " does not oscillate" + outgrown_text(c, model.size);
         return c;
       }
       classify(*start, c);
@@ -553,7 +580,8 @@ class Column {
       why += ": its last four periods spread by " + short_number(c.spread);
       if (!std::isnan(c.contraction)) why += ", modulation contracting by " + short_number(c.contraction) + " a period";
     }
-    c.note = "after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " + to_string(c.run.regime) + why + ")";
+    c.note = "after runs to t = " + shortest_text(c.run_end) + " in all the last second half is " + to_string(c.run.regime) + why + ")" +
+             outgrown_text(c, model.size);
     return c;
   }
 

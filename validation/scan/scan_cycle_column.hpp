@@ -27,6 +27,8 @@
 // A column's results depend only on the plan and a,
 // never on the ranks: columns are spread over the MPI ranks, each walked by one, and every step is cached in
 // DIR/points/cycle_column_* (the record and the state it ended in), so an interrupted scan resumes mid-column.
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <map>
@@ -69,6 +71,26 @@ struct ColumnCycle {
   std::size_t step_budget = 0;                // the most CVODE steps a run of it could take (0: not recorded)
   double mass_change = nan;                   // the mass Σ x_i N_i the run ended on, relative to the model's initial mass, - 1
                                               // (< 0: drop truncation's loss)
+  // What its runs showed of the grid's end, relative to the model's initial mass (NaN: cached before it was
+  // watched): the most mass lost through N by the end of a run, and the most held at an output by the classes
+  // above N/2 (solvers/limit_cycle.hpp GridEnd).
+  double leaked_mass = nan, top_octave_mass = nan;
+  // The largest relative gain of the mass over a run that is taken (scan_cycle_column.cpp: aggregation,
+  // shattering and drop truncation never add mass, so a gain is the integrator's error alone).
+  static constexpr double mass_gain_limit = 1e-3;
+  // A step that stopped the column for its dynamics (no oscillation, or one that does not settle; not the step
+  // budget, a failed run or a mass gain, whose runs leave these NaN or are told by the gain) while the grid's end
+  // held, or had lost through N, more of the mass than the runs' relative tolerance (so the dynamics', not the
+  // integrator's round-off): the cycle continued from the λ above outgrows N. Far below the curve the quiescent
+  // phase grows clusters to ever larger sizes (the period ~1/λ); once they reach the last classes the truncated
+  // equations leak mass every burst, so their runs drift instead of settling, or stop bursting (brownian a = 1,
+  // λ = 3.16e-9 on N = 2^40: 7e-5 of the mass gone in three periods, the bursts ~1e-6 of the cycle's above; on
+  // N = 2^14 at λ = 2.2e-3: 4 % gone, the periods spread by 5e-3 and drifting).
+  static constexpr double grid_end_limit = 1e-6;
+  bool outgrew_grid() const {
+    return !sustained() && !(mass_change > mass_gain_limit) && !std::isnan(top_octave_mass) && !std::isnan(leaked_mass) &&
+           std::max(top_octave_mass, leaked_mass) > grid_end_limit;
+  }
   std::string note;                           // why the walk stopped here, or how a first step started ("" else)
   // The largest nontrivial Floquet multiplier of a settled step on the scan's grid, from the return map
   // (solvers/cycle_return_map.hpp) run from the state the step ended in at its own tolerances: `floquet.found()`

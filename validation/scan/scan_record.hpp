@@ -42,8 +42,9 @@ struct ScanRecord {
   // sustained time series), unstable (unstable steady state; the run did not show the cycle: no periodic
   // orbit computed), bistable (a stable steady state, and the cycle continued down its column attracts at the same
   // λ: cycle_period, cycle_m0_min and cycle_m0_max are that cycle's), no-positive-steady-state (the
-  // continuation's roots went negative above this λ: see steady_how), unresolved (no steady state reached, or no
-  // converged spectrum).
+  // continuation's roots went negative above this λ: see steady_how), not-representable (unstable, and the cycle
+  // continued down its column outgrew the grid here or above: its run stopped oscillating with its mass at N),
+  // unresolved (no steady state reached, or no converged spectrum).
   std::string verdict;
   // The attracting cycle around an unstable steady state, computed by shooting (solvers/limit_cycle.hpp; NaN and
   // "" where none was computed or found): its period, M0's range over it, the largest nontrivial Floquet
