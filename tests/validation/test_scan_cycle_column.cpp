@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "validation/scan/scan_cycle_column.hpp"
@@ -83,4 +84,23 @@ TEST_CASE("scan columns: an unsettled column step makes no point bistable, and a
   CHECK(records.back().verdict == "sustained");
   CHECK(records.back().floquet_max == 0.12);
   CHECK_THAT(records.back().note, Contains("the column's cycle: largest nontrivial Floquet multiplier from the return map 0.12"));
+}
+
+TEST_CASE("scan columns: a sustained point says where its column's cycle reaches the grid's end") {
+  // The same settled step twice: its run's top octave held 2e-4 of the mass (as a = 0.7, λ = 3.16e-11 at a crossing
+  // on N = 2^40) and 1e-9 (the integrator's level, below the 1e-6 mark): only the first says so.
+  const double a = 0.7;
+  CycleColumns columns;
+  for (const auto& [lambda, top] : {std::pair{1e-10, 2e-4}, std::pair{1e-9, 1e-9}}) {
+    ColumnCycle c = settled_step(a, lambda);
+    c.top_octave_mass = top;
+    c.leaked_mass = 3e-8;
+    columns[{a, lambda}] = c;
+  }
+  std::vector<ScanRecord> records{point(a, 1e-10, "unstable", 2e-11), point(a, 1e-9, "unstable", 2e-10)};
+  adopt_column_cycles(columns, 12, records);
+  CHECK(records.front().verdict == "sustained");
+  CHECK_THAT(records.front().note, Contains("the cycle reaches the grid's end (its top octave held up to 0.0002 of the mass"));
+  CHECK(records.back().verdict == "sustained");
+  CHECK(records.back().note.find("grid's end") == std::string::npos);
 }
