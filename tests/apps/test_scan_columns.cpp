@@ -267,6 +267,23 @@ TEST_CASE("scan cli: a column that stops decides nothing and the points below sa
                             Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 1 finished earlier, 1 to compute"));
   for (const double lambda : {0.000316227766, 0.0001})
     CHECK(scan_row(folder / "stopped" / "scan.csv", 0.9, lambda).at("verdict") == "sustained");
+  // A settled step walked under the larger budget keeps it for its return map: rerun under column_steps = 100 with
+  // the multipliers' files gone, the steps are reused and the return maps (which need more than 100 steps) run again.
+  std::vector<fs::path> multipliers;
+  for (const auto& entry : fs::directory_iterator(folder / "stopped" / "points"))
+    if (entry.path().filename().string().ends_with("_floquet.csv")) multipliers.push_back(entry.path());
+  REQUIRE(multipliers.size() == 3);  // at 0.001, 3.16e-4 and 1e-4
+  for (const auto& file : multipliers) fs::remove(file);
+  const auto smaller = aggkit::testing::write_text(folder / "smaller.toml", column_scan() + "cycle_column = 12\ncycle_steps = 100\ncolumn_steps = 100\n");
+  const Outcome remeasured = run(scan_command("", smaller, folder / "stopped"), folder);
+  INFO(remeasured.err);
+  REQUIRE(remeasured.exit_code == 0);
+  for (const auto& file : multipliers) {
+    const auto multiplier = aggkit::testing::read_csv(file);
+    REQUIRE(multiplier.size() == 1);
+    INFO(file << ": " << multiplier.front().at("note"));
+    CHECK(multiplier.front().at("note").find("max_steps") == std::string::npos);
+  }
   // Without cycle_column there are no columns to budget.
   const auto orphan = aggkit::testing::write_text(folder / "orphan.toml", column_scan() + "column_steps = 40000\n");
   const Outcome refused = run(scan_command("", orphan, folder / "orphan"), folder);
@@ -345,6 +362,14 @@ TEST_CASE("scan cli: a cycle that outgrows the grid makes the points at and belo
       found = true;
     }
   CHECK(found);
+  // A stop for the grid's end is kept under another step budget (a budget's stop would be run again).
+  const auto budget = aggkit::testing::write_text(
+      folder / "budget.toml", aggkit::testing::read_text(scene("16384")) + "column_steps = 80000\n");
+  const Outcome again = run(scan_command("", budget, folder / "short"), folder);
+  INFO(again.err);
+  REQUIRE(again.exit_code == 0);
+  CHECK_THAT(again.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
+  CHECK(scan_row(folder / "short" / "scan.csv", 1.0, 0.001).at("verdict") == "not-representable");
   // Eight times the grid: the same point is sustained, and the verdict moves down to the point below.
   const Outcome longer = run(scan_command("", scene("131072"), folder / "long"), folder);
   INFO(longer.err);

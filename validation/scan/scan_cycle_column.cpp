@@ -362,7 +362,9 @@ class Column {
     ReturnMapOptions options;
     options.rtol = search_rtol;
     options.tolerance = {.atol = c.atol, .atol_floor = c.atol_floor, .atol_mass = c.atol_mass};
-    options.max_steps = long(plan_.column_step_budget());
+    // The budget the step itself ran under where that was larger (a step walked at a larger column_steps and
+    // taken under a smaller one: far below the curve a period costs more CVODE steps than a small budget allows).
+    options.max_steps = long(std::max(plan_.column_step_budget(), c.step_budget));
     try {
       if (!s) throw std::runtime_error("the state the step ended in is not readable");
       c.floquet = return_map_multiplier(point_model(plan_, a_, c.lambda, plan_.size()), *s, {c.run.period, c.m0_min, c.m0_max, c.spread}, options);
