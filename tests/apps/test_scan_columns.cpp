@@ -46,6 +46,13 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
   };
   const std::string adopted_now = scan_row(csv, 0.9, 0.0001).at("note");
   REQUIRE_THAT(adopted_now, Contains("atol_k = 1e-16 / k^3 at least 1e-16 and at most 1e-15 M / x_k"));
+  // On this grid (N = 2^20) the step at 1e-4 lost 1.3e-4 of the mass through N, which its point's note says where
+  // the step's file records it; a file from before reads as unknown there.
+  std::string plain = first;
+  const std::string said = "; the cycle reaches the grid's end", said_end = "its figures depend on N";
+  const std::size_t said_at = plain.find(said);
+  REQUIRE(said_at != std::string::npos);
+  plain.erase(said_at, plain.find(said_end, said_at) + said_end.size() - said_at);
   for (const int fields : {2, 3, 5, 8}) {
     const std::string older = without_fields(fields);
     REQUIRE(older.find("top_octave_mass") == std::string::npos);
@@ -59,8 +66,8 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
     CHECK_THAT(before.err, Contains("continued down 1 columns of lambda, and the converged Hopf curve: 2 runs, 2 finished earlier, 0 to compute"));
     const auto row = scan_row(csv, 0.9, 0.0001);
     CHECK(row.at("verdict") == "sustained");
-    if (fields <= 3) {  // its tolerances are on record
-      CHECK(aggkit::testing::read_text(csv) == first);
+    if (fields <= 3) {  // its tolerances are on record; what its run saw of the grid's end is not
+      CHECK(aggkit::testing::read_text(csv) == plain);
       continue;
     }
     CHECK_THAT(row.at("note"), Contains("atol_k = 1e-08 / k^3 at least 1e-16)"));
@@ -71,7 +78,7 @@ void check_earlier_column_files(const fs::path& folder, const fs::path& with, co
       for (std::string line; std::getline(in, line);) all.push_back(line);
       return all;
     };
-    const std::vector<std::string> was = lines(first), is = lines(aggkit::testing::read_text(csv));
+    const std::vector<std::string> was = lines(plain), is = lines(aggkit::testing::read_text(csv));
     REQUIRE(was.size() == is.size());
     std::size_t differing = 0;
     for (std::size_t i = 0; i < was.size(); ++i) {
