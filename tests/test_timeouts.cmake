@@ -165,7 +165,7 @@ aggkit_test_timeout([==[dsmc: constant kernel moments agree with the exact solut
 aggkit_test_timeout([==[dsmc: mass is conserved exactly through shattering and cloning]==] 30)  # measured 1.6 s
 aggkit_test_timeout([==[dsmc: one cluster left is reported as extinction, not looped on]==] 30)  # measured 0.1 s
 aggkit_test_timeout([==[dsmc: run seeds are the successive SplitMix64 outputs of the master seed]==] 30)  # measured 0.1 s
-aggkit_test_timeout([==[dsmc: runs reproduce the recorded trajectories of the validated engine bit for bit]==] 30)  # measured 0.7 s
+aggkit_test_timeout([==[dsmc: runs reproduce the recorded trajectories bit for bit]==] 30)  # measured 0.7 s
 aggkit_test_timeout([==[dsmc: runs through several halvings follow the exact total density of K = 1 with shattering]==] 30)  # measured 0.2 s
 aggkit_test_timeout([==[dsmc: size bins tile the sizes with hi/lo < 1.5]==] 30)  # measured 0.1 s
 aggkit_test_timeout([==[dsmc: the corner bound of every bin pair bounds the kernel inside it]==] 30)  # measured 0.2 s

@@ -6,18 +6,10 @@
 
 namespace aggkit::dsmc {
 
-namespace {
-// Bins of at most this many bucketed sizes (sizes below 64, or a bin cut short by B) pick a bucketed particle
-// by scanning the bin's buckets; the wider ones have a tree.
-constexpr std::uint64_t narrow_bin = 16;
-
-std::uint64_t bucketed_high(std::size_t bin, std::uint64_t limit) { return std::min(bin_high(bin), limit); }
-}  // namespace
-
 BinnedPopulation::BinnedPopulation(std::uint64_t bucket_limit)
     : limit_(bucket_limit), bucket_(bucket_limit + 1, 0) {
   for (std::size_t b = 0; bucket_limit > 0 && bin_low(b) <= bucket_limit; ++b) {
-    const std::uint64_t low = bin_low(b), high = bucketed_high(b, bucket_limit);
+    const std::uint64_t low = bin_low(b), high = bucketed_high(b);
     trees_.emplace_back();
     if (high - low >= narrow_bin) trees_.back().emplace(high - low + 1);
   }
@@ -26,52 +18,6 @@ BinnedPopulation::BinnedPopulation(std::uint64_t bucket_limit)
 void BinnedPopulation::rebuild_trees() {
   for (std::size_t b = 0; b < trees_.size(); ++b)
     if (trees_[b]) trees_[b]->assign(bucket_.data() + (bin_low(b) - 1));  // the bin's sizes as indices 1..width
-}
-
-void BinnedPopulation::add(std::uint64_t size, std::uint64_t copies) {
-  if (copies == 0) return;
-  const std::size_t b = bin_of(size);
-  if (b >= bins_.size()) bins_.resize(b + 1);
-  Bin& bin = bins_[b];
-  bin.count += copies;
-  particles_ += copies;
-  if (size <= limit_) {
-    bin.small += copies;
-    bucket_[size] += copies;
-    if (Fenwick* tree = tree_of(b)) tree->add(size - bin_low(b) + 1, std::int64_t(copies));
-  } else {
-    bin.large.insert(bin.large.end(), copies, size);
-  }
-}
-
-BinnedPopulation::Pick BinnedPopulation::pick(std::size_t b, std::uint64_t rank) const {
-  const Bin& bin = bins_[b];
-  if (rank < bin.small) {
-    const std::uint64_t low = bin_low(b), high = bucketed_high(b, limit_);
-    if (low == high) return {b, low, npos};
-    if (high - low < narrow_bin) {  // a short scan of the bin's buckets
-      std::uint64_t s = low;
-      for (; rank >= bucket_[s]; ++s) rank -= bucket_[s];
-      return {b, s, npos};
-    }
-    return {b, low - 1 + trees_[b]->select(rank), npos};
-  }
-  const std::size_t index = std::size_t(rank - bin.small);
-  return {b, bin.large[index], index};
-}
-
-void BinnedPopulation::remove(const Pick& particle) {
-  Bin& bin = bins_[particle.bin];
-  --bin.count;
-  --particles_;
-  if (particle.large_index == npos) {
-    --bin.small;
-    --bucket_[particle.size];
-    if (Fenwick* tree = tree_of(particle.bin)) tree->add(particle.size - bin_low(particle.bin) + 1, -1);
-  } else {
-    bin.large[particle.large_index] = bin.large.back();
-    bin.large.pop_back();
-  }
 }
 
 void BinnedPopulation::duplicate() {

@@ -45,18 +45,11 @@ void BinnedPopulation::restore(StateReader& in) {
 void AcceptanceRejection::save(StateWriter& out) const {
   population_.save(out);
   out.put(majorant_);
-  out.put(diagonal_);
-  out.put(zeros_);
   out.put(std::uint64_t(known_));
-  out.put(count_);
-  out.put(row_);
-  out.put(weight_);
-  out.put(pending_);
-  out.put(std::uint64_t(pending_count_));
-  out.put(total_weight_);
+  // The slot tables are rebuilt from the saved capacities (the same bits); the counts are the population's.
+  slots_.save(out);
   out.put(std::uint8_t(dirty_));
   out.put(leaked_);
-  out.put(events_since_refresh_);
 }
 
 void AcceptanceRejection::restore(StateReader& in) {
@@ -64,19 +57,12 @@ void AcceptanceRejection::restore(StateReader& in) {
   const std::size_t majorant = majorant_.size();
   in.get(majorant_);
   if (majorant_.size() != majorant) throw CheckpointError("the checkpoint's DSMC majorant has another size");
-  in.get(diagonal_);
-  in.get(zeros_);
   known_ = std::size_t(in.read<std::uint64_t>());
-  in.get(count_);
-  in.get(row_);
-  in.get(weight_);
-  in.get(pending_);
-  pending_count_ = std::size_t(in.read<std::uint64_t>());
-  if (pending_count_ > pending_.size()) throw CheckpointError("the checkpoint's DSMC pending changes are too many");
-  in.get(total_weight_);
+  if (known_ > max_bins || population_.bins() > known_)
+    throw CheckpointError("the checkpoint's DSMC majorant covers another number of bins");
+  slots_.restore(in, majorant_.data(), counts());
   dirty_ = in.read<std::uint8_t>() != 0;
   in.get(leaked_);
-  in.get(events_since_refresh_);
 }
 
 void FastDsmc::save(StateWriter& out) const {

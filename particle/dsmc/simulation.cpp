@@ -109,7 +109,9 @@ void Simulation::run_trials(StepperType& stepper, double t, const std::function<
         break;
       }
       next_lambda_ = lambda_is_constant_ ? constant_lambda_ : model_.lambda(time_);
-      next_trial_ = time_ + 2.0 * volume_ / ((1.0 + next_lambda_) * weight);
+      if (weight != step_.weight || volume_ != step_.volume || next_lambda_ != step_.lambda)
+        step_ = {weight, volume_, next_lambda_, 2.0 * volume_ / ((1.0 + next_lambda_) * weight)};
+      next_trial_ = time_ + step_.step;
     }
     if (next_trial_ > t) break;
     time_ = next_trial_;

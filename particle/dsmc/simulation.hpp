@@ -77,6 +77,11 @@ class Simulation {
   double next_lambda_ = 0.0;   // λ at scheduling
   bool lambda_is_constant_ = false;  // then λ(t) = constant_lambda_, read once (one trial is ~100 ns)
   double constant_lambda_ = 0.0;
+  // The last time step and what it was computed from: the stepper's weight changes only now and then
+  // (slot_majorant.hpp), so the division is skipped while weight, volume and λ stay the same.
+  struct Step {
+    double weight = 0.0, volume = 0.0, lambda = 0.0, step = 0.0;
+  } step_;
   std::uint64_t initial_particles_ = 0;
   std::uint64_t initial_mass_ = 0;
   std::uint64_t control_mass_ = 0;

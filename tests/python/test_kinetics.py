@@ -62,9 +62,11 @@ def test_dsmc_means_and_standard_errors_bracket_the_exact_solution():
     assert e.stderr["M2"].shape == (2,)
     assert np.all(e.stderr["M2"] > 0)
     assert np.all(np.abs(e.series["M2"] - (1 + t)) <= 5 * e.stderr["M2"])
-    # M0 is off only by the clock's granularity, one cluster in C = 2N/(t+2) ≈ 10^4: 1e-4 relative at most
-    # (measured 5e-5 and 0).
-    assert np.allclose(e.series["M0"], 2 / (t + 2), rtol=1e-4, atol=0)
+    # M0 is bracketed like M2. (With every trial accepted, as for K = 1 under a majorant without empty slots, M0
+    # was off only by the clock's granularity, 1e-4; the majorant's empty slots (particle/dsmc/slot_majorant.hpp)
+    # reject a trial now and then, so the number of events by t is random, as it is in the exact process.)
+    assert np.all(e.stderr["M0"] > 0)
+    assert np.all(np.abs(e.series["M0"] - 2 / (t + 2)) <= 5 * e.stderr["M0"])
 
 
 def test_arrays_are_views_of_the_core_buffer_that_outlive_the_solution():
