@@ -93,8 +93,7 @@ bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r
   if (!floquet.empty()) floquet = "; " + floquet;
   // A settled cycle whose run nonetheless put mass into the grid's end: N begins to matter here.
   if (std::max(c.top_octave_mass, c.leaked_mass) > ColumnCycle::grid_end_limit)
-    floquet += "; the cycle reaches the grid's end (its top octave held up to " + short_number(c.top_octave_mass) + " of the mass and " +
-               short_number(c.leaked_mass) + " left through N over the run): its figures depend on N";
+    floquet += "; the cycle reaches the grid's end (" + grid_end_text(c.top_octave_mass, c.leaked_mass) + " over the run): its figures depend on N";
   r.note = "sustained on the " + std::string(c.run.converged ? "cycle" : "oscillation") + " continued down the column: the run is " +
            std::to_string(periods) + " predicted periods from the cycle at lambda = " + shortest_text(c.from_lambda) +
            " (its second half classified; M0 " + shortest_text(c.m0_min) + " .. " + shortest_text(c.m0_max) + "; atol_k = " +

@@ -475,8 +475,8 @@ class Column {
   // What a step that outgrew the grid (ColumnCycle::outgrew_grid) says of it ("" for any other).
   static std::string outgrown_text(const ColumnCycle& c, std::size_t N) {
     if (!c.outgrew_grid()) return "";
-    return ": the cycle outgrows the grid (its clusters reach N = " + std::to_string(N) + ": the top octave held up to " +
-           short_number(c.top_octave_mass) + " of the mass and " + short_number(c.leaked_mass) + " left through N)";
+    return ": the cycle outgrows the grid (its clusters reach N = " + std::to_string(N) + ": " +
+           grid_end_text(c.top_octave_mass, c.leaked_mass) + ")";
   }
 
   // For a run that stopped early: what it saw of the grid's end where that is beyond ColumnCycle::grid_end_limit
@@ -484,8 +484,7 @@ class Column {
   std::string grid_end_seen(const GridEnd& seen, std::size_t N) const {
     const double top = seen.top_octave_mass / shell_mass_, leaked = seen.leaked_mass / shell_mass_;
     if (std::max(top, leaked) <= ColumnCycle::grid_end_limit) return "";
-    return " (by then the top octave below N = " + std::to_string(N) + " held up to " + short_number(top) + " of the mass and " +
-           short_number(leaked) + " had left through N)";
+    return " (by then, on N = " + std::to_string(N) + ", " + grid_end_text(top, leaked) + ")";
   }
 
   ColumnCycle blank(double lambda, double from_lambda) const {
@@ -650,6 +649,10 @@ std::string short_number(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", x);
   return text;
+}
+
+std::string grid_end_text(double top_octave_mass, double leaked_mass) {
+  return "its top octave held up to " + short_number(top_octave_mass) + " of the mass and " + short_number(leaked_mass) + " left through N";
 }
 
 CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::path& points,

@@ -118,6 +118,9 @@ bool adopt_column_cycle(const ColumnCycle& c, std::size_t periods, ScanRecord& r
 
 // A number in the columns' notes and progress lines: 6 significant digits.
 std::string short_number(double x);
+// What a run saw of the grid's end, as the notes say it (fractions of the mass; ColumnCycle's leaked_mass and
+// top_octave_mass): "its top octave held up to … of the mass and … left through N".
+std::string grid_end_text(double top_octave_mass, double leaked_mass);
 
 // adopt_column_cycle for every record from its column; an "unstable" point at or below the λ where its column
 // stopped gets the column's reason in its note. A point whose steady state is stable (damped or steady) where its
