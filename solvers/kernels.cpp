@@ -14,12 +14,11 @@ namespace {
 using Feature = std::function<double(double)>;
 
 // An exact separable form K_ij = Σ_pq C_pq φ_p(i) φ_q(j) from closed-form features.
-std::function<SeparableForm(std::size_t)> exact(std::vector<Feature> features,
-                                                std::vector<std::vector<double>> coupling) {
-  return [features = std::move(features), coupling = std::move(coupling)](std::size_t N) {
+std::function<SeparableForm(std::size_t)> exact(std::shared_ptr<const Kernel::Factors> factors) {
+  return [factors = std::move(factors)](std::size_t N) {
     SeparableForm form;
-    form.coupling = coupling;
-    for (const auto& phi : features) {
+    form.coupling = factors->coupling;
+    for (const auto& phi : factors->features) {
       std::vector<double> values(N);
       for (std::size_t k = 1; k <= N; ++k) values[k - 1] = phi(double(k));
       form.features.push_back(std::move(values));
@@ -38,21 +37,26 @@ double require_finite(const std::string& key, double value, const std::string& a
 Kernel::Kernel(std::string name, std::map<std::string, double> parameters, Function f)
     : name_(std::move(name)), parameters_(std::move(parameters)), function_(std::move(f)) {}
 
+void Kernel::set_exact(std::vector<Feature> features, std::vector<std::vector<double>> coupling) {
+  exact_factors_ = std::make_shared<const Factors>(Factors{std::move(features), std::move(coupling)});
+  exact_form_ = exact(exact_factors_);
+}
+
 Kernel Kernel::constant() {
   Kernel k("constant", {}, [](double, double) { return 1.0; });
-  k.exact_form_ = exact({[](double) { return 1.0; }}, {{1.0}});
+  k.set_exact({[](double) { return 1.0; }}, {{1.0}});
   return k;
 }
 
 Kernel Kernel::sum() {
   Kernel k("sum", {}, [](double i, double j) { return i + j; });
-  k.exact_form_ = exact({[](double) { return 1.0; }, [](double s) { return s; }}, {{0.0, 1.0}, {1.0, 0.0}});
+  k.set_exact({[](double) { return 1.0; }, [](double s) { return s; }}, {{0.0, 1.0}, {1.0, 0.0}});
   return k;
 }
 
 Kernel Kernel::product() {
   Kernel k("product", {}, [](double i, double j) { return i * j; });
-  k.exact_form_ = exact({[](double s) { return s; }}, {{1.0}});
+  k.set_exact({[](double s) { return s; }}, {{1.0}});
   return k;
 }
 
@@ -62,7 +66,7 @@ Kernel Kernel::linear(double A, double B) {
   if (A < 0) throw InputError("kernel.A", format_value(A), "must be >= 0 (the kernel must stay positive)");
   if (B < 0) throw InputError("kernel.B", format_value(B), "must be >= 0 (the kernel must stay positive)");
   Kernel k("linear", {{"A", A}, {"B", B}}, [A, B](double i, double j) { return 1.0 + A * (i + j) + B * i * j; });
-  k.exact_form_ = exact({[](double) { return 1.0; }, [](double s) { return s; }}, {{1.0, A}, {A, B}});
+  k.set_exact({[](double) { return 1.0; }, [](double s) { return s; }}, {{1.0, A}, {A, B}});
   return k;
 }
 
@@ -71,7 +75,7 @@ Kernel Kernel::generalized_product(double mu) {
   if (mu < 0.0 || mu > 1.0)
     throw InputError("kernel.mu", format_value(mu), "must lie in [0, 1] (mu > 1/2 gels at finite time)");
   Kernel k("genproduct", {{"mu", mu}}, [mu](double i, double j) { return std::pow(i * j, mu); });
-  k.exact_form_ = exact({[mu](double s) { return std::pow(s, mu); }}, {{1.0}});
+  k.set_exact({[mu](double s) { return std::pow(s, mu); }}, {{1.0}});
   return k;
 }
 
@@ -96,7 +100,7 @@ Kernel Kernel::brownian(double a) {
   if (a < 0.0 || a > 1.0) throw InputError("kernel.a", format_value(a), "must lie in [0, 1]");
   // K_ij = (i/j)^a + (j/i)^a = i^a j^{-a} + i^{-a} j^a: rank 2 (a = 0 gives K = 2).
   Kernel k("brownian", {{"a", a}}, [a](double i, double j) { return std::pow(i / j, a) + std::pow(j / i, a); });
-  k.exact_form_ = exact({[a](double s) { return std::pow(s, a); }, [a](double s) { return std::pow(s, -a); }},
+  k.set_exact({[a](double s) { return std::pow(s, a); }, [a](double s) { return std::pow(s, -a); }},
                         {{0.0, 1.0}, {1.0, 0.0}});
   return k;
 }

@@ -6,6 +6,7 @@
 // Kernel::ballistic2d).
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <map>
 #include <optional>
 #include <string>
@@ -50,6 +51,13 @@ class Kernel {
   const std::map<std::string, double>& parameters() const { return parameters_; }
   std::string describe() const;  // e.g. "brownian(a=0.95)"
   bool has_exact_factorisation() const { return static_cast<bool>(exact_form_); }
+  // K(x, y) = Σ_pq coupling[p][q] φ_p(x) φ_q(y) at any sizes (the pivots of a graded grid), where the
+  // kernel has an exact factorisation; nullptr where it has none.
+  struct Factors {
+    std::vector<std::function<double(double)>> features;  // φ_p
+    std::vector<std::vector<double>> coupling;            // P × P, symmetric
+  };
+  const Factors* exact_factors() const { return exact_factors_.get(); }
 
   // The separable form on sizes 1..N: exact where one exists, else a low-rank approximation
   // (adaptive cross approximation, never forming the N×N matrix for large N) whose maximum relative
@@ -61,7 +69,9 @@ class Kernel {
   std::string name_;
   std::map<std::string, double> parameters_;
   Function function_;
-  // Exact factorisation builder: fills features/coupling for sizes 1..N.
+  // Exact factorisation: its factors, and the builder that fills features/coupling for sizes 1..N.
+  void set_exact(std::vector<std::function<double(double)>> features, std::vector<std::vector<double>> coupling);
+  std::shared_ptr<const Factors> exact_factors_;
   std::function<SeparableForm(std::size_t N)> exact_form_;
 };
 

@@ -31,15 +31,19 @@
 // The form is bilinear in N, so J v = Σ_{i≤j} w_ij (N_i v_j + N_j v_i) V_ij exactly. Cost O(M²) per
 // evaluation with the pair table (stencil, shares, weight) stored: M is a few hundred to a few thousand
 // on a graded grid, where M² pair sums beat the FFT path's O(N log N) over all N sizes by orders of
-// magnitude (N reaches 2^62).
+// magnitude (N reaches 2^62). For a kernel with exact factors, the pairs whose aggregate stays inside the
+// larger partner's interval (three quarters of them on the scan's grid) are summed in O(M) through those
+// factors instead (solvers/sectional_far_field.hpp); the pair loop keeps the near band and the grid's top.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <utility>
 
 #include "analysis/input_error.hpp"
 #include "solvers/discretisation.hpp"
+#include "solvers/sectional_far_field.hpp"
 
 namespace aggkit {
 
@@ -70,8 +74,14 @@ class PairTable {
       row_[i] = at;
       for (std::size_t j = M; j > i && target(at + (j - 1 - i)) == M; --j) leak_start_[i] = j - 1;
     }
+    near_end_.assign(M, M);
+    near_top_ = M;
+    if (const Kernel::Factors* factors = model.kernel.exact_factors(); factors && M >= 3) build_far_field(*factors);
     build_runs();
   }
+
+  // Pairs summed by the far field rather than one by one (0 without an exact kernel factorisation).
+  std::size_t far_pairs() const { return far_ ? far_->pairs() : 0; }
 
   static constexpr std::size_t max_classes = 6000;
   static constexpr std::size_t max_stencil = 4;
@@ -111,6 +121,7 @@ class PairTable {
   // run's every stencil can be taken as wide as its widest (the unused shares are 0) up to the grid's end.
   struct Scratch {
     std::vector<double> rate, out;
+    SectionalFarField::Scratch far;
   };
 
   // out += scale Σ_{i≤j} w_ij (u_i v_j + u_j v_i) V_ij. Row by row in two passes: the rates, losses and
@@ -127,7 +138,7 @@ class PairTable {
     double* __restrict rate = scratch.rate.data();
     double monomers = 0.0;
     for (std::size_t i = 0; i < M; ++i) {
-      const std::size_t at = row_[i], L = M - i;
+      const std::size_t at = row_[i];
       const double ui = u[i], vi = v[i], xi = x_[i];
       const double* __restrict w = weight_.data() + at;
       const double* __restrict xj = x_.data() + i;
@@ -135,13 +146,17 @@ class PairTable {
       const double* __restrict vj = v.data() + i;
       double* loss = gain + i;
       double lost_i = 0.0;
-      for (std::size_t l = 0; l < L; ++l) {
-        const double r = scale * w[l] * (ui * vj[l] + uj[l] * vi);
-        rate[l] = r;
-        loss[l] -= r + lambda * r;
-        lost_i += r;
-        monomers += (xi + xj[l]) * r;
-      }
+      // The row's near pairs: columns i .. near_end_ − 1 and near_top_ .. M − 1 (the far ones between them
+      // are the far field's).
+      const auto [first_end, second_begin] = near_segments(i);
+      for (const auto& [l0, l1] : {std::pair{std::size_t(0), first_end - i}, std::pair{second_begin - i, M - i}})
+        for (std::size_t l = l0; l < l1; ++l) {
+          const double r = scale * w[l] * (ui * vj[l] + uj[l] * vi);
+          rate[l] = r;
+          loss[l] -= r + lambda * r;
+          lost_i += r;
+          monomers += (xi + xj[l]) * r;
+        }
       gain[i] -= lost_i + lambda * lost_i;
       for (std::size_t k = run_row_[i]; k < run_row_[i + 1]; ++k) {
         const Run& run = runs_[k];
@@ -152,6 +167,7 @@ class PairTable {
         }
       }
     }
+    if (far_) far_->accumulate(lambda, u, v, scale, gain, monomers, scratch.far);
     gain[0] += lambda * monomers;
     for (std::size_t k = 0; k < M; ++k) out[k] += gain[k];
   }
@@ -199,7 +215,10 @@ class PairTable {
     run_row_.assign(M + 1, 0);
     for (std::size_t i = 0; i < M; ++i) {
       run_row_[i] = runs_.size();
+      const auto [first_end, second_begin] = near_segments(i);
       for (std::size_t l = 0; i + l < leak_start_[i]; ++l) {
+        if (i + l == first_end && second_begin > first_end) l = second_begin - i;  // over the far pairs
+        if (i + l >= leak_start_[i]) break;
         const std::size_t at = row_[i] + l;
         const std::int32_t offset = std::int32_t(target(at)) - std::int32_t(i + l);
         const std::uint32_t count = stencil_[at] & 7;
@@ -212,6 +231,65 @@ class PairTable {
       }
     }
     run_row_[M] = runs_.size();
+  }
+
+  // Row i's near pairs: columns [i, first_end) and [second_begin, M) (one range where second_begin = first_end).
+  std::pair<std::size_t, std::size_t> near_segments(std::size_t i) const {
+    const std::size_t M = x_.size();
+    if (near_end_[i] >= near_top_) return {M, M};
+    return {near_end_[i], near_top_};
+  }
+
+  // The far field (solvers/sectional_far_field.hpp): column j's partners i < I_j whose pairs stay within
+  // (x_j, x_{j+1}) on one stencil with the stored shares equal, to 1e-12, to its Lagrange polynomials. I_j is
+  // made nondecreasing (the smallest I over the columns above it), up to a top column near_top_ chosen to keep
+  // the most far pairs; the columns from near_top_ on (the grid's end, where the last intervals may be
+  // short) stay near. Row i's far pairs are then the columns from near_end_[i] to near_top_ − 1.
+  void build_far_field(const Kernel::Factors& factors) {
+    const std::size_t M = x_.size();
+    far_ = std::make_unique<SectionalFarField>(x_, factors);
+    std::vector<std::uint32_t> raw(M, 0);
+    for (std::size_t j = 1; j + 1 < M; ++j) raw[j] = std::uint32_t(far_partners(j));
+    // The top column: the one whose nondecreasing counts below it sum to the most pairs (the last 32 tried).
+    std::size_t best_top = M, best_pairs = 0;
+    for (std::size_t k = 0; k < 32 && k + 2 <= M; ++k) {
+      const std::size_t top = M - 1 - k;
+      std::size_t pairs = 0, running = std::size_t(-1);
+      for (std::size_t j = top; j-- > 0;) pairs += running = std::min<std::size_t>(running, raw[j]);
+      if (pairs > best_pairs) best_pairs = pairs, best_top = top;
+    }
+    if (best_pairs == 0) {
+      far_.reset();
+      return;
+    }
+    std::vector<std::uint32_t> count(M, 0);
+    std::uint32_t running = std::uint32_t(-1);
+    for (std::size_t j = best_top; j-- > 0;) count[j] = running = std::min(running, raw[j]);
+    near_top_ = best_top;
+    for (std::size_t i = 0, j = 0; i < M; ++i) {
+      while (j < near_top_ && count[j] <= i) ++j;
+      near_end_[i] = j;  // the first column with i among its far partners (near_top_: none)
+    }
+    far_->set_counts(std::move(count));
+  }
+
+  // How many partners i = 0, 1, ... of column j (i < j) the far field can take: their aggregates stay below
+  // x_{j+1}, on pair (0, j)'s stencil, with the shares its polynomials give.
+  std::size_t far_partners(std::size_t j) {
+    const std::size_t M = x_.size();
+    const std::uint32_t stencil = stencil_[row_[0] + j];
+    const std::size_t first = stencil >> 3, width = stencil & 7;
+    if (first >= M || width == 0 || !(x_[0] + x_[j] < x_[j + 1])) return 0;
+    far_->set_stencil(j, first, width);
+    std::size_t i = 0;
+    for (; i < j; ++i) {
+      const std::size_t at = row_[i] + (j - i);
+      if (!(x_[i] + x_[j] < x_[j + 1]) || stencil_[at] != stencil || weight_[at] == 0.0) break;
+      bool same = true;
+      for (std::size_t m = 0; m < width; ++m) same = same && std::abs(share_[m][at] - far_->share(j, m, x_[i])) <= 1e-12;
+      if (!same) break;
+    }
+    return i;
   }
 
   void add_pair(const AggregationModel& model, std::size_t i, std::size_t j, double N) {
@@ -242,6 +320,9 @@ class PairTable {
   std::vector<std::size_t> row_;         // index of (i, i) in the pair arrays
   std::vector<std::size_t> leak_start_;  // first j ≥ i whose pair (i, j) leaves the grid (M: none)
   std::vector<Run> runs_;                // row by row
+  std::unique_ptr<SectionalFarField> far_;  // null: every pair near
+  std::vector<std::size_t> near_end_;    // row i: its near pairs end at column near_end_[i] ...
+  std::size_t near_top_ = 0;             // ... and resume at this column
   std::vector<std::size_t> run_row_;     // row i's runs: runs_[run_row_[i]] .. runs_[run_row_[i + 1] - 1]
 };
 
@@ -272,7 +353,12 @@ class SectionalRates final : public Rates {
     });
   }
 
-  std::string describe() const override { return std::string(scheme_name(scheme_)) + " sections, O(M^2), M = " + std::to_string(size_); }
+  std::string describe() const override {
+    std::string text = std::string(scheme_name(scheme_)) + " sections, O(M^2), M = " + std::to_string(size_);
+    if (const std::size_t far = table_->far_pairs(); far > 0)
+      text += "; " + std::to_string(far) + " of " + std::to_string(size_ * (size_ + 1) / 2) + " pairs summed as a separable far field";
+    return text;
+  }
 
  private:
   std::shared_ptr<const PairTable> table_;
