@@ -151,11 +151,12 @@ CycleExtrapolation extrapolate_cycle(const AggregationModel& model, std::span<co
       // extrapolation whose noise-level jump exceeds a far-tail density would otherwise leave it negative, holding
       // negative mass that the run then gives back (a = 1 on a fixed-pivot K = 8, r = 1.6 grid: +0.6 % of the
       // mass over the step that followed).
-      // (A density the cycle itself holds just below zero, the four-moment shares' undershoot, stays below it.)
+      // (A density the cycle itself holds just below zero, the four-moment shares' undershoot, stays below it; one
+      // at zero does not go below.)
       x.resize(last.size());
       for (std::size_t i = 0; i < last.size(); ++i) {
         const double shift = point[i] - last[i];
-        x[i] = last[i] > 0.0 ? shifted_density(last[i], shift) : last[i] < 0.0 ? -shifted_density(-last[i], -shift) : point[i];
+        x[i] = last[i] < 0.0 ? -shifted_density(-last[i], -shift) : shifted_density(last[i], shift);
       }
       onto_shell(x, classes->sizes(), mass);
       result.converged = jump <= options.tolerance;
