@@ -407,6 +407,11 @@ class Column {
         return c;
       }
       std::vector<double> from = form.cycle_point(s.steady.n);
+      // The normal form's point keeps the steady state's mass to first order only (shifted_density takes a
+      // decrease as n exp(shift / n)): scaled back onto the model's mass, so that a relaxation from it is not read
+      // as a run that gained mass (a = 1 at 0.95 λ_crit on a fixed-pivot K = 8, r = 1.6 grid: +0.74 %).
+      const double scale = shell_mass_ / total_mass(from, model.pivots());
+      for (double& v : from) v *= scale;
       double relaxation = std::log(1e3) / (2.0 * form.mu.real()), cycle_period = period;
       if (relaxation > extrapolate_beyond * period) {
         double level = 0.0;  // the section through the steady state, which the normal form's cycle circles
