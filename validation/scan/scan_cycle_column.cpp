@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <sstream>
 
@@ -304,6 +305,10 @@ class Column {
     return done;
   }
 
+  // The λ the column walks (its first cycle's, then the plan's below it with the geometric steps between), and a.
+  std::size_t nodes() const { return nodes_.size(); }
+  double a() const { return a_; }
+
   bool finished() const {
     const std::vector<ColumnCycle> done = cached();
     const bool measured = std::none_of(done.begin(), done.end(), [&](const ColumnCycle& c) { return wants_floquet(c) && !c.floquet_done; });
@@ -516,6 +521,10 @@ class Column {
       if (tried.sustained()) return tried;
       reasons += (reasons.empty() ? "" : "; ") + column_tolerances[level].text() + ": " + tried.note;
       if (tried.outgrew_grid()) break;  // finer tolerances do not make the grid longer
+      if (tried.out_of_steps) {  // a finer floor takes more steps (8 of the 10 stops of the scan from scratch ran out at both)
+        if (level + 1 < column_tolerances.size()) reasons += "; the finer floors not run: they take more steps still";
+        break;
+      }
     }
     tried.note = "the column stops here: " + reasons;  // the record of the finest level's run
     return tried;
@@ -550,6 +559,7 @@ class Column {
         c.note = "the run to t = " + shortest_text(length) + " needs more than column_steps = " + std::to_string(plan_.column_step_budget()) +
                  " steps (" + e.what() + ")" + grid_end_seen(grid_end, model.size);
         c.leaked_mass = c.top_octave_mass = std::nan("");  // the run was cut short: no verdict on the grid's end
+        c.out_of_steps = true;
         return c;
       } catch (const std::exception& e) {
         c.note = std::string("the run failed: ") + e.what() + grid_end_seen(grid_end, model.size);
@@ -669,12 +679,22 @@ CycleColumns follow_cycle_columns(const ScanPlan& plan, const std::filesystem::p
     if (row.criticality == "supercritical" && row.lambda_crit_model_grid > 0.0)
       columns.emplace_back(plan, points, row.a, row.lambda_crit_model_grid);
   const MpiWorld world = mpi_world();
-  const std::size_t offset = beside ? 1 : 0;
+  // The ranks draw the runs in this order: the longest first, so that they finish together (the deeper a column,
+  // the more steps and the dearer each: the walk's λ nodes, then a, larger first; from scratch the a = 1 column,
+  // drawn last in order of a, ran alone for 280 s of the 1601). The Hopf curve beside them, about as long as a
+  // column, is drawn third.
+  std::vector<std::size_t> order(columns.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t l, std::size_t r) {
+    return columns[l].nodes() != columns[r].nodes() ? columns[l].nodes() > columns[r].nodes() : columns[l].a() > columns[r].a();
+  });
+  constexpr std::size_t curve_task = std::size_t(-1);
+  if (beside) order.insert(order.begin() + std::ptrdiff_t(std::min<std::size_t>(2, order.size())), curve_task);
   compute_unfinished_runs(
-      columns.size() + offset,
-      [&](std::size_t i) { return i < offset ? beside->finished() : columns[i - offset].finished(); },
+      order.size(),
+      [&](std::size_t i) { return order[i] == curve_task ? beside->finished() : columns[order[i]].finished(); },
       [&](std::size_t i, std::size_t, std::size_t) {
-        return i < offset ? beside->compute() : columns[i - offset].walk(progress, world.rank);
+        return order[i] == curve_task ? beside->compute() : columns[order[i]].walk(progress, world.rank);
       },
       "aggkit scan",
       "the attracting cycles continued down " + std::to_string(columns.size()) + " columns of lambda" +

@@ -91,6 +91,8 @@ struct ColumnCycle {
     return !sustained() && !(mass_change > mass_gain_limit) && !std::isnan(top_octave_mass) && !std::isnan(leaked_mass) &&
            std::max(top_octave_mass, leaked_mass) > grid_end_limit;
   }
+  // Its run stopped at the step budget (while it is computed; not stored): a finer floor needs more steps still.
+  bool out_of_steps = false;
   std::string note;                           // why the walk stopped here, or how a first step started ("" else)
   // The largest nontrivial Floquet multiplier of a settled step on the scan's grid, from the return map
   // (solvers/cycle_return_map.hpp) run from the state the step ended in at its own tolerances: `floquet.found()`
