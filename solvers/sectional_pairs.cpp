@@ -188,7 +188,6 @@ void SectionalPairs::build_runs(const Table& table, const std::vector<std::size_
       open_kind = kind;
     }
   }
-  for (const Run& run : diagonal) diagonal_pairs_ += run.length;
   for (auto* list : {&diagonal, &rows}) runs_.insert(runs_.end(), list->begin(), list->end());
   leak_begin_ = runs_.size();
   runs_.insert(runs_.end(), leaking.begin(), leaking.end());

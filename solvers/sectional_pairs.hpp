@@ -38,8 +38,6 @@ class SectionalPairs {
   std::size_t size() const { return x_.size(); }
   // Pairs summed by the far field rather than one by one (0 without exact kernel factors).
   std::size_t far_pairs() const;
-  // Pairs summed one by one along diagonals (the rest of the near pairs go row by row).
-  std::size_t diagonal_pairs() const { return diagonal_pairs_; }
 
   // What accumulate works in: the rates of one run, each class's summed collision rate, and the gains padded
   // by a stencil's width (a run's stencils are as wide as its widest; the unused shares are 0).
@@ -93,7 +91,6 @@ class SectionalPairs {
   std::vector<Run> runs_;
   std::size_t leak_begin_ = 0, summed_runs_ = 0;
   std::size_t longest_run_ = 0;
-  std::size_t diagonal_pairs_ = 0;
   std::vector<double> data_;
   std::unique_ptr<SectionalFarField> far_;  // null: every pair near
 };
